@@ -1,0 +1,59 @@
+// Partition: PCA axis, k-1 parallel cut planes in vertex gaps, and the input triangles split
+// so that every piece's open border lies on a cut plane.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+
+namespace partet {
+
+// The plane {x : dot(normal, x) == offset}. normal is a unit vector shared by all planes.
+struct CutPlane {
+  Point3 normal;
+  double offset;
+};
+
+// Direction of the cut planes' normal. coordinate_near_pca (the default) takes the coordinate
+// axis closest to the main PCA axis: every crossing point then lies exactly on its plane and
+// the caps are exactly planar. pca takes the PCA axis itself (the paper's choice); crossing
+// points are then rounded off the plane by up to half an ulp.
+enum class CutAxis { coordinate_near_pca, pca };
+
+Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode);
+
+// Returns k-1 planes, ordered by offset, perpendicular to the main PCA axis of the used input
+// vertices, that split the vertices into k groups of about equal size. Each plane lies in the
+// middle of a gap between consecutive projected vertices and is checked with exact predicates
+// to pass through no vertex. Throws OptionError if k is larger than the model allows.
+// shifts[j] > 0 moves plane j to its (shifts[j]+1)-th widest nearby gap (used to retry a cut
+// that caused trouble).
+std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k,
+                                        CutAxis mode = CutAxis::coordinate_near_pca,
+                                        const std::vector<int>& shifts = {});
+
+// Piece (slab) of a point: the number of planes it lies above, decided exactly.
+// Only valid for points on no plane.
+int piece_of_point(const std::vector<CutPlane>& planes, const Point3& p);
+
+// The input surface with every triangle that crosses a plane split at the crossings.
+struct SplitSurface {
+  std::vector<Point3> points;             // input vertices, then cut vertices
+  std::int32_t input_vertex_count = 0;
+  std::vector<Triangle> triangles;        // oriented like the input
+  std::vector<std::int32_t> piece;        // piece of each triangle (0..k-1)
+  std::vector<std::int32_t> parent;       // input triangle each triangle comes from
+  std::vector<std::array<std::int32_t, 2>> cut_vertex_edge;  // input edge a cut vertex splits
+  std::vector<std::int32_t> cut_vertex_plane;                // plane a cut vertex lies on
+  int piece_count = 1;
+
+  bool is_cut_vertex(std::int32_t v) const { return v >= input_vertex_count; }
+  std::int32_t cut_vertex_count() const { return static_cast<std::int32_t>(cut_vertex_plane.size()); }
+};
+
+// Splits the triangles at the planes. Each crossing of an input edge with a plane is
+// constructed once in exact arithmetic and rounded to double once.
+SplitSurface split_at_planes(const SurfaceMesh& surface, const std::vector<CutPlane>& planes);
+
+}  // namespace partet

@@ -1,0 +1,84 @@
+// The stages in order, on plain data. The MPI layer decides only where tetrahedralize_piece
+// runs; everything else here runs on rank 0.
+#pragma once
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "partet/closure.hpp"
+#include "partet/cut_vertex_removal.hpp"
+#include "partet/mesh_types.hpp"
+#include "partet/partition.hpp"
+#include "partet/piece.hpp"
+#include "partet/tetgen_mesher.hpp"
+
+namespace partet {
+
+struct MeshOptions {
+  int pieces = 2;
+  double density = 1.0;
+  CutAxis axis = CutAxis::coordinate_near_pca;
+  std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
+  int max_attempts = 6;           // partitions tried before giving up (moving troublesome planes)
+  TetgenOptions tetgen;
+};
+
+// Wall seconds per named stage, in the order the stages ran.
+using StageTimes = std::vector<std::pair<std::string, double>>;
+
+struct PreparedPieces {
+  SurfaceMesh input;
+  std::vector<CutPlane> planes;
+  SplitSurface split;  // also holds the cap points
+  std::vector<PieceSurface> pieces;
+  std::int64_t cap_triangles = 0;
+};
+
+// Partition, surface closure, piece assembly and the pieces' combinatorial checks.
+// The input must already be validated.
+PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, StageTimes* times = nullptr);
+
+// One cut-plane move after a failure.
+struct RetryRecord {
+  int attempt = 0;           // the attempt that failed (0 = first)
+  std::string reason;        // what failed
+  std::vector<int> planes;   // planes moved for the next attempt
+};
+
+struct MeshResult {
+  TetMesh mesh;
+  std::vector<Triangle> boundary_faces;  // the input triangles, in output numbering
+  CutVertexRemovalStats removal;
+  std::int64_t cut_vertices_inserted = 0;
+  std::int64_t cap_triangles = 0;
+  std::vector<RetryRecord> retries;
+};
+
+// What meshing one piece gave: a result, or an error message naming the piece.
+struct PieceOutcome {
+  PieceTetMesh result;
+  std::string error;
+};
+
+// Meshes all pieces (here, or on other ranks) and returns their outcomes in piece order.
+using PieceMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
+
+// Meshes every piece in this process, one after another.
+std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const TetgenOptions& options);
+
+// The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
+// boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
+// cut-vertex removal or a cap fails, all planes move. After options.max_attempts partitions the
+// last error is thrown with advice. Input and option errors are thrown at once.
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
+                             StageTimes* times = nullptr);
+
+// Weld the pieces' meshes and remove the cut vertices. results must be ordered by piece index.
+MeshResult finish_mesh(const PreparedPieces& prepared, const std::vector<PieceTetMesh>& results,
+                       const MeshOptions& options, StageTimes* times = nullptr);
+
+// The whole pipeline in one process (pieces meshed one after another).
+MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);
+
+}  // namespace partet

@@ -1,0 +1,47 @@
+// The only user of TetGen: tetrahedralizes a closed surface without touching its boundary.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+#include "partet/piece.hpp"
+
+namespace partet {
+
+struct TetgenOptions {
+  std::string quality;  // "" = none; "R" or "R/ANGLE": TetGen's -q (radius-edge ratio / min dihedral)
+  // Run TetGen in a forked child process: Debian's TetGen can abort() (failed assert) or loop
+  // forever on hard inputs; in a child that becomes an ordinary MeshingError.
+  bool isolate = true;
+  // Seconds before a TetGen run is given up (isolated runs only); 0 = a limit scaled with the
+  // input size (5 s + 1 ms per triangle, x10 with quality refinement).
+  double timeout_seconds = 0;
+};
+
+// A tet mesh of a closed surface. Points [0, surface point count) are the surface's points in
+// the same order; later points are interior Steiner points TetGen added.
+struct LocalTetMesh {
+  std::vector<Point3> steiner_points;
+  std::vector<Tet> tets;        // positively oriented
+  std::vector<Tet> neighbours;  // -1 where the face is on the surface
+};
+
+// Meshes the solid bounded by `triangles` (TetGen -pY, plus -q when asked). Regions the surface
+// encloses with winding number 0 (cavities) get no tets. Verifies that the boundary of the
+// result is exactly the input triangles. Throws MeshingError(piece, ...) on any failure.
+// Not thread safe: TetGen keeps global state.
+LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
+                                 const TetgenOptions& options, int piece = -1);
+
+// A piece's tet mesh as sent back to rank 0.
+struct PieceTetMesh {
+  int index = 0;
+  std::int32_t surface_point_count = 0;  // local ids below this map through the piece's global_ids
+  LocalTetMesh mesh;
+};
+
+// Checks the piece (closed, manifold, no self-intersections) and meshes it.
+PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options);
+
+}  // namespace partet

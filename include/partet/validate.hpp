@@ -1,0 +1,22 @@
+// Checks that a surface is something TetGen can mesh: closed, manifold, consistently and
+// outward oriented, no degenerate faces, no self-intersections.
+#pragma once
+#include "partet/mesh_types.hpp"
+
+namespace partet {
+
+// Combinatorial and degeneracy checks (cheap, linear). Throws InputError naming the first
+// problem and where it is, e.g. "input is not closed: 12 border edges, first at vertex 381".
+void validate_topology(const SurfaceMesh& surface);
+
+// Throws InputError if two faces intersect other than in a shared edge or vertex
+// ("input self-intersects: faces 12 and 873 intersect"). `what` names the surface in the message.
+void check_no_self_intersections(const SurfaceMesh& surface, const char* what = "input");
+
+// Both of the above, plus a positive enclosed volume (outward orientation).
+void validate_surface(const SurfaceMesh& surface);
+
+// Volume enclosed by a closed oriented surface (cavities count negative).
+double enclosed_volume(const SurfaceMesh& surface);
+
+}  // namespace partet

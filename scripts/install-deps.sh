@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages partet needs to build, test and benchmark.
+# Idempotent: packages already present are skipped; apt runs only when something is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libcgal-dev libgmp-dev libmpfr-dev   # exact predicates, 2D CDT, surface checks and IO
+  libtet1.5-dev tetgen                 # TetGen library (piece meshing) and binary (benchmarks)
+  libeigen3-dev                        # PCA of the input vertices
+  libopenmpi-dev openmpi-bin           # MPI layer
+  libboost-serialization-dev           # piece and result messages
+  libcli11-dev                         # command line
+  nlohmann-json3-dev                   # --report FILE.json
+  libgtest-dev                         # unit tests
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

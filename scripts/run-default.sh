@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# The README's first command: install, build, then mesh a generated genus-3 surface in 2 pieces
+# on 2 MPI ranks and verify the result.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+scripts/build.sh
+if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+mkdir -p out
+./build/partet generate genus3 --faces 20000 -o out/genus3.off
+mpirun -np 2 --oversubscribe ./build/partet mesh out/genus3.off -o out/genus3 --pieces 2
+./build/partet check out/genus3.off out/genus3

@@ -1,0 +1,469 @@
+// Independent verification of a tet mesh: recomputes everything from points and tets only.
+#include "partet/check.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "partet/validate.hpp"
+
+namespace partet {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kVolumeTolerance = 1e-9;
+
+std::string format_number(double x) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.15g", x);
+  return text;
+}
+
+std::string format_triangle(const Triangle& t) {
+  return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
+}
+
+// Rotates an oriented triangle so its smallest index comes first; orientation is kept, so
+// (a,b,c) and (a,c,b) stay different.
+Triangle normalized(const Triangle& t) {
+  if (t[1] < t[0] && t[1] < t[2]) return {t[1], t[2], t[0]};
+  if (t[2] < t[0] && t[2] < t[1]) return {t[2], t[0], t[1]};
+  return t;
+}
+
+Triangle reversed(const Triangle& t) { return normalized({t[0], t[2], t[1]}); }
+
+// Counting-sort offsets of items bucketed by a vertex: bucketing by the smallest vertex and
+// sorting the small buckets is linear and much faster than a global hash map at millions of tets.
+template <class BucketOf>
+std::vector<std::uint32_t> bucket_offsets(std::size_t item_count, std::size_t vertex_count,
+                                          BucketOf bucket_of) {
+  std::vector<std::uint32_t> start(vertex_count + 1, 0);
+  for (std::size_t i = 0; i < item_count; ++i) ++start[bucket_of(i) + 1];
+  for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+  return start;
+}
+
+struct FaceEntry {
+  std::int32_t mid, high;  // the face's two larger vertices; the smallest is the bucket
+  std::uint32_t slot;      // 4 * tet + opposite corner
+};
+
+std::array<std::int32_t, 3> sorted_face(const Tet& t, int j) {
+  std::int32_t a = t[(j + 1) & 3], b = t[(j + 2) & 3], c = t[(j + 3) & 3];
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  return {a, b, c};
+}
+
+// Calls on_face(first, count) once per distinct triangle with the tets (slots) containing it.
+template <class OnFace>
+void for_each_face(const std::vector<Tet>& tets, std::size_t vertex_count, OnFace on_face) {
+  std::size_t face_count = tets.size() * 4;
+  auto start = bucket_offsets(face_count, vertex_count,
+                              [&](std::size_t i) { return sorted_face(tets[i / 4], int(i % 4))[0]; });
+  std::vector<FaceEntry> entries(face_count);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < face_count; ++i) {
+    auto f = sorted_face(tets[i / 4], int(i % 4));
+    entries[fill[f[0]]++] = {f[1], f[2], static_cast<std::uint32_t>(i)};
+  }
+  auto before = [](const FaceEntry& a, const FaceEntry& b) {
+    return a.mid != b.mid ? a.mid < b.mid : a.high < b.high;
+  };
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    FaceEntry* first = entries.data() + start[v];
+    FaceEntry* last = entries.data() + start[v + 1];
+    std::sort(first, last, before);
+    for (FaceEntry* group = first; group != last;) {
+      FaceEntry* group_end = group + 1;
+      while (group_end != last && !before(*group, *group_end)) ++group_end;
+      on_face(group, static_cast<std::size_t>(group_end - group));
+      group = group_end;
+    }
+  }
+}
+
+// Number of distinct edges of the tets.
+std::int64_t count_edges(const std::vector<Tet>& tets, std::size_t vertex_count) {
+  static constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  std::size_t edge_count = tets.size() * 6;
+  auto low = [&](std::size_t i) {
+    const Tet& t = tets[i / 6];
+    return std::min(t[kEdge[i % 6][0]], t[kEdge[i % 6][1]]);
+  };
+  auto start = bucket_offsets(edge_count, vertex_count, low);
+  std::vector<std::int32_t> high(edge_count);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < edge_count; ++i) {
+    const Tet& t = tets[i / 6];
+    std::int32_t a = t[kEdge[i % 6][0]], b = t[kEdge[i % 6][1]];
+    high[fill[std::min(a, b)]++] = std::max(a, b);
+  }
+  std::int64_t distinct = 0;
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    auto first = high.begin() + start[v], last = high.begin() + start[v + 1];
+    std::sort(first, last);
+    distinct += std::unique(first, last) - first;
+  }
+  return distinct;
+}
+
+// Exact coordinates as a sortable key. Adding 0.0 turns -0.0 into +0.0, which is the same point.
+struct CoordinateKey {
+  std::uint64_t bits[3];
+  bool operator<(const CoordinateKey& o) const {
+    return std::lexicographical_compare(bits, bits + 3, o.bits, o.bits + 3);
+  }
+  bool operator==(const CoordinateKey& o) const { return std::equal(bits, bits + 3, o.bits); }
+};
+
+CoordinateKey coordinate_key(const Point3& p) {
+  CoordinateKey key;
+  for (int k = 0; k < 3; ++k) {
+    double x = p[k] + 0.0;
+    std::memcpy(&key.bits[k], &x, sizeof x);
+  }
+  return key;
+}
+
+struct KeyedVertex {
+  CoordinateKey key;
+  std::int32_t index;
+  bool operator<(const KeyedVertex& o) const {
+    return key == o.key ? index < o.index : key < o.key;
+  }
+};
+
+double signed_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  double u[3], v[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = b[k] - a[k];
+    v[k] = c[k] - a[k];
+    w[k] = d[k] - a[k];
+  }
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+         u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+// Euler characteristic V - E + F of the input surface, counting only vertices in triangles.
+long surface_euler_characteristic(const SurfaceMesh& surface) {
+  std::vector<char> used(surface.points.size(), 0);
+  std::vector<std::uint64_t> edges;
+  edges.reserve(surface.triangles.size() * 3);
+  for (const Triangle& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) {
+      std::int32_t a = t[k], b = t[(k + 1) % 3];
+      if (a >= 0 && static_cast<std::size_t>(a) < used.size()) used[a] = 1;
+      if (a > b) std::swap(a, b);
+      edges.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 |
+                      static_cast<std::uint32_t>(b));
+    }
+  std::sort(edges.begin(), edges.end());
+  long edge_count = std::unique(edges.begin(), edges.end()) - edges.begin();
+  long vertex_count = std::count(used.begin(), used.end(), 1);
+  return vertex_count - edge_count + static_cast<long>(surface.triangles.size());
+}
+
+}  // namespace
+
+double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  // J = M * W^-1, with M = [b-a, c-a, d-a] and W the same matrix for the unit regular tet
+  // a=0, b=(1,0,0), c=(1/2, sqrt3/2, 0), d=(1/2, sqrt3/6, sqrt(2/3)). W^-1 is upper triangular:
+  //   [1, -1/sqrt3, -1/sqrt6; 0, 2/sqrt3, -1/sqrt6; 0, 0, sqrt(3/2)]
+  // so J's columns are m0, (2 m1 - m0)/sqrt3, (3 m2 - m0 - m1)/sqrt6, and det J = sqrt2 det M.
+  static const double kInvSqrt3 = 1 / std::sqrt(3.0), kInvSqrt6 = 1 / std::sqrt(6.0),
+                      kSqrt2 = std::sqrt(2.0);
+  double m[3][3];
+  for (int k = 0; k < 3; ++k) {
+    m[0][k] = b[k] - a[k];
+    m[1][k] = c[k] - a[k];
+    m[2][k] = d[k] - a[k];
+  }
+  double det_m = signed_volume6(a, b, c, d);
+  if (!(det_m > 0)) return std::numeric_limits<double>::infinity();
+  double trace = 0;
+  for (int k = 0; k < 3; ++k) {
+    double j0 = m[0][k];
+    double j1 = (2 * m[1][k] - m[0][k]) * kInvSqrt3;
+    double j2 = (3 * m[2][k] - m[0][k] - m[1][k]) * kInvSqrt6;
+    trace += j0 * j0 + j1 * j1 + j2 * j2;
+  }
+  double det_j = kSqrt2 * det_m;
+  return trace / std::cbrt(det_j * det_j);
+}
+
+MeshQuality mesh_quality(const TetMesh& mesh) {
+  MeshQuality quality;
+  if (mesh.tets.empty()) return quality;
+  // Track cosines and take acos once at the end: the smallest angle has the largest cosine.
+  static const double kCos5 = std::cos(5 * kPi / 180), kCos175 = std::cos(175 * kPi / 180);
+  long double amips_sum = 0;
+  double amips_max = 0, largest_cos = -1, smallest_cos = 1;
+  for (const Tet& t : mesh.tets) {
+    const Point3* p[4] = {&mesh.points[t[0]], &mesh.points[t[1]], &mesh.points[t[2]],
+                          &mesh.points[t[3]]};
+    double energy = amips_energy(*p[0], *p[1], *p[2], *p[3]);
+    amips_sum += energy;
+    amips_max = std::max(amips_max, energy);
+
+    // Consistently oriented face normals; the dihedral angle at the edge shared by faces i
+    // and j is pi minus the angle between their normals.
+    double normal[4][3], length[4];
+    for (int j = 0; j < 4; ++j) {
+      Triangle f = outward_face(Tet{0, 1, 2, 3}, j);
+      const Point3 &q0 = *p[f[0]], &q1 = *p[f[1]], &q2 = *p[f[2]];
+      double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
+      double v[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]};
+      normal[j][0] = u[1] * v[2] - u[2] * v[1];
+      normal[j][1] = u[2] * v[0] - u[0] * v[2];
+      normal[j][2] = u[0] * v[1] - u[1] * v[0];
+      length[j] = std::sqrt(normal[j][0] * normal[j][0] + normal[j][1] * normal[j][1] +
+                            normal[j][2] * normal[j][2]);
+    }
+    double tet_largest_cos = -1, tet_smallest_cos = 1;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        double cos_angle;
+        if (length[i] > 0 && length[j] > 0) {
+          double dot = normal[i][0] * normal[j][0] + normal[i][1] * normal[j][1] +
+                       normal[i][2] * normal[j][2];
+          cos_angle = std::clamp(-dot / (length[i] * length[j]), -1.0, 1.0);
+        } else {
+          // A face without area has no defined angles: count it as both extremes.
+          tet_largest_cos = 1;
+          tet_smallest_cos = -1;
+          continue;
+        }
+        tet_largest_cos = std::max(tet_largest_cos, cos_angle);
+        tet_smallest_cos = std::min(tet_smallest_cos, cos_angle);
+      }
+    largest_cos = std::max(largest_cos, tet_largest_cos);
+    smallest_cos = std::min(smallest_cos, tet_smallest_cos);
+    if (tet_largest_cos > kCos5) ++quality.below_5deg;
+    if (tet_smallest_cos < kCos175) ++quality.above_175deg;
+  }
+  quality.amips_avg = static_cast<double>(amips_sum / mesh.tets.size());
+  quality.amips_max = amips_max;
+  quality.min_dihedral_deg = std::acos(largest_cos) * 180 / kPi;
+  quality.max_dihedral_deg = std::acos(smallest_cos) * 180 / kPi;
+  return quality;
+}
+
+CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
+  CheckReport report;
+  auto& violations = report.violations;
+  const std::size_t vertex_count = mesh.points.size();
+  report.vertices = static_cast<std::int64_t>(vertex_count);
+  report.tets = static_cast<std::int64_t>(mesh.tets.size());
+
+  // Everything below indexes points through tets, so bad indices end the check here.
+  {
+    std::int64_t bad = 0, first = -1;
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+      for (std::int32_t v : mesh.tets[t])
+        if (v < 0 || static_cast<std::size_t>(v) >= vertex_count) {
+          if (bad++ == 0) first = static_cast<std::int64_t>(t);
+          break;
+        }
+    if (bad > 0) {
+      violations.push_back(std::to_string(bad) + " tets have vertex indices out of range, first: tet " +
+                           std::to_string(first));
+      return report;
+    }
+  }
+
+  // Orientation, with an exact predicate: a nearly flat tet must not pass by rounding.
+  {
+    std::int64_t negative = 0, flat = 0, first = -1;
+    long double volume6 = 0;
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+      const Tet& tet = mesh.tets[t];
+      const Point3 &a = mesh.points[tet[0]], &b = mesh.points[tet[1]], &c = mesh.points[tet[2]],
+                   &d = mesh.points[tet[3]];
+      CGAL::Orientation o = CGAL::orientation(
+          Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
+          Kernel::Point_3(c[0], c[1], c[2]), Kernel::Point_3(d[0], d[1], d[2]));
+      if (o != CGAL::POSITIVE) {
+        if (negative + flat == 0) first = static_cast<std::int64_t>(t);
+        (o == CGAL::NEGATIVE ? negative : flat)++;
+      }
+      volume6 += signed_volume6(a, b, c, d);
+    }
+    report.tet_volume = static_cast<double>(volume6 / 6);
+    if (negative + flat > 0)
+      violations.push_back(std::to_string(negative + flat) + " tets are not positively oriented (" +
+                           std::to_string(negative) + " inverted, " + std::to_string(flat) +
+                           " flat), first: tet " + std::to_string(first));
+  }
+
+  // Unused vertices.
+  std::vector<char> used(vertex_count, 0);
+  for (const Tet& t : mesh.tets)
+    for (std::int32_t v : t) used[v] = 1;
+  const std::int64_t used_count = std::count(used.begin(), used.end(), 1);
+  if (used_count < static_cast<std::int64_t>(vertex_count)) {
+    std::size_t first = std::find(used.begin(), used.end(), 0) - used.begin();
+    violations.push_back(std::to_string(vertex_count - used_count) +
+                         " vertices are in no tet, first: vertex " + std::to_string(first));
+  }
+
+  // Duplicate vertices, and the coordinate index used to find input vertices in the mesh.
+  std::vector<KeyedVertex> by_coordinates(vertex_count);
+  for (std::size_t v = 0; v < vertex_count; ++v)
+    by_coordinates[v] = {coordinate_key(mesh.points[v]), static_cast<std::int32_t>(v)};
+  std::sort(by_coordinates.begin(), by_coordinates.end());
+  {
+    std::int64_t duplicates = 0;
+    std::int32_t first_a = -1, first_b = -1;
+    for (std::size_t i = 1; i < by_coordinates.size(); ++i)
+      if (by_coordinates[i].key == by_coordinates[i - 1].key && duplicates++ == 0) {
+        first_a = by_coordinates[i - 1].index;
+        first_b = by_coordinates[i].index;
+      }
+    if (duplicates > 0)
+      violations.push_back(std::to_string(duplicates) +
+                           " duplicate vertices (identical coordinates), first: vertices " +
+                           std::to_string(first_a) + " and " + std::to_string(first_b));
+  }
+
+  // Faces: count the tets on each triangle, collect boundary faces oriented out of their tet.
+  std::vector<Triangle> boundary;
+  std::int64_t face_count = 0, overfull = 0, same_side = 0;
+  Triangle first_overfull{}, first_same_side{};
+  for_each_face(mesh.tets, vertex_count, [&](const FaceEntry* group, std::size_t tets_on_face) {
+    ++face_count;
+    auto oriented = [&](std::size_t k) {
+      return outward_face(mesh.tets[group[k].slot / 4], int(group[k].slot % 4));
+    };
+    if (tets_on_face == 1) {
+      boundary.push_back(oriented(0));
+    } else if (tets_on_face == 2) {
+      // Two tets on the same side of their shared face overlap.
+      if (normalized(oriented(0)) == normalized(oriented(1)) && same_side++ == 0)
+        first_same_side = oriented(0);
+    } else if (overfull++ == 0) {
+      first_overfull = oriented(0);
+    }
+  });
+  report.boundary_faces = static_cast<std::int64_t>(boundary.size());
+  if (overfull > 0)
+    violations.push_back(std::to_string(overfull) +
+                         " triangles are in more than two tets, first: " + format_triangle(first_overfull));
+  if (same_side > 0)
+    violations.push_back(std::to_string(same_side) +
+                         " triangles have both their tets on the same side (overlap), first: " +
+                         format_triangle(first_same_side));
+
+  // Euler characteristic: for a 3-manifold with boundary, chi(M) = chi(boundary) / 2.
+  {
+    std::int64_t edge_count = count_edges(mesh.tets, vertex_count);
+    report.euler_mesh = static_cast<long>(used_count - edge_count + face_count -
+                                          static_cast<std::int64_t>(mesh.tets.size()));
+    long input_chi = surface_euler_characteristic(input);
+    report.euler_expected = input_chi / 2;
+    if (2 * report.euler_mesh != input_chi)
+      violations.push_back("V-E+F-T of the mesh is " + std::to_string(report.euler_mesh) +
+                           ", expected half the Euler characteristic of the input, " +
+                           std::to_string(input_chi) + "/2");
+  }
+
+  // Input vertices in the mesh, matched by exact coordinates.
+  std::vector<std::int32_t> mesh_vertex_of(input.points.size(), -1);
+  {
+    std::vector<char> in_triangle(input.points.size(), 0);
+    for (const Triangle& t : input.triangles)
+      for (std::int32_t v : t)
+        if (v >= 0 && static_cast<std::size_t>(v) < in_triangle.size()) in_triangle[v] = 1;
+    std::int64_t missing = 0, first = -1;
+    for (std::size_t v = 0; v < input.points.size(); ++v) {
+      if (!in_triangle[v]) continue;
+      KeyedVertex probe{coordinate_key(input.points[v]), -1};
+      auto it = std::lower_bound(by_coordinates.begin(), by_coordinates.end(), probe);
+      if (it != by_coordinates.end() && it->key == probe.key) {
+        mesh_vertex_of[v] = it->index;
+      } else if (missing++ == 0) {
+        first = static_cast<std::int64_t>(v);
+      }
+    }
+    if (missing > 0)
+      violations.push_back("input vertex " + std::to_string(first) +
+                           " is missing from the mesh (coordinates changed?); " +
+                           std::to_string(missing) + " input vertices missing in all");
+  }
+
+  // Boundary faces must be exactly the input triangles, with the same orientation.
+  {
+    std::vector<Triangle> boundary_set(boundary.size());
+    std::transform(boundary.begin(), boundary.end(), boundary_set.begin(), normalized);
+    std::sort(boundary_set.begin(), boundary_set.end());
+    std::vector<Triangle> input_set;
+    input_set.reserve(input.triangles.size());
+    std::int64_t missing = 0, flipped = 0, extra = 0;
+    std::int64_t first_missing = -1, first_flipped = -1;
+    Triangle first_extra{};
+    auto contains = [](const std::vector<Triangle>& set, const Triangle& t) {
+      return std::binary_search(set.begin(), set.end(), t);
+    };
+    for (std::size_t i = 0; i < input.triangles.size(); ++i) {
+      const Triangle& t = input.triangles[i];
+      bool mapped = true;
+      Triangle m{};
+      for (int k = 0; k < 3; ++k) {
+        bool valid = t[k] >= 0 && static_cast<std::size_t>(t[k]) < mesh_vertex_of.size();
+        m[k] = valid ? mesh_vertex_of[t[k]] : -1;
+        mapped = mapped && m[k] >= 0;
+      }
+      if (mapped) {
+        m = normalized(m);
+        input_set.push_back(m);
+        if (contains(boundary_set, m)) continue;
+        if (contains(boundary_set, reversed(m))) {
+          if (flipped++ == 0) first_flipped = static_cast<std::int64_t>(i);
+          continue;
+        }
+      }
+      if (missing++ == 0) first_missing = static_cast<std::int64_t>(i);
+    }
+    std::sort(input_set.begin(), input_set.end());
+    for (const Triangle& f : boundary)
+      if (!contains(input_set, normalized(f)) && !contains(input_set, reversed(f)) && extra++ == 0)
+        first_extra = f;
+    if (missing > 0)
+      violations.push_back(std::to_string(missing) +
+                           " input triangles are not boundary faces of the mesh, first: input triangle " +
+                           std::to_string(first_missing));
+    if (flipped > 0)
+      violations.push_back(std::to_string(flipped) +
+                           " input triangles are boundary faces with the wrong orientation, first: input triangle " +
+                           std::to_string(first_flipped));
+    if (extra > 0)
+      violations.push_back(std::to_string(extra) +
+                           " boundary faces of the mesh are not input triangles, first: " +
+                           format_triangle(first_extra));
+  }
+
+  // Volume: the tets must fill exactly what the input encloses (catches filled cavities).
+  report.surface_volume = enclosed_volume(input);
+  {
+    double scale = std::max(std::abs(report.tet_volume), std::abs(report.surface_volume));
+    if (std::abs(report.tet_volume - report.surface_volume) > kVolumeTolerance * scale)
+      violations.push_back("tet volume " + format_number(report.tet_volume) +
+                           " differs from the volume enclosed by the input, " +
+                           format_number(report.surface_volume));
+  }
+
+  report.quality = mesh_quality(mesh);
+  return report;
+}
+
+}  // namespace partet

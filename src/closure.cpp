@@ -1,0 +1,221 @@
+#include "partet/closure.hpp"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Constrained_triangulation_face_base_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <string>
+
+#include "partet/errors.hpp"
+
+namespace partet {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::int32_t, K>;
+struct FaceInfo {
+  int nesting = -1;  // number of loops crossed from the outside; odd = inside the solid
+};
+using Fbi = CGAL::Triangulation_face_base_with_info_2<FaceInfo, K>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+// Crossing loops are an error, never silently resolved with new inexact vertices.
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_tag>;
+
+struct PlaneFrame {
+  Point3 origin, u, v;  // u x v = plane normal
+};
+
+PlaneFrame frame_of(const CutPlane& plane) {
+  const Point3& n = plane.normal;
+  // A coordinate-axis normal gets the other two axes as (u, v): 2D coordinates and lifted
+  // points are then exact (no rounding at all).
+  for (int i = 0; i < 3; ++i)
+    if (n[i] == 1 && n[(i + 1) % 3] == 0 && n[(i + 2) % 3] == 0) {
+      PlaneFrame f{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+      f.origin[i] = plane.offset;
+      f.u[(i + 1) % 3] = 1;
+      f.v[(i + 2) % 3] = 1;
+      return f;
+    }
+  // Any vector not parallel to n, then Gram-Schmidt.
+  Point3 a = std::abs(n[0]) < 0.9 ? Point3{1, 0, 0} : Point3{0, 1, 0};
+  auto cross = [](const Point3& x, const Point3& y) {
+    return Point3{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+  };
+  Point3 u = cross(a, n);
+  const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (auto& c : u) c /= len;
+  Point3 v = cross(n, u);
+  return {{n[0] * plane.offset, n[1] * plane.offset, n[2] * plane.offset}, u, v};
+}
+
+void mark_nesting(CDT& cdt) {
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info().nesting = -1;
+  // Breadth-first from the infinite face; crossing a constrained edge increments the level.
+  std::deque<CDT::Face_handle> border{cdt.infinite_face()};
+  int level = 0;
+  while (!border.empty()) {
+    std::deque<CDT::Face_handle> next;
+    while (!border.empty()) {
+      auto start = border.front();
+      border.pop_front();
+      if (start->info().nesting != -1) continue;
+      std::deque<CDT::Face_handle> queue{start};
+      start->info().nesting = level;
+      while (!queue.empty()) {
+        auto f = queue.front();
+        queue.pop_front();
+        for (int i = 0; i < 3; ++i) {
+          auto g = f->neighbor(i);
+          if (g->info().nesting != -1) continue;
+          if (f->is_constrained(i)) {
+            next.push_back(g);
+          } else {
+            g->info().nesting = level;
+            queue.push_back(g);
+          }
+        }
+      }
+    }
+    border.swap(next);
+    ++level;
+  }
+}
+
+bool in_domain(const CDT& cdt, CDT::Face_handle f) {
+  return !cdt.is_infinite(f) && f->info().nesting % 2 == 1;
+}
+
+}  // namespace
+
+std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
+  if (!(density >= 0) || !std::isfinite(density))
+    throw OptionError("--density must be a finite number >= 0");
+  const std::size_t plane_count = planes.size();
+
+  // Border chords of each plane, oriented as the piece below traverses them.
+  std::vector<std::vector<std::array<std::int32_t, 2>>> chords(plane_count);
+  for (std::size_t t = 0; t < split.triangles.size(); ++t) {
+    const auto& tri = split.triangles[t];
+    const int piece = split.piece[t];
+    if (piece >= static_cast<int>(plane_count)) continue;
+    for (int e = 0; e < 3; ++e) {
+      const std::int32_t a = tri[e], b = tri[(e + 1) % 3];
+      if (!split.is_cut_vertex(a) || !split.is_cut_vertex(b)) continue;
+      const std::int32_t ia = a - split.input_vertex_count, ib = b - split.input_vertex_count;
+      if (split.cut_vertex_plane[ia] == piece && split.cut_vertex_plane[ib] == piece)
+        chords[piece].push_back({a, b});
+    }
+  }
+
+  std::vector<Cap> caps(plane_count);
+  for (std::size_t j = 0; j < plane_count; ++j) {
+    Cap& cap = caps[j];
+    cap.plane = static_cast<int>(j);
+    if (chords[j].empty()) continue;  // the plane passes between shells: both sides are closed already
+    const PlaneFrame frame = frame_of(planes[j]);
+    auto to_2d = [&](const Point3& p) {
+      const double x = p[0] - frame.origin[0], y = p[1] - frame.origin[1], z = p[2] - frame.origin[2];
+      return K::Point_2(x * frame.u[0] + y * frame.u[1] + z * frame.u[2],
+                        x * frame.v[0] + y * frame.v[1] + z * frame.v[2]);
+    };
+
+    // Border vertices, sorted by id so the triangulation is built the same way every time.
+    std::vector<std::int32_t> ids;
+    for (const auto& c : chords[j]) ids.insert(ids.end(), {c[0], c[1]});
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+
+    CDT cdt;
+    std::map<std::int32_t, CDT::Vertex_handle> handle;
+    double border_length = 0;
+    try {
+      for (auto id : ids) {
+        const auto before = cdt.number_of_vertices();
+        auto vh = cdt.insert(to_2d(split.points[id]));
+        if (cdt.number_of_vertices() == before)
+          throw PartitionError("cut plane " + std::to_string(j) +
+                               ": two border points coincide in the plane (near-degenerate crossing)");
+        vh->info() = id;
+        handle[id] = vh;
+      }
+      for (const auto& c : chords[j]) {
+        cdt.insert_constraint(handle[c[0]], handle[c[1]]);
+        const auto& p = split.points[c[0]];
+        const auto& q = split.points[c[1]];
+        border_length += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                   (p[2] - q[2]) * (p[2] - q[2]));
+      }
+    } catch (const CDT::Intersection_of_constraints_exception&) {
+      throw PartitionError("cut plane " + std::to_string(j) +
+                           ": the surface's border loops cross or touch on the plane (self-intersecting input?)");
+    }
+    mark_nesting(cdt);
+
+    // Refinement: insert centroids of domain faces larger than the target size. A centroid lies
+    // strictly inside its face, so border chords are never split and both pieces still match.
+    const std::int32_t first_interior = static_cast<std::int32_t>(split.points.size());
+    if (density > 0) {
+      const double target = border_length / static_cast<double>(chords[j].size()) / density;
+      const double max_area = 2.0 * std::sqrt(3.0) / 4.0 * target * target;
+      const std::size_t budget = 50 * chords[j].size() + 1000;  // bounds the work on odd inputs
+      std::size_t inserted = 0;
+      for (int round = 0; round < 64 && inserted < budget; ++round) {
+        std::vector<K::Point_2> centroids;
+        for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+          if (!in_domain(cdt, f)) continue;
+          const auto& a = f->vertex(0)->point();
+          const auto& b = f->vertex(1)->point();
+          const auto& c = f->vertex(2)->point();
+          if (std::abs(CGAL::area(a, b, c)) > max_area) centroids.push_back(CGAL::centroid(a, b, c));
+        }
+        if (centroids.empty()) break;
+        for (const auto& p : centroids) {
+          if (inserted >= budget) break;
+          const auto before = cdt.number_of_vertices();
+          auto vh = cdt.insert(p);
+          if (cdt.number_of_vertices() == before) continue;  // coincides with an existing point
+          const auto id = static_cast<std::int32_t>(split.points.size());
+          vh->info() = id;
+          const double x = p.x(), y = p.y();
+          split.points.push_back({frame.origin[0] + x * frame.u[0] + y * frame.v[0],
+                                  frame.origin[1] + x * frame.u[1] + y * frame.v[1],
+                                  frame.origin[2] + x * frame.u[2] + y * frame.v[2]});
+          ++inserted;
+        }
+        mark_nesting(cdt);
+      }
+    }
+    cap.interior_point_count = static_cast<std::int32_t>(split.points.size()) - first_interior;
+
+    // Counter-clockwise in (u, v) means the normal is +axis: outward for the piece below.
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (!in_domain(cdt, f)) continue;
+      cap.triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+    }
+    // Deterministic order, independent of CGAL's internal face order.
+    for (auto& t : cap.triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    std::sort(cap.triangles.begin(), cap.triangles.end());
+
+    // Every chord must be closed by a cap triangle traversing it the other way; otherwise the
+    // loops are not properly nested (e.g. an orientation or intersection problem).
+    std::vector<std::array<std::int32_t, 2>> cap_edges;
+    for (const auto& t : cap.triangles)
+      for (int e = 0; e < 3; ++e) cap_edges.push_back({t[(e + 1) % 3], t[e]});
+    std::sort(cap_edges.begin(), cap_edges.end());
+    for (const auto& c : chords[j])
+      if (!std::binary_search(cap_edges.begin(), cap_edges.end(), c))
+        throw PartitionError("cut plane " + std::to_string(j) +
+                             ": the cap does not close the border loops (inconsistent orientation or crossing loops)");
+  }
+  return caps;
+}
+
+}  // namespace partet

@@ -1,0 +1,106 @@
+#include "partet/cut_vertex_removal.hpp"
+
+#include <algorithm>
+
+#include "partet/errors.hpp"
+#include "partet/merge.hpp"
+
+namespace partet {
+
+CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
+                                          const TetgenOptions& options) {
+  CutVertexRemovalStats stats;
+  const std::int32_t first_cut = split.input_vertex_count;
+  const std::int32_t end_cut = first_cut + split.cut_vertex_count();
+  auto is_cut = [&](std::int32_t v) { return v >= first_cut && v < end_cut; };
+
+  // The region to re-mesh: every tet touching a cut vertex.
+  std::vector<char> in_region(mesh.tets.size(), 0);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (auto v : mesh.tets[t])
+      if (is_cut(v)) in_region[t] = 1;
+
+  // Its boundary: faces towards tets outside it, and mesh-boundary faces without a cut vertex.
+  // Mesh-boundary faces with a cut vertex are fragments of split input triangles; the input
+  // triangles themselves replace them.
+  std::vector<Triangle> faces;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (!in_region[t]) continue;
+    ++stats.cavity_tets_in;
+    for (int j = 0; j < 4; ++j) {
+      const auto nb = mesh.neighbours[t][j];
+      if (nb >= 0 && in_region[nb]) continue;
+      const Triangle face = outward_face(mesh.tets[t], j);
+      if (nb < 0 && (is_cut(face[0]) || is_cut(face[1]) || is_cut(face[2]))) continue;
+      faces.push_back(face);
+    }
+  }
+  std::vector<char> parent_split(input.triangles.size(), 0);
+  for (std::size_t t = 0; t < split.triangles.size(); ++t)
+    for (auto v : split.triangles[t])
+      if (split.is_cut_vertex(v)) parent_split[split.parent[t]] = 1;
+  for (std::size_t f = 0; f < input.triangles.size(); ++f)
+    if (parent_split[f]) faces.push_back(input.triangles[f]);
+
+  std::vector<Tet> tets;
+  tets.reserve(mesh.tets.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    if (!in_region[t]) tets.push_back(mesh.tets[t]);
+
+  if (!faces.empty()) {
+    std::vector<std::int32_t> ids;
+    for (const auto& f : faces) ids.insert(ids.end(), f.begin(), f.end());
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    std::vector<Point3> local_points(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) local_points[i] = mesh.points[ids[i]];
+    auto local = [&](std::int32_t g) {
+      return static_cast<std::int32_t>(std::lower_bound(ids.begin(), ids.end(), g) - ids.begin());
+    };
+    for (auto& f : faces)
+      for (auto& v : f) v = local(v);
+
+    LocalTetMesh region;
+    try {
+      region = mesh_closed_surface(local_points, faces, options);
+    } catch (const MeshingError& e) {
+      throw MeshingError(-1, std::string("cut-vertex removal: ") + e.what());
+    }
+    const auto steiner_base = static_cast<std::int64_t>(mesh.points.size()) - static_cast<std::int64_t>(ids.size());
+    mesh.points.insert(mesh.points.end(), region.steiner_points.begin(), region.steiner_points.end());
+    for (const auto& t : region.tets) {
+      Tet g;
+      for (int j = 0; j < 4; ++j)
+        g[j] = t[j] < static_cast<std::int32_t>(ids.size()) ? ids[t[j]]
+                                                             : static_cast<std::int32_t>(steiner_base + t[j]);
+      tets.push_back(g);
+    }
+    stats.cavity_tets_out = static_cast<std::int64_t>(region.tets.size());
+  }
+
+  // Drop unused points (the cut vertices, and input vertices no triangle uses), keeping order.
+  std::vector<std::int32_t> new_id(mesh.points.size(), -1);
+  for (const auto& t : tets)
+    for (auto v : t) new_id[v] = 0;
+  std::vector<Point3> points;
+  points.reserve(mesh.points.size());
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    if (new_id[v] < 0) {
+      if (is_cut(static_cast<std::int32_t>(v))) ++stats.removed;
+      continue;
+    }
+    new_id[v] = static_cast<std::int32_t>(points.size());
+    points.push_back(mesh.points[v]);
+  }
+  for (auto& t : tets)
+    for (auto& v : t) {
+      if (is_cut(v)) throw MeshingError(-1, "cut-vertex removal left a cut vertex in the mesh");
+      v = new_id[v];
+    }
+  mesh.points = std::move(points);
+  mesh.neighbours = compute_neighbours(tets);
+  mesh.tets = std::move(tets);
+  return stats;
+}
+
+}  // namespace partet

@@ -1,0 +1,140 @@
+#include "partet/pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "partet/errors.hpp"
+
+#include "partet/merge.hpp"
+
+namespace partet {
+namespace {
+
+class StageClock {
+ public:
+  explicit StageClock(StageTimes* times) : times_(times), start_(std::chrono::steady_clock::now()) {}
+  void lap(const char* stage) {
+    const auto now = std::chrono::steady_clock::now();
+    if (times_) times_->emplace_back(stage, std::chrono::duration<double>(now - start_).count());
+    start_ = now;
+  }
+
+ private:
+  StageTimes* times_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, StageTimes* times) {
+  StageClock clock(times);
+  PreparedPieces prepared;
+  prepared.input = std::move(input);
+  prepared.planes = choose_cut_planes(prepared.input, options.pieces, options.axis, options.plane_shifts);
+  prepared.split = split_at_planes(prepared.input, prepared.planes);
+  clock.lap("partition");
+  const auto caps = build_caps(prepared.split, prepared.planes, options.density);
+  for (const auto& c : caps) prepared.cap_triangles += static_cast<std::int64_t>(c.triangles.size());
+  prepared.pieces = assemble_pieces(prepared.split, caps);
+  for (const auto& piece : prepared.pieces) check_piece_topology(piece);
+  clock.lap("closure");
+  return prepared;
+}
+
+MeshResult finish_mesh(const PreparedPieces& prepared, const std::vector<PieceTetMesh>& results,
+                       const MeshOptions& options, StageTimes* times) {
+  StageClock clock(times);
+  MeshResult result;
+  result.mesh = weld(prepared.split.points, prepared.pieces, results);
+  clock.lap("merge");
+  result.removal = remove_cut_vertices(result.mesh, prepared.input, prepared.split, options.tetgen);
+  clock.lap("cut_vertex_removal");
+
+  // Input vertices keep their order; the ones no triangle uses were dropped.
+  const auto& in = prepared.input;
+  std::vector<std::int32_t> new_id(in.points.size(), -1);
+  for (const auto& t : in.triangles)
+    for (auto v : t) new_id[v] = 0;
+  std::int32_t next = 0;
+  for (auto& id : new_id)
+    if (id == 0) id = next++;
+  result.boundary_faces.reserve(in.triangles.size());
+  for (const auto& t : in.triangles) result.boundary_faces.push_back({new_id[t[0]], new_id[t[1]], new_id[t[2]]});
+  return result;
+}
+
+std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const TetgenOptions& options) {
+  std::vector<PieceOutcome> outcomes(pieces.size());
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    try {
+      outcomes[p].result = tetrahedralize_piece(pieces[p], options);
+    } catch (const std::exception& e) {
+      outcomes[p].error = e.what();
+    }
+  }
+  return outcomes;
+}
+
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
+                             StageTimes* times) {
+  MeshOptions attempt_options = options;
+  attempt_options.plane_shifts.assign(options.pieces > 1 ? options.pieces - 1 : 0, 0);
+  std::vector<RetryRecord> retries;
+  const int attempts = std::max(1, options.max_attempts);
+  for (int attempt = 0;; ++attempt) {
+    const bool last = attempt + 1 >= attempts;
+    std::string failure;
+    std::vector<int> planes_to_move;
+    try {
+      PreparedPieces prepared = prepare_pieces(input, attempt_options, times);
+      StageClock clock(times);
+      std::vector<PieceOutcome> outcomes = mesher(prepared.pieces);
+      clock.lap("tetgen");
+      for (std::size_t p = 0; p < outcomes.size(); ++p) {
+        if (outcomes[p].error.empty()) continue;
+        if (failure.empty()) failure = outcomes[p].error;
+        if (p > 0) planes_to_move.push_back(static_cast<int>(p) - 1);
+        if (p + 1 < outcomes.size()) planes_to_move.push_back(static_cast<int>(p));
+      }
+      if (failure.empty()) {
+        std::vector<PieceTetMesh> results;
+        results.reserve(outcomes.size());
+        for (auto& o : outcomes) results.push_back(std::move(o.result));
+        std::vector<PieceOutcome>().swap(outcomes);
+        MeshResult result = finish_mesh(prepared, results, attempt_options, times);
+        result.cut_vertices_inserted = prepared.split.cut_vertex_count();
+        result.cap_triangles = prepared.cap_triangles;
+        result.retries = std::move(retries);
+        return result;
+      }
+    } catch (const InputError&) {
+      throw;
+    } catch (const OptionError&) {
+      throw;
+    } catch (const Error& e) {
+      failure = e.what();  // a cap or the cut-vertex removal failed: move every plane
+    }
+    if (planes_to_move.empty())
+      for (std::size_t j = 0; j < attempt_options.plane_shifts.size(); ++j) planes_to_move.push_back(static_cast<int>(j));
+    std::sort(planes_to_move.begin(), planes_to_move.end());
+    planes_to_move.erase(std::unique(planes_to_move.begin(), planes_to_move.end()), planes_to_move.end());
+    if (last || planes_to_move.empty()) {
+      std::string advice = options.pieces > 1 ? "; try another --pieces value or --axis" : "";
+      throw MeshingError(-1, failure + (attempt > 0 ? " (after " + std::to_string(attempt + 1) + " partitions)" : "") + advice);
+    }
+    std::fprintf(stderr, "partet: attempt %d failed: %s; moving cut plane(s)", attempt + 1, failure.c_str());
+    for (int j : planes_to_move) std::fprintf(stderr, " %d", j);
+    std::fprintf(stderr, " to other vertex gaps and retrying\n");
+    retries.push_back({attempt, failure, planes_to_move});
+    for (int j : planes_to_move) ++attempt_options.plane_shifts[j];
+  }
+}
+
+MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
+  return mesh_with_retries(
+      input, options, [&](const std::vector<PieceSurface>& pieces) { return mesh_pieces_here(pieces, options.tetgen); },
+      times);
+}
+
+}  // namespace partet

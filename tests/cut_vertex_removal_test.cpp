@@ -1,0 +1,169 @@
+// Cut-vertex removal: after remove_cut_vertices (and finish_mesh around it) the mesh has no
+// cut vertex, every input triangle is a boundary face, and check_mesh accepts it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "partet/check.hpp"
+#include "partet/cut_vertex_removal.hpp"
+#include "partet/errors.hpp"
+#include "partet/generate.hpp"
+#include "partet/merge.hpp"
+#include "partet/pipeline.hpp"
+#include "partet/validate.hpp"
+#include "stage_helpers.hpp"
+
+namespace partet {
+namespace {
+
+using namespace partet::test;
+
+struct Stage {
+  MeshOptions options;
+  PreparedPieces prepared;
+  std::vector<PieceTetMesh> results;
+};
+
+Stage prepare(const SurfaceMesh& input, int k, double density = 1.0) {
+  Stage s;
+  s.options.pieces = k;
+  s.options.density = density;
+  s.options.tetgen.isolate = false;
+  s.prepared = prepare_pieces(input, s.options);
+  for (const auto& piece : s.prepared.pieces) s.results.push_back(tetrahedralize_piece(piece, s.options.tetgen));
+  return s;
+}
+
+std::string violations(const CheckReport& r) {
+  std::string text;
+  for (const auto& v : r.violations) text += v + "\n";
+  return text;
+}
+
+// The properties of the final mesh of `input` (all input vertices used).
+void expect_clean_result(const SurfaceMesh& input, const Stage& s, const MeshResult& result) {
+  const TetMesh& mesh = result.mesh;
+  const SplitSurface& split = s.prepared.split;
+  EXPECT_EQ(result.removal.removed, split.cut_vertex_count());
+  if (split.cut_vertex_count() > 0) {
+    EXPECT_GT(result.removal.cavity_tets_in, 0);
+    EXPECT_GT(result.removal.cavity_tets_out, 0);
+  }
+  // Input vertices first, same order and coordinates.
+  ASSERT_GE(mesh.points.size(), input.points.size());
+  for (std::size_t v = 0; v < input.points.size(); ++v) ASSERT_EQ(mesh.points[v], input.points[v]);
+  // No cut vertex coordinate survives; later points are strictly interior.
+  std::set<Point3> cut;
+  for (std::int32_t c = 0; c < split.cut_vertex_count(); ++c) cut.insert(split.points[split.input_vertex_count + c]);
+  for (const auto& p : mesh.points) EXPECT_FALSE(cut.count(p)) << "a cut vertex is still in the mesh";
+  // The boundary is exactly the input triangles (output numbering = input numbering here), so
+  // the only boundary vertices are input vertices.
+  EXPECT_EQ(result.boundary_faces, input.triangles);
+  EXPECT_EQ(canonical_set(open_faces(mesh)), canonical_set(input.triangles));
+  for (const auto& f : open_faces(mesh))
+    for (auto v : f) EXPECT_LT(v, static_cast<std::int32_t>(input.points.size()));
+  EXPECT_EQ(neighbour_problem(mesh.tets, mesh.neighbours), "");
+  EXPECT_EQ(mesh.neighbours, compute_neighbours(mesh.tets));
+  const CheckReport report = check_mesh(input, mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+}
+
+TEST(RemoveCutVertices, FinishMeshOnGeneratedShapes) {
+  for (const char* name : {"sphere", "torus", "genus3", "nested"}) {
+    for (int k : {2, 4}) {
+      SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k));
+      const SurfaceMesh input = generate_surface(name, 1500);
+      const Stage s = prepare(input, k);
+      ASSERT_GT(s.prepared.split.cut_vertex_count(), 0);
+      const MeshResult result = finish_mesh(s.prepared, s.results, s.options);
+      expect_clean_result(input, s, result);
+    }
+  }
+}
+
+TEST(RemoveCutVertices, DirectCallOnWeldedMesh) {
+  const SurfaceMesh input = generate_surface("torus", 1500);
+  const Stage s = prepare(input, 3);
+  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, s.results);
+  const std::size_t tets_before = mesh.tets.size();
+  // Tets touching a cut vertex: exactly the cavity.
+  std::int64_t touching = 0;
+  for (const auto& t : mesh.tets)
+    if (std::any_of(t.begin(), t.end(), [&](std::int32_t v) { return s.prepared.split.is_cut_vertex(v) &&
+                                                                      v < s.prepared.split.input_vertex_count +
+                                                                              s.prepared.split.cut_vertex_count(); }))
+      ++touching;
+  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, s.options.tetgen);
+  EXPECT_EQ(stats.removed, s.prepared.split.cut_vertex_count());
+  EXPECT_EQ(stats.cavity_tets_in, touching);
+  EXPECT_EQ(mesh.tets.size(), tets_before - stats.cavity_tets_in + stats.cavity_tets_out);
+  const CheckReport report = check_mesh(input, mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+  const double volume = enclosed_volume(input);
+  EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
+TEST(RemoveCutVertices, DenseCapsKeepTheirInteriorPoints) {
+  const SurfaceMesh input = generate_surface("sphere", 1500);
+  const Stage s = prepare(input, 3, 2.0);
+  const auto& split = s.prepared.split;
+  const std::size_t cap_points = split.points.size() - split.input_vertex_count - split.cut_vertex_count();
+  ASSERT_GT(cap_points, 0u);
+  const MeshResult result = finish_mesh(s.prepared, s.results, s.options);
+  expect_clean_result(input, s, result);
+  // Cap interior points are interior to the solid: they stay (in order, after the input).
+  for (std::size_t i = 0; i < cap_points; ++i)
+    EXPECT_EQ(result.mesh.points[input.points.size() + i],
+              split.points[split.input_vertex_count + split.cut_vertex_count() + i]);
+}
+
+TEST(RemoveCutVertices, OnePieceChangesNothing) {
+  const SurfaceMesh input = generate_surface("sphere", 800);
+  const Stage s = prepare(input, 1);
+  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, s.results);
+  const TetMesh before = mesh;
+  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, s.options.tetgen);
+  EXPECT_EQ(stats.removed, 0);
+  EXPECT_EQ(stats.cavity_tets_in, 0);
+  EXPECT_EQ(stats.cavity_tets_out, 0);
+  EXPECT_EQ(mesh.points, before.points);
+  EXPECT_EQ(mesh.tets, before.tets);
+  EXPECT_EQ(mesh.neighbours, before.neighbours);
+}
+
+TEST(RemoveCutVertices, UnusedInputVerticesAreDropped) {
+  // Unused input points (first, in the middle and last) are not in the output, the others keep
+  // their order, and boundary_faces is the input in output numbering.
+  const SurfaceMesh sphere = generate_surface("sphere", 1000);
+  SurfaceMesh input;
+  input.points.push_back({5, 5, 5});
+  for (std::size_t i = 0; i < sphere.points.size(); ++i) {
+    input.points.push_back(sphere.points[i]);
+    if (i == sphere.points.size() / 2) input.points.push_back({0.01, 0.02, 0.03});  // inside, unused
+  }
+  input.points.push_back({-7, 0, 0});
+  std::vector<std::int32_t> id(sphere.points.size());
+  for (std::size_t i = 0; i < sphere.points.size(); ++i)
+    id[i] = static_cast<std::int32_t>(i + 1 + (i > sphere.points.size() / 2 ? 1 : 0));
+  for (const auto& t : sphere.triangles) input.triangles.push_back({id[t[0]], id[t[1]], id[t[2]]});
+
+  const Stage s = prepare(input, 3);
+  const MeshResult result = finish_mesh(s.prepared, s.results, s.options);
+  for (std::size_t v = 0; v < sphere.points.size(); ++v) ASSERT_EQ(result.mesh.points[v], sphere.points[v]);
+  EXPECT_EQ(result.boundary_faces, sphere.triangles);
+  EXPECT_EQ(result.removal.removed, s.prepared.split.cut_vertex_count());
+  for (const auto& p : result.mesh.points) {
+    EXPECT_NE(p, (Point3{5, 5, 5}));
+    EXPECT_NE(p, (Point3{0.01, 0.02, 0.03}));
+    EXPECT_NE(p, (Point3{-7, 0, 0}));
+  }
+  const CheckReport report = check_mesh(sphere, result.mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+}
+
+}  // namespace
+}  // namespace partet

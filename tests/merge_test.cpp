@@ -1,0 +1,159 @@
+// Merge: weld joins the pieces' tet meshes at the caps; compute_neighbours rebuilds the
+// adjacency from the tets alone.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include "partet/errors.hpp"
+#include "partet/generate.hpp"
+#include "partet/merge.hpp"
+#include "partet/pipeline.hpp"
+#include "partet/validate.hpp"
+#include "stage_helpers.hpp"
+
+namespace partet {
+namespace {
+
+using namespace partet::test;
+
+struct Welded {
+  PreparedPieces prepared;
+  std::vector<PieceTetMesh> results;
+  TetMesh mesh;
+};
+
+Welded weld_shape(const std::string& name, int faces, int k, double density = 1.0,
+                  const std::string& quality = "") {
+  Welded w;
+  MeshOptions options;
+  options.pieces = k;
+  options.density = density;
+  options.tetgen.isolate = false;
+  options.tetgen.quality = quality;
+  w.prepared = prepare_pieces(generate_surface(name, faces), options);
+  for (const auto& piece : w.prepared.pieces) w.results.push_back(tetrahedralize_piece(piece, options.tetgen));
+  w.mesh = weld(w.prepared.split.points, w.prepared.pieces, w.results);
+  return w;
+}
+
+void expect_valid_weld(const Welded& w) {
+  const TetMesh& mesh = w.mesh;
+  // Sizes: all global points, then every piece's Steiner points in piece order.
+  std::size_t steiner = 0, tets = 0;
+  for (const auto& r : w.results) {
+    steiner += r.mesh.steiner_points.size();
+    tets += r.mesh.tets.size();
+  }
+  ASSERT_EQ(mesh.points.size(), w.prepared.split.points.size() + steiner);
+  ASSERT_EQ(mesh.tets.size(), tets);
+  for (std::size_t v = 0; v < w.prepared.split.points.size(); ++v) ASSERT_EQ(mesh.points[v], w.prepared.split.points[v]);
+  std::size_t next = w.prepared.split.points.size();
+  for (const auto& r : w.results)
+    for (const auto& q : r.mesh.steiner_points) EXPECT_EQ(mesh.points[next++], q);
+
+  // Tets map through the pieces' global ids: same coordinates as in the piece.
+  std::size_t t = 0;
+  std::size_t steiner_base = w.prepared.split.points.size();
+  for (std::size_t p = 0; p < w.results.size(); ++p) {
+    const auto& r = w.results[p];
+    const auto& piece = w.prepared.pieces[p];
+    for (const auto& local : r.mesh.tets) {
+      for (int j = 0; j < 4; ++j) {
+        const auto v = local[j];
+        const Point3& expected = v < r.surface_point_count ? piece.points[v] : r.mesh.steiner_points[v - r.surface_point_count];
+        ASSERT_EQ(mesh.points[mesh.tets[t][j]], expected);
+        if (v >= r.surface_point_count)
+          EXPECT_EQ(mesh.tets[t][j], static_cast<std::int32_t>(steiner_base + v - r.surface_point_count));
+      }
+      ++t;
+    }
+    steiner_base += r.mesh.steiner_points.size();
+  }
+
+  // Neighbours symmetric, and exactly what compute_neighbours finds from the tets alone.
+  EXPECT_EQ(neighbour_problem(mesh.tets, mesh.neighbours), "");
+  EXPECT_EQ(mesh.neighbours, compute_neighbours(mesh.tets));
+
+  // The open faces are the split input triangles: every cap face got its neighbour.
+  EXPECT_EQ(canonical_set(open_faces(mesh)), canonical_set(w.prepared.split.triangles));
+
+  const double volume = enclosed_volume(w.prepared.input);
+  EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
+TEST(Weld, PiecesOfGeneratedShapes) {
+  for (const char* name : {"sphere", "torus", "genus3", "nested"}) {
+    for (int k : {1, 2, 4}) {
+      SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k));
+      expect_valid_weld(weld_shape(name, 1500, k));
+    }
+  }
+}
+
+TEST(Weld, WithSteinerPointsAndDenseCaps) {
+  const Welded w = weld_shape("torus", 1000, 3, 2.0, "1.5");
+  std::size_t steiner = 0;
+  for (const auto& r : w.results) steiner += r.mesh.steiner_points.size();
+  EXPECT_GT(steiner, 0u);
+  expect_valid_weld(w);
+}
+
+TEST(Weld, CapFacesJoinTetsOfNeighbouringPieces) {
+  const Welded w = weld_shape("sphere", 1500, 3);
+  // Tet index ranges of the pieces.
+  std::vector<std::size_t> first{0};
+  for (const auto& r : w.results) first.push_back(first.back() + r.mesh.tets.size());
+  auto piece_of_tet = [&](std::int32_t t) {
+    int p = 0;
+    while (static_cast<std::size_t>(t) >= first[p + 1]) ++p;
+    return p;
+  };
+  std::set<std::pair<int, int>> pairs;
+  std::size_t cross = 0;
+  for (std::size_t t = 0; t < w.mesh.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j) {
+      const auto u = w.mesh.neighbours[t][j];
+      if (u < 0) continue;
+      const int a = piece_of_tet(static_cast<std::int32_t>(t)), b = piece_of_tet(u);
+      if (a != b) {
+        EXPECT_EQ(std::abs(a - b), 1) << "tets of non-adjacent pieces are neighbours";
+        pairs.insert({std::min(a, b), std::max(a, b)});
+        ++cross;
+      }
+    }
+  EXPECT_EQ(pairs, (std::set<std::pair<int, int>>{{0, 1}, {1, 2}}));
+  // Each cap triangle is crossed once from each side.
+  EXPECT_EQ(cross, 2 * static_cast<std::size_t>(w.prepared.cap_triangles));
+}
+
+TEST(Weld, MismatchedResultThrows) {
+  Welded w = weld_shape("sphere", 500, 2);
+  std::swap(w.results[0], w.results[1]);
+  EXPECT_THROW(weld(w.prepared.split.points, w.prepared.pieces, w.results), MeshingError);
+}
+
+TEST(ComputeNeighbours, TwoTetsShareAFace) {
+  // Tets (0,1,2,3) and (1,2,3,4) share face {1,2,3}, opposite vertex 0 and vertex 4.
+  const std::vector<Tet> tets = {{0, 1, 2, 3}, {4, 3, 2, 1}};
+  const auto nb = compute_neighbours(tets);
+  ASSERT_EQ(nb.size(), 2u);
+  EXPECT_EQ(nb[0], (Tet{1, -1, -1, -1}));
+  EXPECT_EQ(nb[1], (Tet{0, -1, -1, -1}));
+  EXPECT_EQ(neighbour_problem(tets, nb), "");
+}
+
+TEST(ComputeNeighbours, EmptyAndIsolated) {
+  EXPECT_TRUE(compute_neighbours({}).empty());
+  const auto nb = compute_neighbours({{0, 1, 2, 3}, {4, 5, 6, 7}});
+  EXPECT_EQ(nb[0], (Tet{-1, -1, -1, -1}));
+  EXPECT_EQ(nb[1], (Tet{-1, -1, -1, -1}));
+}
+
+TEST(ComputeNeighbours, FaceInThreeTetsThrows) {
+  EXPECT_THROW(compute_neighbours({{0, 1, 2, 3}, {4, 3, 2, 1}, {1, 2, 3, 5}}), MeshingError);
+}
+
+}  // namespace
+}  // namespace partet

@@ -1,0 +1,272 @@
+// The whole pipeline in one process: mesh_surface (with retries), verified by check_mesh.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "partet/check.hpp"
+#include "partet/errors.hpp"
+#include "partet/generate.hpp"
+#include "partet/pipeline.hpp"
+#include "partet/validate.hpp"
+#include "stage_helpers.hpp"
+
+namespace partet {
+namespace {
+
+using namespace partet::test;
+
+MeshOptions options_for(int k, double density = 1.0) {
+  MeshOptions o;
+  o.pieces = k;
+  o.density = density;
+  o.tetgen.isolate = false;  // faster; isolation is covered in tetgen_mesher_test
+  return o;
+}
+
+std::string violations(const CheckReport& r) {
+  std::string text;
+  for (const auto& v : r.violations) text += v + "\n";
+  return text;
+}
+
+// Meshes and checks; returns the result for further assertions.
+MeshResult expect_meshes(const SurfaceMesh& input, const MeshOptions& options) {
+  const MeshResult result = mesh_surface(input, options);
+  const CheckReport report = check_mesh(input, result.mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+  EXPECT_EQ(report.boundary_faces, static_cast<std::int64_t>(input.triangles.size()));
+  EXPECT_NEAR(report.tet_volume, enclosed_volume(input), 1e-9 * enclosed_volume(input));
+  EXPECT_EQ(result.removal.removed, result.cut_vertices_inserted);
+  if (options.pieces == 1) {
+    EXPECT_EQ(result.cut_vertices_inserted, 0);
+    EXPECT_EQ(result.cap_triangles, 0);
+  }
+  EXPECT_EQ(result.boundary_faces, input.triangles);
+  EXPECT_EQ(canonical_set(open_faces(result.mesh)), canonical_set(input.triangles));
+  EXPECT_EQ(neighbour_problem(result.mesh.tets, result.mesh.neighbours), "");
+  return result;
+}
+
+TEST(MeshSurface, Sphere) {
+  const SurfaceMesh s = generate_surface("sphere", 2000);
+  for (int k : {1, 2, 3, 8}) {
+    SCOPED_TRACE("k=" + std::to_string(k));
+    const MeshResult r = expect_meshes(s, options_for(k));
+    if (k > 1) {
+      EXPECT_GT(r.cut_vertices_inserted, 0);
+      EXPECT_GT(r.cap_triangles, 0);
+    }
+    EXPECT_TRUE(r.retries.empty());
+  }
+}
+
+TEST(MeshSurface, TorusAllK) {
+  const SurfaceMesh s = generate_surface("torus", 2000);
+  for (int k : {1, 2, 3, 4, 8}) {
+    SCOPED_TRACE("k=" + std::to_string(k));
+    expect_meshes(s, options_for(k));
+  }
+}
+
+TEST(MeshSurface, TorusCutThroughTheHole) {
+  // The torus lies across its main axis, so the k = 2 plane passes through the hole: the cap
+  // between the two pieces has two loops (two tube sections), and the pieces are two
+  // U-shaped halves.
+  const SurfaceMesh s = generate_surface("torus", 2000);
+  const MeshOptions options = options_for(2);
+  const PreparedPieces prepared = prepare_pieces(s, options);
+  ASSERT_EQ(prepared.planes.size(), 1u);
+  const int axis = coordinate_axis_of(prepared.planes[0].normal);
+  ASSERT_GE(axis, 0);
+  const double offset = prepared.planes[0].offset;
+  // The plane passes through the middle (the hole's centre is at the origin).
+  EXPECT_LT(std::abs(offset), 0.2);
+  // The cap: the triangles of piece 0 lying on the plane.
+  const PieceSurface& below = prepared.pieces[0];
+  std::vector<Triangle> cap;
+  for (const auto& t : below.triangles)
+    if (below.points[t[0]][axis] == offset && below.points[t[1]][axis] == offset && below.points[t[2]][axis] == offset)
+      cap.push_back(t);
+  ASSERT_EQ(static_cast<std::int64_t>(cap.size()), prepared.cap_triangles);
+  EXPECT_EQ(border_loop_count(cap), 2);
+  // Each piece is one connected U, with genus 0 (V - E + F = 2).
+  for (const auto& piece : prepared.pieces) {
+    const auto comp = vertex_components(piece.points.size(), piece.triangles);
+    EXPECT_EQ(*std::max_element(comp.begin(), comp.end()), 0);
+    std::set<std::pair<std::int32_t, std::int32_t>> edges;
+    for (const auto& t : piece.triangles)
+      for (int e = 0; e < 3; ++e) edges.insert({std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])});
+    EXPECT_EQ(static_cast<long>(piece.points.size()) - static_cast<long>(edges.size()) +
+                  static_cast<long>(piece.triangles.size()),
+              2);
+  }
+  expect_meshes(s, options);
+}
+
+TEST(MeshSurface, Genus3) {
+  const SurfaceMesh s = generate_surface("genus3", 2000);
+  for (int k : {1, 2, 5}) {
+    SCOPED_TRACE("k=" + std::to_string(k));
+    expect_meshes(s, options_for(k));
+  }
+}
+
+TEST(MeshSurface, NestedCavityStaysEmpty) {
+  const SurfaceMesh s = generate_surface("nested", 3000);
+  const auto shell = vertex_components(s.points.size(), s.triangles);
+  for (int k : {1, 2, 4}) {
+    SCOPED_TRACE("k=" + std::to_string(k));
+    // check_mesh compares the tet volume with outer - cavity + island.
+    const MeshResult r = expect_meshes(s, options_for(k));
+    for (const auto& t : r.mesh.tets) {
+      std::set<int> shells;
+      for (auto v : t)
+        if (v < static_cast<std::int32_t>(s.points.size())) shells.insert(shell[v]);
+      EXPECT_FALSE(shells.count(2) && shells.size() > 1) << "a tet joins the island to another shell";
+    }
+  }
+}
+
+TEST(MeshSurface, TwoSpheres) {
+  const SurfaceMesh s = generate_surface("two_spheres", 2000);
+  for (int k : {1, 2, 3, 4}) {
+    SCOPED_TRACE("k=" + std::to_string(k));
+    expect_meshes(s, options_for(k));
+  }
+}
+
+TEST(MeshSurface, CapDensity) {
+  const SurfaceMesh s = generate_surface("torus", 1500);
+  std::size_t previous_points = 0;
+  for (double density : {0.0, 2.0}) {
+    SCOPED_TRACE("density " + std::to_string(density));
+    const MeshResult r = expect_meshes(s, options_for(3, density));
+    if (density == 0) {
+      // Only input vertices (and any interior Steiner points TetGen needed).
+      previous_points = r.mesh.points.size();
+    } else {
+      EXPECT_GT(r.mesh.points.size(), previous_points);
+    }
+  }
+  expect_meshes(generate_surface("nested", 2000), options_for(2, 0.0));
+  expect_meshes(generate_surface("nested", 2000), options_for(2, 2.0));
+}
+
+TEST(MeshSurface, PcaAxisAndQuality) {
+  MeshOptions o = options_for(3);
+  o.axis = CutAxis::pca;
+  expect_meshes(generate_surface("genus3", 1500), o);
+  expect_meshes(generate_surface("torus", 1500), o);
+  MeshOptions q = options_for(3);
+  q.tetgen.quality = "1.5";
+  const MeshResult r = expect_meshes(generate_surface("sphere", 1000), q);
+  EXPECT_GT(r.mesh.points.size(), generate_surface("sphere", 1000).points.size());
+}
+
+TEST(MeshSurface, TinyTetrahedronWithAnEdgeAcrossTwoPlanes) {
+  SurfaceMesh s;
+  s.points = {{0, 0, 0}, {10, 1, 0}, {10, 0, 1}, {20, 0.2, 0.3}};
+  s.triangles = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  ASSERT_NO_THROW(validate_surface(s));
+  for (int k : {1, 2, 3}) {
+    SCOPED_TRACE("k=" + std::to_string(k));
+    for (double density : {0.0, 1.0}) expect_meshes(s, options_for(k, density));
+  }
+}
+
+TEST(MeshSurface, DeterministicAndIsolationIndependent) {
+  const SurfaceMesh s = generate_surface("torus", 1500);
+  MeshOptions o = options_for(4);
+  const MeshResult a = mesh_surface(s, o);
+  const MeshResult b = mesh_surface(s, o);
+  o.tetgen.isolate = true;
+  const MeshResult c = mesh_surface(s, o);
+  for (const MeshResult* r : {&b, &c}) {
+    EXPECT_EQ(r->mesh.points, a.mesh.points);
+    EXPECT_EQ(r->mesh.tets, a.mesh.tets);
+    EXPECT_EQ(r->mesh.neighbours, a.mesh.neighbours);
+  }
+}
+
+TEST(MeshSurface, StageTimesInOrder) {
+  StageTimes times;
+  mesh_surface(generate_surface("sphere", 500), options_for(2), &times);
+  std::vector<std::string> names;
+  for (const auto& [name, seconds] : times) {
+    names.push_back(name);
+    EXPECT_GE(seconds, 0);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"partition", "closure", "tetgen", "merge", "cut_vertex_removal"}));
+}
+
+TEST(MeshSurface, OptionErrorsAreThrownAtOnce) {
+  const SurfaceMesh s = generate_surface("sphere", 300);
+  EXPECT_THROW(mesh_surface(s, options_for(0)), OptionError);
+  EXPECT_THROW(mesh_surface(s, options_for(2, -1.0)), OptionError);
+}
+
+TEST(MeshWithRetries, FailedPieceMovesItsPlanes) {
+  const SurfaceMesh s = generate_surface("sphere", 1500);
+  const MeshOptions o = options_for(4);
+  int calls = 0;
+  std::vector<std::vector<PieceSurface>> seen;
+  const PieceMesher flaky = [&](const std::vector<PieceSurface>& pieces) {
+    seen.push_back(pieces);
+    auto outcomes = mesh_pieces_here(pieces, o.tetgen);
+    if (calls++ == 0) {
+      outcomes[1].result = {};
+      outcomes[1].error = "piece 1: simulated failure";
+    }
+    return outcomes;
+  };
+  const MeshResult r = mesh_with_retries(s, o, flaky);
+  EXPECT_EQ(calls, 2);
+  ASSERT_EQ(r.retries.size(), 1u);
+  EXPECT_EQ(r.retries[0].attempt, 0);
+  EXPECT_EQ(r.retries[0].reason, "piece 1: simulated failure");
+  EXPECT_EQ(r.retries[0].planes, (std::vector<int>{0, 1}));  // the planes bounding piece 1
+  // The second partition differs from the first (moved planes), and the result is valid.
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_NE(seen[0][1].points, seen[1][1].points);
+  const CheckReport report = check_mesh(s, r.mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+}
+
+TEST(MeshWithRetries, GivesUpAfterMaxAttempts) {
+  const SurfaceMesh s = generate_surface("sphere", 500);
+  MeshOptions o = options_for(3);
+  o.max_attempts = 3;
+  int calls = 0;
+  const PieceMesher broken = [&](const std::vector<PieceSurface>& pieces) {
+    ++calls;
+    auto outcomes = mesh_pieces_here(pieces, o.tetgen);
+    outcomes.back().error = "piece 2: always fails";
+    return outcomes;
+  };
+  try {
+    mesh_with_retries(s, o, broken);
+    ADD_FAILURE() << "no error";
+  } catch (const MeshingError& e) {
+    EXPECT_NE(std::string(e.what()).find("always fails"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(calls, 3);
+}
+
+TEST(MeshPiecesHere, ReportsErrorsPerPiece) {
+  PieceSurface bad;
+  bad.index = 0;
+  bad.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  bad.global_ids = {0, 1, 2};
+  bad.triangles = {{0, 1, 2}};
+  TetgenOptions t;
+  t.isolate = false;
+  const auto outcomes = mesh_pieces_here({bad}, t);
+  ASSERT_EQ(outcomes.size(), 1u);
+  EXPECT_FALSE(outcomes[0].error.empty());
+}
+
+}  // namespace
+}  // namespace partet

@@ -1,0 +1,127 @@
+// Serialization of the MPI messages: pieces and piece results survive a round trip bit for bit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "partet/generate.hpp"
+#include "partet/pipeline.hpp"
+#include "partet/serialize.hpp"
+
+namespace partet {
+namespace {
+
+// Bitwise equality of point arrays (distinguishes -0.0 from 0.0, compares NaNs).
+bool same_bits(const std::vector<Point3>& a, const std::vector<Point3>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Point3)) == 0);
+}
+
+void expect_same(const PieceSurface& a, const PieceSurface& b) {
+  EXPECT_EQ(a.index, b.index);
+  EXPECT_EQ(a.global_ids, b.global_ids);
+  EXPECT_TRUE(same_bits(a.points, b.points));
+  EXPECT_EQ(a.triangles, b.triangles);
+}
+
+void expect_same(const PieceTetMesh& a, const PieceTetMesh& b) {
+  EXPECT_EQ(a.index, b.index);
+  EXPECT_EQ(a.surface_point_count, b.surface_point_count);
+  EXPECT_TRUE(same_bits(a.mesh.steiner_points, b.mesh.steiner_points));
+  EXPECT_EQ(a.mesh.tets, b.mesh.tets);
+  EXPECT_EQ(a.mesh.neighbours, b.mesh.neighbours);
+}
+
+struct Real {
+  PreparedPieces prepared;
+  std::vector<PieceTetMesh> results;
+};
+
+Real real_pieces() {
+  MeshOptions options;
+  options.pieces = 3;
+  options.tetgen.isolate = false;
+  options.tetgen.quality = "1.5";  // so that the results have Steiner points
+  Real r;
+  r.prepared = prepare_pieces(generate_surface("torus", 1000), options);
+  for (const auto& piece : r.prepared.pieces) r.results.push_back(tetrahedralize_piece(piece, options.tetgen));
+  return r;
+}
+
+TEST(Serialize, RealPiecesAndResultsRoundTrip) {
+  const Real r = real_pieces();
+  for (std::size_t p = 0; p < r.prepared.pieces.size(); ++p) {
+    SCOPED_TRACE("piece " + std::to_string(p));
+    const PieceSurface& piece = r.prepared.pieces[p];
+    const std::string bytes = serialize_piece(piece);
+    expect_same(deserialize_piece(bytes), piece);
+    EXPECT_EQ(serialize_piece(deserialize_piece(bytes)), bytes);  // stable encoding
+
+    const PieceTetMesh& result = r.results[p];
+    ASSERT_FALSE(result.mesh.steiner_points.empty());
+    const std::string rbytes = serialize_result(result);
+    expect_same(deserialize_result(rbytes), result);
+    EXPECT_EQ(serialize_result(deserialize_result(rbytes)), rbytes);
+  }
+}
+
+TEST(Serialize, SpecialValuesAndNegativeIds) {
+  PieceSurface piece;
+  piece.index = 2147483647;
+  const double inf = std::numeric_limits<double>::infinity();
+  piece.points = {{-0.0, 0.0, std::numeric_limits<double>::denorm_min()},
+                  {std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(), inf},
+                  {-inf, std::numeric_limits<double>::quiet_NaN(), std::nextafter(1.0, 2.0)},
+                  {0.1, 1.0 / 3.0, -1e-308}};
+  piece.global_ids = {0, 7, 2147483647, 12};
+  piece.triangles = {{0, 1, 2}, {-1, 3, 2147483647}};
+  const PieceSurface back = deserialize_piece(serialize_piece(piece));
+  expect_same(back, piece);
+  EXPECT_TRUE(std::signbit(back.points[0][0]));
+  EXPECT_TRUE(std::isnan(back.points[2][1]));
+
+  PieceTetMesh result;
+  result.index = -5;
+  result.surface_point_count = 123456789;
+  result.mesh.steiner_points = piece.points;
+  result.mesh.tets = {{0, 1, 2, 3}, {-1, -2, 2147483647, -2147483647 - 1}};
+  result.mesh.neighbours = {{-1, 1, -1, -1}, {0, -1, -1, -1}};
+  expect_same(deserialize_result(serialize_result(result)), result);
+}
+
+TEST(Serialize, EmptyMessages) {
+  const PieceSurface empty_piece;
+  expect_same(deserialize_piece(serialize_piece(empty_piece)), empty_piece);
+  const PieceTetMesh empty_result;
+  expect_same(deserialize_result(serialize_result(empty_result)), empty_result);
+  // An empty vector followed by a full one.
+  PieceTetMesh partial;
+  partial.index = 1;
+  partial.mesh.tets = {{0, 1, 2, 3}};
+  partial.mesh.neighbours = {{-1, -1, -1, -1}};
+  expect_same(deserialize_result(serialize_result(partial)), partial);
+}
+
+TEST(Serialize, CompactBinaryEncoding) {
+  // Flat blocks: the message is the raw data plus a small header, not a text encoding.
+  const Real r = real_pieces();
+  const PieceSurface& piece = r.prepared.pieces[0];
+  const std::size_t payload = piece.points.size() * sizeof(Point3) + piece.triangles.size() * sizeof(Triangle) +
+                              piece.global_ids.size() * sizeof(std::int32_t);
+  const std::string bytes = serialize_piece(piece);
+  EXPECT_GE(bytes.size(), payload);
+  EXPECT_LE(bytes.size(), payload + 64);
+}
+
+TEST(Serialize, TruncatedMessageIsRejected) {
+  const Real r = real_pieces();
+  const std::string bytes = serialize_result(r.results[0]);
+  EXPECT_ANY_THROW(deserialize_result(bytes.substr(0, bytes.size() / 2)));
+  const std::string pbytes = serialize_piece(r.prepared.pieces[0]);
+  EXPECT_ANY_THROW(deserialize_piece(pbytes.substr(0, pbytes.size() - 1)));
+}
+
+}  // namespace
+}  // namespace partet

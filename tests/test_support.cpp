@@ -1,0 +1,36 @@
+#include "test_support.hpp"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <vector>
+
+namespace partet::test {
+namespace {
+
+std::vector<std::filesystem::path>& created() {
+  static std::vector<std::filesystem::path> dirs;
+  return dirs;
+}
+
+void remove_created() {
+  std::error_code ec;
+  for (const auto& d : created()) std::filesystem::remove_all(d, ec);
+}
+
+}  // namespace
+
+std::string temp_dir(const std::string& name) {
+  namespace fs = std::filesystem;
+  static std::once_flag registered;
+  std::call_once(registered, [] { std::atexit(remove_created); });
+  fs::path dir = fs::temp_directory_path() / ("partet_test_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  created().push_back(dir);
+  return dir.string();
+}
+
+}  // namespace partet::test
