@@ -159,38 +159,65 @@ std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& pl
     }
     mark_nesting(cdt);
 
-    // Refinement: insert centroids of domain faces larger than the target size. A centroid lies
-    // strictly inside its face, so border chords are never split and both pieces still match.
+    // Refinement by size that never splits a border chord (both pieces must keep matching): a too
+    // large face gets its centroid unless that encroaches on a border chord. (Circumcenters give
+    // rounder triangles but land arbitrarily close to other points, which TetGen then merges.)
     const std::int32_t first_interior = static_cast<std::int32_t>(split.points.size());
     if (density > 0) {
       const double target = border_length / static_cast<double>(chords[j].size()) / density;
       const double max_area = 2.0 * std::sqrt(3.0) / 4.0 * target * target;
       const std::size_t budget = 50 * chords[j].size() + 1000;  // bounds the work on odd inputs
       std::size_t inserted = 0;
+      // p encroaches on a constrained edge of face g or its neighbours when it lies inside the
+      // edge's diametral circle: a point there would make a sliver against the border.
+      auto encroaches = [&](CDT::Face_handle g, const K::Point_2& p) {
+        for (int n = -1; n < 3; ++n) {
+          const CDT::Face_handle h = n < 0 ? g : g->neighbor(n);
+          if (cdt.is_infinite(h)) continue;
+          for (int i = 0; i < 3; ++i) {
+            if (!h->is_constrained(i)) continue;
+            const auto& a = h->vertex(CDT::cw(i))->point();
+            const auto& b = h->vertex(CDT::ccw(i))->point();
+            if ((p - a) * (p - b) <= 0) return true;
+          }
+        }
+        return false;
+      };
+      auto try_insert = [&](const K::Point_2& p) {
+        const CDT::Face_handle g = cdt.locate(p);
+        if (g == CDT::Face_handle() || !in_domain(cdt, g) || encroaches(g, p)) return false;
+        const int nesting = g->info().nesting;
+        const auto before = cdt.number_of_vertices();
+        auto vh = cdt.insert(p, g);
+        if (cdt.number_of_vertices() == before) return false;  // coincides with an existing point
+        // The new faces fill a region bounded by unconstrained edges: same nesting as before.
+        auto fc = cdt.incident_faces(vh), done = fc;
+        do {
+          fc->info().nesting = nesting;
+        } while (++fc != done);
+        vh->info() = static_cast<std::int32_t>(split.points.size());
+        const double x = p.x(), y = p.y();
+        split.points.push_back({frame.origin[0] + x * frame.u[0] + y * frame.v[0],
+                                frame.origin[1] + x * frame.u[1] + y * frame.v[1],
+                                frame.origin[2] + x * frame.u[2] + y * frame.v[2]});
+        ++inserted;
+        return true;
+      };
       for (int round = 0; round < 64 && inserted < budget; ++round) {
-        std::vector<K::Point_2> centroids;
+        std::vector<std::array<K::Point_2, 3>> large;
         for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
           if (!in_domain(cdt, f)) continue;
           const auto& a = f->vertex(0)->point();
           const auto& b = f->vertex(1)->point();
           const auto& c = f->vertex(2)->point();
-          if (std::abs(CGAL::area(a, b, c)) > max_area) centroids.push_back(CGAL::centroid(a, b, c));
+          if (std::abs(CGAL::area(a, b, c)) > max_area) large.push_back({a, b, c});
         }
-        if (centroids.empty()) break;
-        for (const auto& p : centroids) {
+        const std::size_t before = inserted;
+        for (const auto& t : large) {
           if (inserted >= budget) break;
-          const auto before = cdt.number_of_vertices();
-          auto vh = cdt.insert(p);
-          if (cdt.number_of_vertices() == before) continue;  // coincides with an existing point
-          const auto id = static_cast<std::int32_t>(split.points.size());
-          vh->info() = id;
-          const double x = p.x(), y = p.y();
-          split.points.push_back({frame.origin[0] + x * frame.u[0] + y * frame.v[0],
-                                  frame.origin[1] + x * frame.u[1] + y * frame.v[1],
-                                  frame.origin[2] + x * frame.u[2] + y * frame.v[2]});
-          ++inserted;
+          try_insert(CGAL::centroid(t[0], t[1], t[2]));
         }
-        mark_nesting(cdt);
+        if (inserted == before) break;
       }
     }
     cap.interior_point_count = static_cast<std::int32_t>(split.points.size()) - first_interior;

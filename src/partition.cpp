@@ -126,21 +126,21 @@ std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAx
     return true;
   };
 
-  // All usable gaps, in order along the axis.
+  // All usable gaps, in order along the axis. A gap narrower than 1e-9 of the model's extent
+  // (e.g. a face that is flat up to rounding noise) would give a needle-thin piece: not usable.
+  const double min_width = 1e-9 * (proj[order[n - 1]] - proj[order[0]]);
   std::vector<std::size_t> usable;
   std::vector<CutPlane> usable_plane;
   for (std::size_t m = 1; m < n; ++m) {
+    if (!(proj[order[m]] - proj[order[m - 1]] > min_width)) continue;
     CutPlane plane{};
     if (plane_in_gap(m, plane)) {
       usable.push_back(m);
       usable_plane.push_back(plane);
     }
   }
-  if (usable.size() + 1 < static_cast<std::size_t>(k))
-    throw OptionError("cannot cut the model into " + std::to_string(k) + " pieces: it has only " +
-                      std::to_string(usable.size()) + " distinct cut positions along the cut axis; use --pieces " +
-                      std::to_string(usable.size() + 1) + " or fewer");
-
+  // Fewer distinct cut positions than planes asked for: use them all (the caller warns).
+  if (usable.size() + 1 < static_cast<std::size_t>(k)) k = static_cast<int>(usable.size()) + 1;
   std::vector<CutPlane> planes;
   std::size_t next_usable = 0;  // planes take strictly increasing usable gaps
   for (int j = 1; j < k; ++j) {

@@ -32,6 +32,11 @@ PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, Sta
   PreparedPieces prepared;
   prepared.input = std::move(input);
   prepared.planes = choose_cut_planes(prepared.input, options.pieces, options.axis, options.plane_shifts);
+  if (options.pieces > 1 && static_cast<int>(prepared.planes.size()) + 1 < options.pieces)
+    std::fprintf(stderr,
+                 "partet: warning: the model has only %zu distinct cut positions along the cut axis; "
+                 "using %zu pieces instead of %d\n",
+                 prepared.planes.size(), prepared.planes.size() + 1, options.pieces);
   prepared.split = split_at_planes(prepared.input, prepared.planes);
   clock.lap("partition");
   const auto caps = build_caps(prepared.split, prepared.planes, options.density);
@@ -79,7 +84,7 @@ std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& piec
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
                              StageTimes* times) {
   MeshOptions attempt_options = options;
-  attempt_options.plane_shifts.assign(options.pieces > 1 ? options.pieces - 1 : 0, 0);
+  attempt_options.plane_shifts.assign(options.pieces > 1 ? static_cast<std::size_t>(options.pieces) - 1 : 0, 0);
   std::vector<RetryRecord> retries;
   const int attempts = std::max(1, options.max_attempts);
   for (int attempt = 0;; ++attempt) {
@@ -105,6 +110,7 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
         MeshResult result = finish_mesh(prepared, results, attempt_options, times);
         result.cut_vertices_inserted = prepared.split.cut_vertex_count();
         result.cap_triangles = prepared.cap_triangles;
+        result.pieces = static_cast<int>(prepared.pieces.size());
         result.retries = std::move(retries);
         return result;
       }
@@ -125,7 +131,13 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     }
     std::fprintf(stderr, "partet: attempt %d failed: %s; moving cut plane(s)", attempt + 1, failure.c_str());
     for (int j : planes_to_move) std::fprintf(stderr, " %d", j);
-    std::fprintf(stderr, " to other vertex gaps and retrying\n");
+    // From the third attempt on, also simplify the caps: fewer interior cap points leave TetGen
+    // less to recover on the cap (the last attempt uses none).
+    if (attempt >= 1 && attempt_options.density > 0) {
+      attempt_options.density = attempt + 2 >= attempts ? 0.0 : attempt_options.density / 2;
+      std::fprintf(stderr, " and lowering the cap density to %g", attempt_options.density);
+    }
+    std::fprintf(stderr, "; retrying\n");
     retries.push_back({attempt, failure, planes_to_move});
     for (int j : planes_to_move) ++attempt_options.plane_shifts[j];
   }

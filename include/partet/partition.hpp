@@ -26,7 +26,8 @@ Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode);
 // Returns k-1 planes, ordered by offset, perpendicular to the main PCA axis of the used input
 // vertices, that split the vertices into k groups of about equal size. Each plane lies in the
 // middle of a gap between consecutive projected vertices and is checked with exact predicates
-// to pass through no vertex. Throws OptionError if k is larger than the model allows.
+// to pass through no vertex. When the vertices have fewer than k distinct positions along the
+// axis, fewer planes are returned (one per usable gap). Throws OptionError if k < 1.
 // shifts[j] > 0 moves plane j to its (shifts[j]+1)-th widest nearby gap (used to retry a cut
 // that caused trouble).
 std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k,

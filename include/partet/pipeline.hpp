@@ -17,7 +17,7 @@ namespace partet {
 
 struct MeshOptions {
   int pieces = 2;
-  double density = 1.0;
+  double density = 0.25;  // chosen by scripts/density_sweep.sh: best AMIPS avg and max on every model tried
   CutAxis axis = CutAxis::coordinate_near_pca;
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
   int max_attempts = 6;           // partitions tried before giving up (moving troublesome planes)
@@ -52,6 +52,7 @@ struct MeshResult {
   CutVertexRemovalStats removal;
   std::int64_t cut_vertices_inserted = 0;
   std::int64_t cap_triangles = 0;
+  int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)
   std::vector<RetryRecord> retries;
 };
 
@@ -69,7 +70,8 @@ std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& piec
 
 // The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
 // boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
-// cut-vertex removal or a cap fails, all planes move. After options.max_attempts partitions the
+// cut-vertex removal or a cap fails, all planes move. From the third attempt on the cap density
+// is halved each time (0 on the last attempt). After options.max_attempts partitions the
 // last error is thrown with advice. Input and option errors are thrown at once.
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
                              StageTimes* times = nullptr);

@@ -236,13 +236,14 @@ int run_mesh_job(const MeshJob& job) {
   }
 
   const double total = now_seconds() - job_start;
-  const int piece_count = job.options.pieces;
+  const int piece_count = result.pieces;
   if (!job.report_path.empty()) {
     nlohmann::json report;
     report["input"] = job.input;
     report["output_prefix"] = job.output_prefix;
     report["ranks"] = size;
     report["pieces"] = piece_count;
+    report["pieces_requested"] = job.options.pieces;
     report["density"] = job.options.density;
     report["tetgen_quality"] = job.options.tetgen.quality;
     report["stage_seconds"] = nlohmann::json::object();
