@@ -150,9 +150,11 @@ std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAx
     // Among the gaps near the ideal one, take the widest: a plane far from every vertex cuts no
     // triangle close to a corner, which avoids slivers and near-degenerate crossings in the
     // pieces TetGen gets. The window keeps pieces within a few percent of equal. A retry
-    // (shift s > 0) takes the (s+1)-th widest instead.
-    const std::size_t window = std::max<std::size_t>(2, n / (static_cast<std::size_t>(k) * 25));
+    // (shift s > 0) takes the (s+1)-th widest instead, in a window 1 + 2s times as wide.
     const int shift = j - 1 < static_cast<int>(shifts.size()) ? shifts[j - 1] : 0;
+    // Each retry also widens the window, so a plane that keeps failing moves further away.
+    const std::size_t window =
+        std::max<std::size_t>(2, n / (static_cast<std::size_t>(k) * 25)) * (1 + 2 * static_cast<std::size_t>(shift));
     std::vector<std::pair<double, std::size_t>> candidates;  // (-width, index into usable)
     for (std::size_t u = next_usable; u <= last_allowed; ++u) {
       const std::size_t m = usable[u];

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "partet/errors.hpp"
+#include "partet/validate.hpp"
 
 #include "partet/merge.hpp"
 
@@ -86,6 +87,7 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
   MeshOptions attempt_options = options;
   attempt_options.plane_shifts.assign(options.pieces > 1 ? static_cast<std::size_t>(options.pieces) - 1 : 0, 0);
   std::vector<RetryRecord> retries;
+  bool input_checked = false;
   const int attempts = std::max(1, options.max_attempts);
   for (int attempt = 0;; ++attempt) {
     const bool last = attempt + 1 >= attempts;
@@ -120,6 +122,12 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
       throw;
     } catch (const Error& e) {
       failure = e.what();  // a cap or the cut-vertex removal failed: move every plane
+    }
+    // A self-intersection found in a piece is usually the input's own: check the whole input
+    // once (throws InputError naming input faces) before blaming the cuts.
+    if (failure.find("self-intersect") != std::string::npos && !input_checked) {
+      check_no_self_intersections(input);
+      input_checked = true;
     }
     if (planes_to_move.empty())
       for (std::size_t j = 0; j < attempt_options.plane_shifts.size(); ++j) planes_to_move.push_back(static_cast<int>(j));
