@@ -140,12 +140,17 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats, std::vector<int
       stats.bytes_received += static_cast<double>(bytes.size());
       mine.push_back(deserialize_piece(bytes));
     }
+    // Mesh everything first, then send: rank 0 receives only after meshing its own pieces, so a
+    // result sent earlier would block this rank until then.
+    std::vector<std::pair<std::string, std::string>> replies;  // (error, serialized result)
     for (auto& piece : mine) {
-      const PieceOutcome outcome = mesh_one(job, piece, stats);
+      PieceOutcome outcome = mesh_one(job, piece, stats);
       piece = PieceSurface();  // free the surface before the result is serialized
-      stats.bytes_sent += static_cast<double>(send_bytes(outcome.error, 0, kTagResult, MPI_COMM_WORLD));
-      if (outcome.error.empty())
-        stats.bytes_sent += static_cast<double>(send_bytes(serialize_result(outcome.result), 0, kTagResult, MPI_COMM_WORLD));
+      replies.emplace_back(outcome.error, outcome.error.empty() ? serialize_result(outcome.result) : std::string());
+    }
+    for (const auto& [error, bytes] : replies) {
+      stats.bytes_sent += static_cast<double>(send_bytes(error, 0, kTagResult, MPI_COMM_WORLD));
+      if (error.empty()) stats.bytes_sent += static_cast<double>(send_bytes(bytes, 0, kTagResult, MPI_COMM_WORLD));
     }
   }
 }
