@@ -1,8 +1,10 @@
 #include "partet/cut_vertex_removal.hpp"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include "partet/errors.hpp"
+#include "partet/face_key.hpp"
 #include "partet/merge.hpp"
 
 namespace partet {
@@ -42,10 +44,29 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
   for (std::size_t f = 0; f < input.triangles.size(); ++f)
     if (parent_split[f]) faces.push_back(input.triangles[f]);
 
-  std::vector<Tet> tets;
+  // Tets outside the region keep their order and their neighbours among themselves; faces they
+  // share with the region are matched to the new tets below.
+  std::vector<Tet> tets, neighbours;
   tets.reserve(mesh.tets.size());
+  neighbours.reserve(mesh.tets.size());
+  std::vector<std::int32_t> new_index(mesh.tets.size(), -1);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (!in_region[t]) tets.push_back(mesh.tets[t]);
+    if (!in_region[t]) {
+      new_index[t] = static_cast<std::int32_t>(tets.size());
+      tets.push_back(mesh.tets[t]);
+    }
+  std::unordered_map<FaceKey, std::pair<std::int32_t, int>, FaceKeyHash> open_towards_region;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (in_region[t]) continue;
+    Tet nb;
+    for (int j = 0; j < 4; ++j) {
+      const auto old = mesh.neighbours[t][j];
+      nb[j] = old >= 0 ? new_index[old] : -1;
+      if (old >= 0 && in_region[old])
+        open_towards_region.emplace(FaceKey(outward_face(mesh.tets[t], j)), std::make_pair(new_index[t], j));
+    }
+    neighbours.push_back(nb);
+  }
 
   if (!faces.empty()) {
     std::vector<std::int32_t> ids;
@@ -68,12 +89,23 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
     }
     const auto steiner_base = static_cast<std::int64_t>(mesh.points.size()) - static_cast<std::int64_t>(ids.size());
     mesh.points.insert(mesh.points.end(), region.steiner_points.begin(), region.steiner_points.end());
-    for (const auto& t : region.tets) {
-      Tet g;
+    const auto base = static_cast<std::int32_t>(tets.size());
+    for (std::size_t r = 0; r < region.tets.size(); ++r) {
+      const Tet& t = region.tets[r];
+      Tet g, nb;
       for (int j = 0; j < 4; ++j)
         g[j] = t[j] < static_cast<std::int32_t>(ids.size()) ? ids[t[j]]
                                                              : static_cast<std::int32_t>(steiner_base + t[j]);
+      for (int j = 0; j < 4; ++j) {
+        nb[j] = region.neighbours[r][j] >= 0 ? base + region.neighbours[r][j] : -1;
+        if (nb[j] >= 0) continue;
+        auto it = open_towards_region.find(FaceKey(outward_face(g, j)));
+        if (it == open_towards_region.end()) continue;  // on the mesh boundary
+        nb[j] = it->second.first;
+        neighbours[it->second.first][it->second.second] = base + static_cast<std::int32_t>(r);
+      }
       tets.push_back(g);
+      neighbours.push_back(nb);
     }
     stats.cavity_tets_out = static_cast<std::int64_t>(region.tets.size());
   }
@@ -98,7 +130,7 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
       v = new_id[v];
     }
   mesh.points = std::move(points);
-  mesh.neighbours = compute_neighbours(tets);
+  mesh.neighbours = std::move(neighbours);
   mesh.tets = std::move(tets);
   return stats;
 }
