@@ -1,21 +1,14 @@
 #include "partet/tetgen_mesher.hpp"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <tetgen.h>
-#include <unistd.h>
 
-#include <cerrno>
-#include <chrono>
-#include <cstring>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "partet/errors.hpp"
 #include "partet/face_key.hpp"
+#include "partet/isolated_run.hpp"
 #include "partet/serialize.hpp"
 #include "partet/validate.hpp"
 
@@ -44,97 +37,40 @@ double orientation_sign(const Point3& a, const Point3& b, const Point3& c, const
 LocalTetMesh mesh_in_process(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
                              const TetgenOptions& options, int piece);
 
-bool write_all(int fd, const char* data, std::size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    data += n;
-    size -= static_cast<std::size_t>(n);
-  }
-  return true;
-}
-
-// Runs mesh_in_process in a forked child and reads its result (or error text) from a pipe.
+// Runs mesh_in_process in a child process (see IsolatedRun) and maps how it ended to errors.
 LocalTetMesh mesh_in_child(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
                            const TetgenOptions& options, int piece) {
-  int fds[2];
-  if (::pipe(fds) != 0) throw MeshingError(piece, std::string("cannot create a pipe: ") + std::strerror(errno));
-  std::fflush(nullptr);
-  const pid_t child = ::fork();
-  if (child < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
-    throw MeshingError(piece, std::string("cannot fork for TetGen: ") + std::strerror(errno));
-  }
-  if (child == 0) {
-    // Child: never returns, never touches MPI. First byte: 'R' result or 'E' error text.
-    // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
-    ::close(fds[0]);
-    ::signal(SIGABRT, SIG_DFL);
-    ::signal(SIGSEGV, SIG_DFL);
-    if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) ::dup2(devnull, STDERR_FILENO);
-    std::string message;
-    char kind = 'R';
-    try {
-      PieceTetMesh wrapped;
-      wrapped.mesh = mesh_in_process(points, triangles, options, piece);
-      message = serialize_result(wrapped);
-    } catch (const std::exception& e) {
-      kind = 'E';
-      message = e.what();
-    } catch (...) {
-      kind = 'E';
-      message = "unknown error inside TetGen";
-    }
-    const bool ok = write_all(fds[1], &kind, 1) && write_all(fds[1], message.data(), message.size());
-    ::close(fds[1]);
-    ::_exit(ok ? 0 : 3);
-  }
-  ::close(fds[1]);
-  double limit = options.timeout_seconds;
-  if (limit <= 0) limit = (5.0 + 1e-3 * static_cast<double>(triangles.size())) * (options.quality.empty() ? 1 : 10);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit);
-  std::string bytes;
-  char buffer[1 << 16];
-  bool timed_out = false;
-  for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      timed_out = true;
-      break;
-    }
-    pollfd pfd{fds[0], POLLIN, 0};
-    const int r = ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
-    if (r < 0 && errno == EINTR) continue;
-    if (r == 0) continue;
-    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    bytes.append(buffer, static_cast<std::size_t>(n));
-  }
-  ::close(fds[0]);
-  if (timed_out) ::kill(child, SIGKILL);
-  int status = 0;
-  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (timed_out)
-    throw MeshingError(piece, "TetGen did not finish within " + std::to_string(static_cast<int>(limit)) + " s");
-  if (WIFSIGNALED(status))
-    throw MeshingError(piece, std::string("TetGen crashed (signal ") + std::to_string(WTERMSIG(status)) +
-                                  (WTERMSIG(status) == SIGABRT ? ": an internal assertion failed)" : ")"));
-  if (bytes.empty()) throw MeshingError(piece, "TetGen's process ended without a result");
-  if (bytes[0] == 'E') {
-    // The child's message already names the piece; keep the number on the exception too.
-    std::string message = bytes.substr(1);
-    const std::string prefix = "piece " + std::to_string(piece) + ": ";
-    if (piece >= 0 && message.compare(0, prefix.size(), prefix) == 0) message.erase(0, prefix.size());
-    throw MeshingError(piece, message);
-  }
-  return deserialize_result(bytes.substr(1)).mesh;
+  const double limit =
+      options.timeout_seconds > 0 ? options.timeout_seconds : default_tetgen_timeout(triangles.size(), options);
+  IsolatedRun run(
+      [&] {
+        PieceTetMesh wrapped;
+        wrapped.mesh = mesh_in_process(points, triangles, options, piece);
+        return serialize_result(wrapped);
+      },
+      limit);
+  run.wait();
+  const IsolatedRun::Outcome outcome = run.outcome();
+  if (outcome.ok) return deserialize_result(outcome.bytes).mesh;
+  throw MeshingError(piece, strip_piece_prefix(outcome.message, piece, "TetGen "));
 }
 
 }  // namespace
+
+double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& options) {
+  return (5.0 + 1e-3 * static_cast<double>(triangles)) * (options.quality.empty() ? 1 : 10);
+}
+
+std::string strip_piece_prefix(const std::string& message, int piece, const std::string& process_name) {
+  // A message from inside the child names the piece already; one about how the child ended
+  // ("crashed (signal 6 ...)") needs the name of what ran.
+  const std::string prefix = "piece " + std::to_string(piece) + ": ";
+  if (piece >= 0 && message.compare(0, prefix.size(), prefix) == 0) return message.substr(prefix.size());
+  if (message.rfind("crashed", 0) == 0 || message.rfind("did not finish", 0) == 0 ||
+      message.rfind("ended without", 0) == 0)
+    return process_name + message;
+  return message;
+}
 
 LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
                                  const TetgenOptions& options, int piece) {

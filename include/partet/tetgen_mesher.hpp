@@ -34,6 +34,13 @@ struct LocalTetMesh {
 LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
                                  const TetgenOptions& options, int piece = -1);
 
+// The time limit used when TetgenOptions::timeout_seconds is 0.
+double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& options);
+
+// Drops a leading "piece N: " (the caller's MeshingError adds it again) and names process_name
+// in messages about how an isolated process ended.
+std::string strip_piece_prefix(const std::string& message, int piece, const std::string& process_name);
+
 // A piece's tet mesh as sent back to rank 0.
 struct PieceTetMesh {
   int index = 0;

@@ -3,6 +3,9 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <memory>
+#include <thread>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -10,6 +13,7 @@
 #include <numeric>
 
 #include "partet/check.hpp"
+#include "partet/isolated_run.hpp"
 #include "partet/errors.hpp"
 #include "partet/mpi_transport.hpp"
 #include "partet/serialize.hpp"
@@ -40,23 +44,6 @@ bool agree(bool ok_here, MPI_Comm comm) {
   return all == 1;
 }
 
-// Largest piece first, each to the least loaded rank (lowest rank on ties): deterministic, and
-// the result does not depend on it anyway.
-std::vector<int> assign_pieces(const std::vector<PieceSurface>& pieces, int ranks) {
-  std::vector<int> order(pieces.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return pieces[a].triangles.size() > pieces[b].triangles.size(); });
-  std::vector<double> load(ranks, 0.0);
-  std::vector<int> owner(pieces.size(), 0);
-  for (int p : order) {
-    const int r = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
-    owner[p] = r;
-    load[r] += static_cast<double>(pieces[p].triangles.size());
-  }
-  return owner;
-}
-
 struct RankStats {
   double tetgen_seconds = 0;
   double peak_rss_mb = 0;
@@ -73,47 +60,131 @@ void dump_piece(const MeshJob& job, const PieceSurface& piece) {
             job.dump_pieces_dir + "/piece_" + std::to_string(piece.index) + ".off");
 }
 
-PieceOutcome mesh_one(const MeshJob& job, const PieceSurface& piece, RankStats& stats) {
-  const double t = now_seconds();
-  PieceOutcome outcome;
-  try {
-    dump_piece(job, piece);
-    outcome.result = tetrahedralize_piece(piece, job.options.tetgen);
-  } catch (const std::exception& e) {
-    outcome.error = e.what();
+// Test hook: PARTET_INJECT_FAILURE="P:error" makes piece P fail with an error, "P:abort" makes
+// the process meshing piece P abort (on a worker that kills the rank, as a real crash would).
+void inject_failure(int piece, int rank) {
+  const char* spec = std::getenv("PARTET_INJECT_FAILURE");
+  if (!spec) return;
+  const std::string s(spec);
+  const auto colon = s.find(':');
+  if (colon == std::string::npos || std::atoi(s.substr(0, colon).c_str()) != piece) return;
+  const std::string mode = s.substr(colon + 1);
+  if (mode == "abort") {
+    std::fprintf(stderr, "partet: rank %d: piece %d: injected abort\n", rank, piece);
+    std::fflush(stderr);
+    std::abort();
   }
-  stats.tetgen_seconds += now_seconds() - t;
-  stats.pieces += 1;
-  return outcome;
+  throw MeshingError(piece, "injected failure (PARTET_INJECT_FAILURE)");
+}
+
+// Meshes one piece in this process (TetGen itself still runs isolated per the options).
+PieceTetMesh mesh_here(const MeshJob& job, const PieceSurface& piece, const TetgenOptions& options, int rank) {
+  dump_piece(job, piece);
+  inject_failure(piece.index, rank);
+  return tetrahedralize_piece(piece, options);
 }
 
 enum Command : int { kDone = 0, kMeshPieces = 1 };
 
-// Rank 0's side of one meshing round: tell the workers which pieces are theirs, send them, mesh
-// its own, gather the rest. A worker receives all of its pieces before meshing, so no send of a
-// piece can wait on a rank that is itself waiting to send a result.
+// Rank 0's side of one meshing round, a dynamic master/worker queue: pieces go largest-first to
+// whichever rank is free. Rank 0 meshes pieces too, in a child process it polls between MPI
+// messages, so with -np 2 both cores work. Outcomes are stored by piece index, so the result does
+// not depend on which rank meshed what.
 std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<PieceSurface>& pieces, int size,
                                           RankStats& stats, std::vector<int>& owner) {
   int command = kMeshPieces;
   MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  int piece_count = static_cast<int>(pieces.size());
-  MPI_Bcast(&piece_count, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  owner = assign_pieces(pieces, size);
-  MPI_Bcast(owner.data(), piece_count, MPI_INT, 0, MPI_COMM_WORLD);
-  for (int p = 0; p < piece_count; ++p)
-    if (owner[p] != 0)
-      stats.bytes_sent += static_cast<double>(send_bytes(serialize_piece(pieces[p]), owner[p], kTagPiece, MPI_COMM_WORLD));
+  const int piece_count = static_cast<int>(pieces.size());
+  std::vector<int> order(piece_count);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return pieces[a].triangles.size() > pieces[b].triangles.size(); });
+  owner.assign(piece_count, -1);
   std::vector<PieceOutcome> outcomes(piece_count);
-  for (int p = 0; p < piece_count; ++p)
-    if (owner[p] == 0) outcomes[p] = mesh_one(job, pieces[p], stats);
-  for (int p = 0; p < piece_count; ++p) {
-    if (owner[p] == 0) continue;
-    outcomes[p].error = recv_bytes(owner[p], kTagResult, MPI_COMM_WORLD);
-    stats.bytes_received += static_cast<double>(outcomes[p].error.size());
-    if (!outcomes[p].error.empty()) continue;
-    const std::string bytes = recv_bytes(owner[p], kTagResult, MPI_COMM_WORLD);
-    stats.bytes_received += static_cast<double>(bytes.size());
-    outcomes[p].result = deserialize_result(bytes);
+  int next = 0, remaining = piece_count;
+
+  auto hand_out = [&](int worker) {  // the next piece, or an empty message: round over
+    if (next < piece_count) {
+      const int p = order[next++];
+      owner[p] = worker;
+      stats.bytes_sent += static_cast<double>(send_bytes(serialize_piece(pieces[p]), worker, kTagPiece, MPI_COMM_WORLD));
+    } else {
+      stats.bytes_sent += static_cast<double>(send_bytes(std::string(), worker, kTagPiece, MPI_COMM_WORLD));
+    }
+  };
+  for (int w = 1; w < size; ++w) hand_out(w);
+
+  // Rank 0 meshes in a child it can poll only when TetGen runs isolated; otherwise it only
+  // hands out work (and meshes alone when it is the only rank).
+  const bool root_meshes = job.options.tetgen.isolate || size == 1;
+  TetgenOptions in_child = job.options.tetgen;
+  in_child.isolate = false;  // the whole piece already runs in a child
+  std::unique_ptr<IsolatedRun> own;
+  int own_piece = -1;
+  double own_start = 0;
+  while (remaining > 0) {
+    bool progress = false;
+    if (root_meshes && !own && next < piece_count) {
+      own_piece = order[next++];
+      owner[own_piece] = 0;
+      const PieceSurface& piece = pieces[own_piece];
+      own_start = now_seconds();
+      if (job.options.tetgen.isolate) {
+        const double limit = job.options.tetgen.timeout_seconds > 0
+                                 ? job.options.tetgen.timeout_seconds
+                                 : 10 + default_tetgen_timeout(piece.triangles.size(), job.options.tetgen);
+        own = std::make_unique<IsolatedRun>(
+            [&] { return serialize_result(mesh_here(job, piece, in_child, 0)); }, limit);
+      } else {
+        try {
+          outcomes[own_piece].result = mesh_here(job, piece, job.options.tetgen, 0);
+        } catch (const std::exception& e) {
+          outcomes[own_piece].error = e.what();
+        }
+        stats.tetgen_seconds += now_seconds() - own_start;
+        stats.pieces += 1;
+        --remaining;
+      }
+      progress = true;
+    }
+    if (own && own->poll(0)) {
+      const IsolatedRun::Outcome o = own->outcome();
+      if (o.ok)
+        outcomes[own_piece].result = deserialize_result(o.bytes);
+      else
+        outcomes[own_piece].error =
+            "piece " + std::to_string(own_piece) + ": " + strip_piece_prefix(o.message, own_piece, "meshing ");
+      own.reset();
+      stats.tetgen_seconds += now_seconds() - own_start;
+      stats.pieces += 1;
+      --remaining;
+      progress = true;
+    }
+    int arrived = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, MPI_COMM_WORLD, &arrived, &status);
+    if (arrived) {
+      const int worker = status.MPI_SOURCE;
+      const std::string header = recv_bytes(worker, kTagResult, MPI_COMM_WORLD);  // "index\nerror"
+      stats.bytes_received += static_cast<double>(header.size());
+      const auto newline = header.find('\n');
+      const int p = std::atoi(header.substr(0, newline).c_str());
+      outcomes[p].error = header.substr(newline + 1);
+      if (outcomes[p].error.empty()) {
+        const std::string bytes = recv_bytes(worker, kTagResult, MPI_COMM_WORLD);
+        stats.bytes_received += static_cast<double>(bytes.size());
+        outcomes[p].result = deserialize_result(bytes);
+      }
+      --remaining;
+      hand_out(worker);
+      progress = true;
+    }
+    if (!progress) {
+      if (own)
+        own->poll(2);
+      else
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
   }
   return outcomes;
 }
@@ -123,34 +194,32 @@ void stop_workers() {
   MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD);
 }
 
-// A worker: mesh rounds until rank 0 says done.
-void worker_loop(const MeshJob& job, int rank, RankStats& stats, std::vector<int>& owner) {
+// A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
+void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   for (;;) {
     int command = kDone;
     MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD);
     if (command == kDone) return;
-    int piece_count = 0;
-    MPI_Bcast(&piece_count, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    owner.assign(piece_count, 0);
-    MPI_Bcast(owner.data(), piece_count, MPI_INT, 0, MPI_COMM_WORLD);
-    std::vector<PieceSurface> mine;
-    for (int p = 0; p < piece_count; ++p) {
-      if (owner[p] != rank) continue;
-      const std::string bytes = recv_bytes(0, kTagPiece, MPI_COMM_WORLD);
+    for (;;) {
+      std::string bytes = recv_bytes(0, kTagPiece, MPI_COMM_WORLD);
       stats.bytes_received += static_cast<double>(bytes.size());
-      mine.push_back(deserialize_piece(bytes));
-    }
-    // Mesh everything first, then send: rank 0 receives only after meshing its own pieces, so a
-    // result sent earlier would block this rank until then.
-    std::vector<std::pair<std::string, std::string>> replies;  // (error, serialized result)
-    for (auto& piece : mine) {
-      PieceOutcome outcome = mesh_one(job, piece, stats);
-      piece = PieceSurface();  // free the surface before the result is serialized
-      replies.emplace_back(outcome.error, outcome.error.empty() ? serialize_result(outcome.result) : std::string());
-    }
-    for (const auto& [error, bytes] : replies) {
-      stats.bytes_sent += static_cast<double>(send_bytes(error, 0, kTagResult, MPI_COMM_WORLD));
-      if (error.empty()) stats.bytes_sent += static_cast<double>(send_bytes(bytes, 0, kTagResult, MPI_COMM_WORLD));
+      if (bytes.empty()) break;
+      PieceSurface piece = deserialize_piece(bytes);
+      std::string().swap(bytes);
+      const int index = piece.index;
+      const double t = now_seconds();
+      std::string error, result;
+      try {
+        PieceTetMesh mesh = mesh_here(job, piece, job.options.tetgen, rank);
+        piece = PieceSurface();  // free the surface before the result is serialized
+        result = serialize_result(mesh);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      stats.tetgen_seconds += now_seconds() - t;
+      stats.pieces += 1;
+      stats.bytes_sent += static_cast<double>(send_bytes(std::to_string(index) + "\n" + error, 0, kTagResult, MPI_COMM_WORLD));
+      if (error.empty()) stats.bytes_sent += static_cast<double>(send_bytes(result, 0, kTagResult, MPI_COMM_WORLD));
     }
   }
 }
@@ -224,7 +293,7 @@ int run_mesh_job(const MeshJob& job) {
       }
     }
   } else {
-    worker_loop(job, rank, stats, owner);
+    worker_loop(job, rank, stats);
   }
 
   // Per-rank figures to rank 0.
