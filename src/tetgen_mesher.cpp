@@ -243,6 +243,8 @@ LocalTetMesh mesh_in_process(const std::vector<Point3>& points, const std::vecto
 
 PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options) {
   check_piece_topology(piece);
+  // Checks and mesh in one child process, so the result crosses the process boundary once.
+  if (options.isolate) return deserialize_result(tetrahedralize_piece_to_bytes(piece, options));
   const SurfaceMesh surface{piece.points, piece.triangles};
   try {
     check_no_self_intersections(surface, ("piece " + std::to_string(piece.index)).c_str());
@@ -254,6 +256,34 @@ PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions
   result.surface_point_count = static_cast<std::int32_t>(piece.points.size());
   result.mesh = mesh_closed_surface(piece.points, piece.triangles, options, piece.index);
   return result;
+}
+
+std::unique_ptr<IsolatedRun> start_piece_meshing(const PieceSurface& piece, const TetgenOptions& options,
+                                                 const std::function<void()>& before) {
+  TetgenOptions in_child = options;
+  in_child.isolate = false;  // the whole piece already runs in the child
+  const double limit = options.timeout_seconds > 0
+                           ? options.timeout_seconds
+                           : 10 + default_tetgen_timeout(piece.triangles.size(), options);
+  return std::make_unique<IsolatedRun>(
+      [&piece, in_child, before] {
+        if (before) before();
+        return serialize_result(tetrahedralize_piece(piece, in_child));
+      },
+      limit);
+}
+
+std::string piece_meshing_result(IsolatedRun& run, int piece) {
+  run.wait();
+  IsolatedRun::Outcome outcome = run.outcome();
+  if (!outcome.ok) throw MeshingError(piece, strip_piece_prefix(outcome.message, piece, "meshing "));
+  return std::move(outcome.bytes);
+}
+
+std::string tetrahedralize_piece_to_bytes(const PieceSurface& piece, const TetgenOptions& options) {
+  if (!options.isolate) return serialize_result(tetrahedralize_piece(piece, options));
+  auto run = start_piece_meshing(piece, options);
+  return piece_meshing_result(*run, piece.index);
 }
 
 }  // namespace partet

@@ -1,9 +1,12 @@
 // The only user of TetGen: tetrahedralizes a closed surface without touching its boundary.
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "partet/isolated_run.hpp"
 #include "partet/mesh_types.hpp"
 #include "partet/piece.hpp"
 
@@ -48,7 +51,19 @@ struct PieceTetMesh {
   LocalTetMesh mesh;
 };
 
-// Checks the piece (closed, manifold, no self-intersections) and meshes it.
+// Checks the piece (closed, manifold, no self-intersections) and meshes it. With
+// options.isolate the checks and TetGen run together in one child process.
 PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options);
+
+// The same, returning the result already serialized (serialize_result), as MPI sends it: the
+// bytes come straight from the child process, so no second copy of the mesh is built.
+std::string tetrahedralize_piece_to_bytes(const PieceSurface& piece, const TetgenOptions& options);
+
+// Asynchronous form (for a rank that polls MPI meanwhile): starts the checks and TetGen for a
+// piece in a child process (before() runs first, in the child); piece_meshing_result waits for
+// the serialized result or throws MeshingError naming the piece. The piece must outlive the run.
+std::unique_ptr<IsolatedRun> start_piece_meshing(const PieceSurface& piece, const TetgenOptions& options,
+                                                 const std::function<void()>& before = {});
+std::string piece_meshing_result(IsolatedRun& run, int piece);
 
 }  // namespace partet

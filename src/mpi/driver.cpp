@@ -50,8 +50,9 @@ struct RankStats {
   double bytes_sent = 0, bytes_received = 0;
   double pieces = 0;
   double tetgen_child_peak_rss_mb = 0;
+  double send_seconds = 0, receive_seconds = 0;  // time spent inside MPI sends and receives
 };
-constexpr int kRankStatsDoubles = 6;
+constexpr int kRankStatsDoubles = 8;
 
 // Writes the piece's closed surface as DIR/piece_<i>.off, for looking at a failing piece.
 void dump_piece(const MeshJob& job, const PieceSurface& piece) {
@@ -77,11 +78,15 @@ void inject_failure(int piece, int rank) {
   throw MeshingError(piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
-// Meshes one piece in this process (TetGen itself still runs isolated per the options).
-PieceTetMesh mesh_here(const MeshJob& job, const PieceSurface& piece, const TetgenOptions& options, int rank) {
+// Meshes one piece; the serialized result, as it is sent to rank 0.
+std::string mesh_here(const MeshJob& job, const PieceSurface& piece, int rank) {
   dump_piece(job, piece);
-  inject_failure(piece.index, rank);
-  return tetrahedralize_piece(piece, options);
+  if (!job.options.tetgen.isolate) {
+    inject_failure(piece.index, rank);
+    return tetrahedralize_piece_to_bytes(piece, job.options.tetgen);
+  }
+  auto run = start_piece_meshing(piece, job.options.tetgen, [&] { inject_failure(piece.index, rank); });
+  return piece_meshing_result(*run, piece.index);
 }
 
 enum Command : int { kDone = 0, kMeshPieces = 1 };
@@ -104,6 +109,12 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
   int next = 0, remaining = piece_count;
 
   auto hand_out = [&](int worker) {  // the next piece, or an empty message: round over
+    const double t = now_seconds();
+    struct AddTime {
+      double& total;
+      double start;
+      ~AddTime() { total += now_seconds() - start; }
+    } timer{stats.send_seconds, t};
     if (next < piece_count) {
       const int p = order[next++];
       owner[p] = worker;
@@ -117,11 +128,19 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
   // Rank 0 meshes in a child it can poll only when TetGen runs isolated; otherwise it only
   // hands out work (and meshes alone when it is the only rank).
   const bool root_meshes = job.options.tetgen.isolate || size == 1;
-  TetgenOptions in_child = job.options.tetgen;
-  in_child.isolate = false;  // the whole piece already runs in a child
   std::unique_ptr<IsolatedRun> own;
   int own_piece = -1;
   double own_start = 0;
+  auto finish_own = [&](const std::function<std::string()>& result) {
+    try {
+      outcomes[own_piece].result = deserialize_result(result());
+    } catch (const std::exception& e) {
+      outcomes[own_piece].error = e.what();
+    }
+    stats.tetgen_seconds += now_seconds() - own_start;
+    stats.pieces += 1;
+    --remaining;
+  };
   while (remaining > 0) {
     bool progress = false;
     if (root_meshes && !own && next < piece_count) {
@@ -129,41 +148,23 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
       owner[own_piece] = 0;
       const PieceSurface& piece = pieces[own_piece];
       own_start = now_seconds();
-      if (job.options.tetgen.isolate) {
-        const double limit = job.options.tetgen.timeout_seconds > 0
-                                 ? job.options.tetgen.timeout_seconds
-                                 : 10 + default_tetgen_timeout(piece.triangles.size(), job.options.tetgen);
-        own = std::make_unique<IsolatedRun>(
-            [&] { return serialize_result(mesh_here(job, piece, in_child, 0)); }, limit);
-      } else {
-        try {
-          outcomes[own_piece].result = mesh_here(job, piece, job.options.tetgen, 0);
-        } catch (const std::exception& e) {
-          outcomes[own_piece].error = e.what();
-        }
-        stats.tetgen_seconds += now_seconds() - own_start;
-        stats.pieces += 1;
-        --remaining;
-      }
+      dump_piece(job, piece);
+      if (job.options.tetgen.isolate)
+        own = start_piece_meshing(piece, job.options.tetgen, [&piece] { inject_failure(piece.index, 0); });
+      else
+        finish_own([&] { return mesh_here(job, piece, 0); });
       progress = true;
     }
     if (own && own->poll(0)) {
-      const IsolatedRun::Outcome o = own->outcome();
-      if (o.ok)
-        outcomes[own_piece].result = deserialize_result(o.bytes);
-      else
-        outcomes[own_piece].error =
-            "piece " + std::to_string(own_piece) + ": " + strip_piece_prefix(o.message, own_piece, "meshing ");
+      finish_own([&] { return piece_meshing_result(*own, own_piece); });
       own.reset();
-      stats.tetgen_seconds += now_seconds() - own_start;
-      stats.pieces += 1;
-      --remaining;
       progress = true;
     }
     int arrived = 0;
     MPI_Status status;
     MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, MPI_COMM_WORLD, &arrived, &status);
     if (arrived) {
+      const double t = now_seconds();
       const int worker = status.MPI_SOURCE;
       const std::string header = recv_bytes(worker, kTagResult, MPI_COMM_WORLD);  // "index\nerror"
       stats.bytes_received += static_cast<double>(header.size());
@@ -175,6 +176,7 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
         stats.bytes_received += static_cast<double>(bytes.size());
         outcomes[p].result = deserialize_result(bytes);
       }
+      stats.receive_seconds += now_seconds() - t;
       --remaining;
       hand_out(worker);
       progress = true;
@@ -200,8 +202,10 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
     int command = kDone;
     MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD);
     if (command == kDone) return;
+    double receiving = now_seconds();
     for (;;) {
       std::string bytes = recv_bytes(0, kTagPiece, MPI_COMM_WORLD);
+      stats.receive_seconds += now_seconds() - receiving;
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
       PieceSurface piece = deserialize_piece(bytes);
@@ -210,16 +214,18 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       const double t = now_seconds();
       std::string error, result;
       try {
-        PieceTetMesh mesh = mesh_here(job, piece, job.options.tetgen, rank);
-        piece = PieceSurface();  // free the surface before the result is serialized
-        result = serialize_result(mesh);
+        result = mesh_here(job, piece, rank);
       } catch (const std::exception& e) {
         error = e.what();
       }
+      piece = PieceSurface();
       stats.tetgen_seconds += now_seconds() - t;
       stats.pieces += 1;
+      const double sending = now_seconds();
       stats.bytes_sent += static_cast<double>(send_bytes(std::to_string(index) + "\n" + error, 0, kTagResult, MPI_COMM_WORLD));
       if (error.empty()) stats.bytes_sent += static_cast<double>(send_bytes(result, 0, kTagResult, MPI_COMM_WORLD));
+      stats.send_seconds += now_seconds() - sending;
+      receiving = now_seconds();
     }
   }
 }
@@ -344,6 +350,8 @@ int run_mesh_job(const MeshJob& job) {
                                 {"peak_rss_mb", all[r].peak_rss_mb},
                                 {"tetgen_process_peak_rss_mb", all[r].tetgen_child_peak_rss_mb},
                                 {"bytes_sent", all[r].bytes_sent},
+                                {"send_seconds", all[r].send_seconds},
+                                {"receive_seconds", all[r].receive_seconds},
                                 {"bytes_received", all[r].bytes_received}});
     }
     if (job.check_output)
