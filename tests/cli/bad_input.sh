@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Every bad input or option gets a one-line error saying what is wrong and where, a non-zero
+# exit code within 10 s, and no output file. Usage: bad_input.sh PARTET [MESHES_DIR] [LAUNCH...]
+# (LAUNCH, e.g. "mpiexec -n 2", runs partet mesh under MPI.)
+set -uo pipefail
+partet=$(realpath "$1") meshes=${2:-}
+[ -n "$meshes" ] && [ -d "$meshes" ] && meshes=$(realpath "$meshes")
+shift 2 2>/dev/null || shift $#
+launch=("$@")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n' > truncated.off
+printf 'OFF\n0 0 0\n' > empty.off
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\nnan 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > nan.off
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\ninf 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > inf.off
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 7\n' > range.off
+printf 'OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n' > open.off
+printf 'OFF\n4 2 0\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n4 0 1 2 3\n4 0 3 2 1\n' > bowtie.off
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n' > inside_out.off
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > tet.off
+echo "not a mesh" > model.xyz
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
+
+pass=0 fail=0
+# expect CODE REGEX -- ARGS...: CODE is "fail" (non-zero exit) or "ok".
+expect() {
+  local want=$1 regex=$2
+  shift 3
+  rm -f out.*
+  local start=$SECONDS
+  [ "$1" = mesh ] && set -- "${launch[@]}" "$partet" "$@"
+  timeout 10 "$@" > log 2>&1
+  local code=$? elapsed=$((SECONDS - start))
+  local problem=""
+  if [ "$want" = fail ]; then
+    [ "$code" -ne 0 ] || problem="exit code 0"
+    [ "$code" -ne 124 ] || problem="did not end within 10 s"
+    ls out.* > /dev/null 2>&1 && problem="output files left: $(ls out.*)"
+  else
+    [ "$code" -eq 0 ] || problem="exit code $code"
+  fi
+  grep -Eq -- "$regex" log || problem="${problem:+$problem; }message does not match /$regex/"
+  if [ -z "$problem" ]; then
+    pass=$((pass + 1)); echo "ok   ($elapsed s) ${*#$partet }: $(grep -Em1 -- "$regex" log)"
+  else
+    fail=$((fail + 1)); echo "FAIL $*: $problem"; sed 's/^/     | /' log | head -5
+  fi
+}
+
+expect fail "cannot open 'missing.off': no such file" -- mesh missing.off -o out
+expect fail "unknown format '.xyz'" -- mesh model.xyz -o out
+expect fail "ends after 2 of 4 faces" -- mesh truncated.off -o out
+expect fail "not a valid STL|truncated" -- mesh cut.stl -o out
+expect fail "contains no faces" -- mesh empty.off -o out
+expect fail "vertex 2 has a non-finite coordinate \(nan\)" -- mesh nan.off -o out
+expect fail "vertex 2 has a non-finite coordinate \(inf\)" -- mesh inf.off -o out
+expect fail "face 3 refers to vertex 7" -- mesh range.off -o out
+expect fail "face 0 has 4 corners and cannot be triangulated" -- mesh bowtie.off -o out
+expect fail "input is not closed: 3 border edges" -- mesh open.off -o out
+expect fail "inside out" -- mesh inside_out.off -o out
+expect fail "must be at least 1|not in|--pieces" -- mesh tet.off -o out --pieces 0
+expect fail "density" -- mesh tet.off -o out --density -1
+expect fail "--quality must be R or R/ANGLE" -- mesh tet.off -o out --quality abc
+expect fail "axis" -- mesh tet.off -o out --axis diagonal
+expect ok "using [0-9]+ pieces instead of 50" -- mesh tet.off -o out --pieces 50
+if [ -n "$meshes" ] && [ -d "$meshes/invalid" ]; then
+  expect fail "input is not closed: 223 border edges" -- mesh "$meshes/invalid/bunny_open.off" -o out
+  expect fail "input is not manifold: vertex 253 joins 2 separate fans" -- mesh "$meshes/invalid/cow_nonmanifold_vertex.off" -o out
+  expect fail "input self-intersects: faces [0-9]+ and [0-9]+ intersect \(37 intersecting pairs\)" -- \
+    mesh "$meshes/invalid/neptune_selfintersecting.off" -o out --pieces 2
+fi
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
