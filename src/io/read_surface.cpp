@@ -311,6 +311,53 @@ bool triangulate_polygon(const Polygon& polygon, const std::vector<Kernel::Point
 
 }  // namespace
 
+// Counts an OFF or PLY header declares, checked against the file size before CGAL reads it:
+// CGAL reserves memory for the declared counts, so a corrupt header asking for a billion
+// vertices would otherwise exhaust memory instead of failing (found by fuzzing).
+static void check_declared_counts(const std::string& path, const std::string& ext, std::uintmax_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  std::istringstream lines(head);
+  std::string line;
+  long double vertices = 0, faces = 0;
+  if (ext == "off") {
+    std::vector<std::string> tokens;
+    while (tokens.size() < 3 && std::getline(lines, line)) {
+      const auto hash = line.find('#');
+      for (const auto& t : tokens_of(hash == std::string::npos ? line : line.substr(0, hash))) tokens.push_back(t);
+    }
+    if (tokens.empty()) return;
+    std::size_t first = 1;  // after the keyword (counts may follow it on the same line)
+    if (tokens[0].find("OFF") == std::string::npos) first = 0;
+    if (tokens.size() < first + 2) return;
+    const auto v = parse_integer(tokens[first]), f = parse_integer(tokens[first + 1]);
+    if (!v || !f) return;  // CGAL or the diagnosis reports a malformed header
+    vertices = static_cast<long double>(*v);
+    faces = static_cast<long double>(*f);
+  } else if (ext == "ply") {
+    while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
+      const auto tokens = tokens_of(line);
+      if (tokens.size() == 3 && tokens[0] == "element") {
+        const auto n = parse_integer(tokens[2]);
+        if (!n) continue;
+        if (tokens[1] == "vertex") vertices = static_cast<long double>(*n);
+        if (tokens[1] == "face") faces = static_cast<long double>(*n);
+      }
+    }
+  } else {
+    return;
+  }
+  // The smallest possible records: "0 0 0\n" per vertex and "3 0 1 2\n" per face (binary
+  // variants are larger).
+  if (vertices * 6 + faces * 8 > static_cast<long double>(file_size))
+    throw InputError("cannot read '" + path + "': the header declares " +
+                     std::to_string(static_cast<long long>(vertices)) + " vertices and " +
+                     std::to_string(static_cast<long long>(faces)) + " faces, more than a file of " +
+                     std::to_string(file_size) + " bytes can hold (truncated or corrupt?)");
+}
+
 SurfaceMesh read_surface(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -328,6 +375,8 @@ SurfaceMesh read_surface(const std::string& path) {
     if (!probe)
       throw InputError("cannot open '" + path + "': " + std::strerror(errno));
   }
+
+  check_declared_counts(path, ext, fs::file_size(path, ec));
 
   const std::string format = format_name(ext);
   const std::string prefix = "cannot read '" + path + "': ";
