@@ -22,27 +22,71 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
     for (auto v : mesh.tets[t])
       if (is_cut(v)) in_region[t] = 1;
 
-  // Its boundary: faces towards tets outside it, and mesh-boundary faces without a cut vertex.
-  // Mesh-boundary faces with a cut vertex are fragments of split input triangles; the input
-  // triangles themselves replace them.
-  std::vector<Triangle> faces;
+  // The region falls into connected parts (one per cut loop, or per group of loops that share
+  // tets). Each part is re-meshed on its own: smaller TetGen runs, and a failure names the cut
+  // planes involved so only those planes need to move.
+  std::vector<std::int32_t> component(mesh.tets.size(), -1);
+  std::int32_t component_count = 0;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < mesh.tets.size(); ++seed) {
+    if (!in_region[seed] || component[seed] >= 0) continue;
+    component[seed] = component_count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t t = stack.back();
+      stack.pop_back();
+      for (auto nb : mesh.neighbours[t])
+        if (nb >= 0 && in_region[nb] && component[nb] < 0) {
+          component[nb] = component_count;
+          stack.push_back(static_cast<std::size_t>(nb));
+        }
+    }
+    ++component_count;
+  }
+
+  // Each part's boundary: faces towards tets outside the region, and mesh-boundary faces without
+  // a cut vertex. Mesh-boundary faces with a cut vertex are fragments of split input triangles;
+  // the input triangles themselves replace them (all fragments of a triangle share cut vertices,
+  // so they lie in one part).
+  std::unordered_map<FaceKey, std::int32_t, FaceKeyHash> fragment_parent;
+  for (std::size_t t = 0; t < split.triangles.size(); ++t)
+    for (auto v : split.triangles[t])
+      if (split.is_cut_vertex(v)) {
+        fragment_parent.emplace(FaceKey(split.triangles[t]), split.parent[t]);
+        break;
+      }
+  std::vector<std::vector<Triangle>> part_faces(component_count);
+  std::vector<std::vector<std::int32_t>> part_parents(component_count);
+  std::vector<std::vector<int>> part_planes(component_count);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     if (!in_region[t]) continue;
     ++stats.cavity_tets_in;
+    const auto c = component[t];
+    for (auto v : mesh.tets[t])
+      if (is_cut(v)) part_planes[c].push_back(split.cut_vertex_plane[v - first_cut]);
     for (int j = 0; j < 4; ++j) {
       const auto nb = mesh.neighbours[t][j];
       if (nb >= 0 && in_region[nb]) continue;
       const Triangle face = outward_face(mesh.tets[t], j);
-      if (nb < 0 && (is_cut(face[0]) || is_cut(face[1]) || is_cut(face[2]))) continue;
-      faces.push_back(face);
+      if (nb < 0 && (is_cut(face[0]) || is_cut(face[1]) || is_cut(face[2]))) {
+        auto it = fragment_parent.find(FaceKey(face));
+        if (it == fragment_parent.end())
+          throw MeshingError(-1, "cut-vertex removal: a boundary face with a cut vertex is no fragment of an input triangle");
+        part_parents[c].push_back(it->second);
+        continue;
+      }
+      part_faces[c].push_back(face);
     }
   }
-  std::vector<char> parent_split(input.triangles.size(), 0);
-  for (std::size_t t = 0; t < split.triangles.size(); ++t)
-    for (auto v : split.triangles[t])
-      if (split.is_cut_vertex(v)) parent_split[split.parent[t]] = 1;
-  for (std::size_t f = 0; f < input.triangles.size(); ++f)
-    if (parent_split[f]) faces.push_back(input.triangles[f]);
+  for (std::int32_t c = 0; c < component_count; ++c) {
+    auto& parents = part_parents[c];
+    std::sort(parents.begin(), parents.end());
+    parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
+    for (auto f : parents) part_faces[c].push_back(input.triangles[f]);
+    auto& planes = part_planes[c];
+    std::sort(planes.begin(), planes.end());
+    planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
+  }
 
   // Tets outside the region keep their order and their neighbours among themselves; faces they
   // share with the region are matched to the new tets below.
@@ -68,7 +112,8 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
     neighbours.push_back(nb);
   }
 
-  if (!faces.empty()) {
+  for (std::int32_t c = 0; c < component_count; ++c) {
+    std::vector<Triangle>& faces = part_faces[c];
     std::vector<std::int32_t> ids;
     for (const auto& f : faces) ids.insert(ids.end(), f.begin(), f.end());
     std::sort(ids.begin(), ids.end());
@@ -85,7 +130,9 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
     try {
       region = mesh_closed_surface(local_points, faces, options);
     } catch (const MeshingError& e) {
-      throw MeshingError(-1, std::string("cut-vertex removal: ") + e.what());
+      std::string planes;
+      for (int p : part_planes[c]) planes += (planes.empty() ? "" : ", ") + std::to_string(p);
+      throw CutRemovalError("cut-vertex removal near cut plane(s) " + planes + ": " + e.what(), part_planes[c]);
     }
     const auto steiner_base = static_cast<std::int64_t>(mesh.points.size()) - static_cast<std::int64_t>(ids.size());
     mesh.points.insert(mesh.points.end(), region.steiner_points.begin(), region.steiner_points.end());
@@ -107,7 +154,7 @@ CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& inpu
       tets.push_back(g);
       neighbours.push_back(nb);
     }
-    stats.cavity_tets_out = static_cast<std::int64_t>(region.tets.size());
+    stats.cavity_tets_out += static_cast<std::int64_t>(region.tets.size());
   }
 
   // Drop unused points (the cut vertices, and input vertices no triangle uses), keeping order.

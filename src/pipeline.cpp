@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <unordered_map>
 #include <cstdio>
 
 #include "partet/errors.hpp"
@@ -25,6 +26,19 @@ class StageClock {
   StageTimes* times_;
   std::chrono::steady_clock::time_point start_;
 };
+
+// FNV-1a over a piece's coordinates and triangles: a quick key for the retry cache (hits are
+// confirmed by comparing the arrays).
+std::uint64_t piece_fingerprint(const PieceSurface& piece) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  if (!piece.points.empty()) mix(piece.points.data(), piece.points.size() * sizeof(Point3));
+  if (!piece.triangles.empty()) mix(piece.triangles.data(), piece.triangles.size() * sizeof(Triangle));
+  return h;
+}
 
 }  // namespace
 
@@ -88,7 +102,10 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
   attempt_options.plane_shifts.assign(options.pieces > 1 ? static_cast<std::size_t>(options.pieces) - 1 : 0, 0);
   std::vector<RetryRecord> retries;
   bool input_checked = false;
-  const int attempts = std::max(1, options.max_attempts);
+  std::unordered_map<std::uint64_t, std::pair<PieceSurface, PieceTetMesh>> meshed;  // by piece_fingerprint
+  // More pieces, more cuts that can cause trouble: a few more attempts per four pieces (cheap,
+  // since a retry re-meshes only the pieces it changed).
+  const int attempts = std::max(1, options.max_attempts) + (std::max(options.pieces, 1) - 1) / 4;
   for (int attempt = 0;; ++attempt) {
     const bool last = attempt + 1 >= attempts;
     std::string failure;
@@ -96,7 +113,33 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     try {
       PreparedPieces prepared = prepare_pieces(input, attempt_options, times);
       StageClock clock(times);
-      std::vector<PieceOutcome> outcomes = mesher(prepared.pieces);
+      // Pieces identical to one already meshed in an earlier attempt (same points and
+      // triangles in the same local order) reuse that result: a retry re-meshes only the pieces
+      // its moved planes changed. TetGen is deterministic, so the output is the same either way.
+      std::vector<PieceOutcome> outcomes(prepared.pieces.size());
+      std::vector<PieceSurface> to_mesh;
+      std::vector<std::size_t> to_mesh_index;
+      std::vector<std::uint64_t> fingerprint(prepared.pieces.size());
+      for (std::size_t p = 0; p < prepared.pieces.size(); ++p) {
+        fingerprint[p] = piece_fingerprint(prepared.pieces[p]);
+        auto hit = meshed.find(fingerprint[p]);
+        if (hit != meshed.end() && hit->second.first.points == prepared.pieces[p].points &&
+            hit->second.first.triangles == prepared.pieces[p].triangles) {
+          outcomes[p].result = hit->second.second;
+          outcomes[p].result.index = static_cast<int>(p);
+        } else {
+          to_mesh.push_back(prepared.pieces[p]);
+          to_mesh_index.push_back(p);
+        }
+      }
+      std::vector<PieceOutcome> fresh = mesher(to_mesh);
+      for (std::size_t i = 0; i < fresh.size(); ++i) {
+        const std::size_t p = to_mesh_index[i];
+        outcomes[p] = std::move(fresh[i]);
+        if (outcomes[p].error.empty() && attempt + 1 < attempts)
+          meshed[fingerprint[p]] = {PieceSurface{0, {}, prepared.pieces[p].points, prepared.pieces[p].triangles},
+                                    outcomes[p].result};
+      }
       clock.lap("tetgen");
       for (std::size_t p = 0; p < outcomes.size(); ++p) {
         if (outcomes[p].error.empty()) continue;
@@ -116,6 +159,9 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
         result.retries = std::move(retries);
         return result;
       }
+    } catch (const CutRemovalError& e) {
+      failure = e.what();
+      planes_to_move = e.planes;
     } catch (const InputError&) {
       throw;
     } catch (const OptionError&) {

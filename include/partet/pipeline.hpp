@@ -20,7 +20,7 @@ struct MeshOptions {
   double density = 0.25;  // chosen by scripts/density_sweep.sh: best AMIPS avg and max on every model tried
   CutAxis axis = CutAxis::coordinate_near_pca;
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
-  int max_attempts = 6;           // partitions tried before giving up (moving troublesome planes)
+  int max_attempts = 6;           // partitions tried before giving up, plus one per 4 pieces beyond the first
   TetgenOptions tetgen;
 };
 
@@ -70,8 +70,9 @@ std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& piec
 
 // The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
 // boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
-// cut-vertex removal or a cap fails, all planes move. From the third attempt on the cap density
-// is halved each time (0 on the last attempt). After options.max_attempts partitions the
+// cut-vertex removal or a cap fails, all planes move. Pieces unchanged by the moves keep their
+// earlier result. From the third attempt on the cap density
+// is halved each time (0 on the last attempt). After max_attempts (+1 per 4 pieces) partitions the
 // last error is thrown with advice. Input and option errors are thrown at once.
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
                              StageTimes* times = nullptr);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <thread>
 #include <chrono>
@@ -96,7 +97,7 @@ enum Command : int { kDone = 0, kMeshPieces = 1 };
 // messages, so with -np 2 both cores work. Outcomes are stored by piece index, so the result does
 // not depend on which rank meshed what.
 std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<PieceSurface>& pieces, int size,
-                                          RankStats& stats, std::vector<int>& owner) {
+                                          RankStats& stats, std::map<int, int>& owner) {
   int command = kMeshPieces;
   MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD);
   const int piece_count = static_cast<int>(pieces.size());
@@ -104,7 +105,8 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return pieces[a].triangles.size() > pieces[b].triangles.size(); });
-  owner.assign(piece_count, -1);
+  std::map<int, int> position;  // piece index -> position in `pieces` (a retry may send a subset)
+  for (int p = 0; p < piece_count; ++p) position[pieces[p].index] = p;
   std::vector<PieceOutcome> outcomes(piece_count);
   int next = 0, remaining = piece_count;
 
@@ -117,7 +119,7 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
     } timer{stats.send_seconds, t};
     if (next < piece_count) {
       const int p = order[next++];
-      owner[p] = worker;
+      owner[pieces[p].index] = worker;
       stats.bytes_sent += static_cast<double>(send_bytes(serialize_piece(pieces[p]), worker, kTagPiece, MPI_COMM_WORLD));
     } else {
       stats.bytes_sent += static_cast<double>(send_bytes(std::string(), worker, kTagPiece, MPI_COMM_WORLD));
@@ -145,7 +147,7 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
     bool progress = false;
     if (root_meshes && !own && next < piece_count) {
       own_piece = order[next++];
-      owner[own_piece] = 0;
+      owner[pieces[own_piece].index] = 0;
       const PieceSurface& piece = pieces[own_piece];
       own_start = now_seconds();
       dump_piece(job, piece);
@@ -156,7 +158,7 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
       progress = true;
     }
     if (own && own->poll(0)) {
-      finish_own([&] { return piece_meshing_result(*own, own_piece); });
+      finish_own([&] { return piece_meshing_result(*own, pieces[own_piece].index); });
       own.reset();
       progress = true;
     }
@@ -169,7 +171,7 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
       const std::string header = recv_bytes(worker, kTagResult, MPI_COMM_WORLD);  // "index\nerror"
       stats.bytes_received += static_cast<double>(header.size());
       const auto newline = header.find('\n');
-      const int p = std::atoi(header.substr(0, newline).c_str());
+      const int p = position.at(std::atoi(header.substr(0, newline).c_str()));
       outcomes[p].error = header.substr(newline + 1);
       if (outcomes[p].error.empty()) {
         const std::string bytes = recv_bytes(worker, kTagResult, MPI_COMM_WORLD);
@@ -240,7 +242,7 @@ int run_mesh_job(const MeshJob& job) {
   StageTimes times;
   RankStats stats;
   std::string error;
-  std::vector<int> owner;
+  std::map<int, int> owner;  // piece index -> rank that meshed it last
 
   // Rank 0: read and validate.
   SurfaceMesh input;
@@ -342,8 +344,8 @@ int run_mesh_job(const MeshJob& job) {
       report["retries"].push_back({{"attempt", r.attempt}, {"reason", r.reason}, {"planes_moved", r.planes}});
     for (int r = 0; r < size; ++r) {
       nlohmann::json pieces = nlohmann::json::array();
-      for (std::size_t p = 0; p < owner.size(); ++p)
-        if (owner[p] == r) pieces.push_back(p);
+      for (const auto& [piece, rank_of_piece] : owner)
+        if (rank_of_piece == r && piece < piece_count) pieces.push_back(piece);
       report["rank"].push_back({{"rank", r},
                                 {"pieces", pieces},
                                 {"tetgen_seconds", all[r].tetgen_seconds},
