@@ -337,6 +337,41 @@ static void check_declared_counts(const std::string& path, const std::string& ex
     vertices = static_cast<long double>(*v);
     faces = static_cast<long double>(*f);
   } else if (ext == "ply") {
+    // CGAL's PLY reader crashes on a "property" line before any "element" line (found by
+    // fuzzing), so the header's structure is checked here first.
+    bool in_element = false, ended = false;
+    int line_number = 0;
+    while (std::getline(lines, line)) {
+      ++line_number;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      const auto tokens = tokens_of(line);
+      if (line_number == 1) {
+        if (line != "ply") throw InputError("cannot read '" + path + "': not a PLY file (no 'ply' line)");
+        continue;
+      }
+      if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info" || tokens[0] == "format") continue;
+      if (tokens[0] == "end_header") {
+        ended = true;
+        break;
+      }
+      if (tokens[0] == "element") {
+        if (tokens.size() != 3 || !parse_integer(tokens[2]) || *parse_integer(tokens[2]) < 0)
+          throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
+                           " (element NAME COUNT expected)");
+        in_element = true;
+      } else if (tokens[0] == "property") {
+        if (!in_element)
+          throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
+                           " (a property before any element)");
+      } else {
+        throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
+                         " (unknown keyword '" + tokens[0] + "')");
+      }
+    }
+    if (!ended && head.size() < 65536)
+      throw InputError("cannot read '" + path + "': the PLY header has no end_header line");
+    lines.clear();
+    lines.seekg(0);
     while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
       const auto tokens = tokens_of(line);
       if (tokens.size() == 3 && tokens[0] == "element") {
