@@ -332,7 +332,16 @@ static void check_declared_counts(const std::string& path, const std::string& ex
     std::size_t first = 1;  // after the keyword (counts may follow it on the same line)
     if (tokens[0].find("OFF") == std::string::npos) first = 0;
     if (tokens.size() < first + 2) return;
-    const auto v = parse_integer(tokens[first]), f = parse_integer(tokens[first + 1]);
+    // CGAL reads a count from the leading digits of a token ("12+3" counts as 12): so do we.
+    auto leading_integer = [](const std::string& token) -> std::optional<long long> {
+      errno = 0;
+      char* end = nullptr;
+      const long long value = std::strtoll(token.c_str(), &end, 10);
+      if (end == token.c_str()) return std::nullopt;
+      if (errno == ERANGE) return std::numeric_limits<long long>::max();  // absurd: rejected below
+      return value;
+    };
+    const auto v = leading_integer(tokens[first]), f = leading_integer(tokens[first + 1]);
     if (!v || !f) return;  // CGAL or the diagnosis reports a malformed header
     vertices = static_cast<long double>(*v);
     faces = static_cast<long double>(*f);
