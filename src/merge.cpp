@@ -41,6 +41,11 @@ std::vector<Tet> compute_neighbours(const std::vector<Tet>& tets) {
 
 TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceSurface>& pieces,
              const std::vector<PieceTetMesh>& results) {
+  return weld(surface_points, pieces, std::vector<PieceTetMesh>(results));
+}
+
+TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceSurface>& pieces,
+             std::vector<PieceTetMesh>&& results) {
   TetMesh mesh;
   mesh.points = surface_points;
   std::size_t tet_total = 0;
@@ -52,7 +57,7 @@ TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceS
 
   std::vector<FaceSlot> open_faces;  // faces on a piece's boundary: input or cap triangles
   for (std::size_t p = 0; p < results.size(); ++p) {
-    const PieceTetMesh& r = results[p];
+    PieceTetMesh& r = results[p];
     const PieceSurface& piece = pieces[p];
     if (r.index != piece.index) throw MeshingError(r.index, "result does not match its piece");
     const auto steiner_base = static_cast<std::int64_t>(mesh.points.size()) - r.surface_point_count;
@@ -71,6 +76,7 @@ TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceS
         if (nb[j] < 0)
           open_faces.push_back({FaceKey(outward_face(g, j)), static_cast<std::int64_t>(mesh.tets.size() - 1), j});
     }
+    results[p].mesh = LocalTetMesh();  // welded: free it now
   }
 
   // A cap face is open in the two pieces it separates: pair them up.

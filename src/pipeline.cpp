@@ -64,9 +64,14 @@ PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, Sta
 
 MeshResult finish_mesh(const PreparedPieces& prepared, const std::vector<PieceTetMesh>& results,
                        const MeshOptions& options, StageTimes* times) {
+  return finish_mesh(prepared, std::vector<PieceTetMesh>(results), options, times);
+}
+
+MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results, const MeshOptions& options,
+                       StageTimes* times) {
   StageClock clock(times);
   MeshResult result;
-  result.mesh = weld(prepared.split.points, prepared.pieces, results);
+  result.mesh = weld(prepared.split.points, prepared.pieces, std::move(results));
   clock.lap("merge");
   result.removal = remove_cut_vertices(result.mesh, prepared.input, prepared.split, options.tetgen);
   clock.lap("cut_vertex_removal");
@@ -136,10 +141,8 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
       for (std::size_t i = 0; i < fresh.size(); ++i) {
         const std::size_t p = to_mesh_index[i];
         outcomes[p] = std::move(fresh[i]);
-        if (outcomes[p].error.empty() && attempt + 1 < attempts)
-          meshed[fingerprint[p]] = {PieceSurface{0, {}, prepared.pieces[p].points, prepared.pieces[p].triangles},
-                                    outcomes[p].result};
       }
+      std::vector<PieceOutcome>().swap(fresh);
       clock.lap("tetgen");
       for (std::size_t p = 0; p < outcomes.size(); ++p) {
         if (outcomes[p].error.empty()) continue;
@@ -147,12 +150,20 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
         if (p > 0) planes_to_move.push_back(static_cast<int>(p) - 1);
         if (p + 1 < outcomes.size()) planes_to_move.push_back(static_cast<int>(p));
       }
+      if (!failure.empty() && attempt + 1 < attempts) {
+        // Keep the good results for the next attempt (moved, not copied).
+        for (std::size_t p = 0; p < outcomes.size(); ++p)
+          if (outcomes[p].error.empty())
+            meshed[fingerprint[p]] = {PieceSurface{0, {}, prepared.pieces[p].points, prepared.pieces[p].triangles},
+                                      std::move(outcomes[p].result)};
+      }
       if (failure.empty()) {
+        decltype(meshed)().swap(meshed);
         std::vector<PieceTetMesh> results;
         results.reserve(outcomes.size());
         for (auto& o : outcomes) results.push_back(std::move(o.result));
         std::vector<PieceOutcome>().swap(outcomes);
-        MeshResult result = finish_mesh(prepared, results, attempt_options, times);
+        MeshResult result = finish_mesh(prepared, std::move(results), attempt_options, times);
         result.cut_vertices_inserted = prepared.split.cut_vertex_count();
         result.cap_triangles = prepared.cap_triangles;
         result.pieces = static_cast<int>(prepared.pieces.size());

@@ -13,6 +13,9 @@ namespace partet {
 // neighbours across caps are restored by matching faces. Pieces must be ordered by index.
 TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceSurface>& pieces,
              const std::vector<PieceTetMesh>& results);
+// The same, freeing each piece's arrays once they are welded.
+TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceSurface>& pieces,
+             std::vector<PieceTetMesh>&& results);
 
 // Recomputes all neighbour relations from the tets (faces matched by vertex ids). Throws
 // MeshingError when a face is shared by more than two tets.

@@ -80,6 +80,10 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
 // Weld the pieces' meshes and remove the cut vertices. results must be ordered by piece index.
 MeshResult finish_mesh(const PreparedPieces& prepared, const std::vector<PieceTetMesh>& results,
                        const MeshOptions& options, StageTimes* times = nullptr);
+// The same, consuming the results: each piece's arrays are freed as soon as they are welded, so
+// rank 0 never holds the pieces and the merged mesh in full at once.
+MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results, const MeshOptions& options,
+                       StageTimes* times = nullptr);
 
 // The whole pipeline in one process (pieces meshed one after another).
 MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);
