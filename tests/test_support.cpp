@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include "partet/errors.hpp"
+
 #include <unistd.h>
 
 #include <cstdlib>
@@ -31,6 +33,20 @@ std::string temp_dir(const std::string& name) {
   fs::create_directories(dir);
   created().push_back(dir);
   return dir.string();
+}
+
+::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+std::string input_error(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError thrown)";
 }
 
 }  // namespace partet::test

@@ -11,23 +11,13 @@
 #include "partet/generate.hpp"
 #include "partet/surface_io.hpp"
 #include "partet/validate.hpp"
+#include "test_support.hpp"
 
 namespace partet {
 namespace {
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
-
-std::string input_error(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError thrown)";
-}
+using test::contains;
+using test::input_error;
 
 // A tetrahedron with outward faces, its first corner at `origin`.
 SurfaceMesh tetrahedron(const Point3& origin = {0, 0, 0}, double size = 1) {
