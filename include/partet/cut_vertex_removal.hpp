@@ -26,7 +26,7 @@ struct CutVertexRemovalStats {
 };
 
 // The union of the stars of all cut vertices is re-meshed by TetGen (-pY), one connected part
-// at a time, with its boundary fixed, except that the split fragments of input triangles are replaced by the input triangles
+// at a time (a part that fails grows by up to three layers of tets first), with its boundary fixed, except that the split fragments of input triangles are replaced by the input triangles
 // themselves. Afterwards the mesh has no cut vertices and no unused points; input vertices keep
 // their relative order and coordinates. Throws CutRemovalError on failure.
 CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
