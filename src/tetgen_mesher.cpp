@@ -242,9 +242,10 @@ LocalTetMesh mesh_in_process(const std::vector<Point3>& points, const std::vecto
 }  // namespace
 
 PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options) {
-  check_piece_topology(piece);
-  // Checks and mesh in one child process, so the result crosses the process boundary once.
+  // Checks and mesh in one child process (which runs this function again, not isolated), so the
+  // checks run once and the result crosses the process boundary once.
   if (options.isolate) return deserialize_result(tetrahedralize_piece_to_bytes(piece, options));
+  check_piece_topology(piece);
   const SurfaceMesh surface{piece.points, piece.triangles};
   try {
     check_no_self_intersections(surface, ("piece " + std::to_string(piece.index)).c_str());

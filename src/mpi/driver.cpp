@@ -150,11 +150,12 @@ std::vector<PieceOutcome> mesh_round_root(const MeshJob& job, const std::vector<
       owner[pieces[own_piece].index] = 0;
       const PieceSurface& piece = pieces[own_piece];
       own_start = now_seconds();
-      dump_piece(job, piece);
-      if (job.options.tetgen.isolate)
+      if (job.options.tetgen.isolate) {
+        dump_piece(job, piece);
         own = start_piece_meshing(piece, job.options.tetgen, [&piece] { inject_failure(piece.index, 0); });
-      else
-        finish_own([&] { return mesh_here(job, piece, 0); });
+      } else {
+        finish_own([&] { return mesh_here(job, piece, 0); });  // dumps the piece itself
+      }
       progress = true;
     }
     if (own && own->poll(0)) {
