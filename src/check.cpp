@@ -1,4 +1,6 @@
-// Independent verification of a tet mesh: recomputes everything from points and tets only.
+// Independent verification of a tet mesh: recomputes everything from points and tets only. It
+// keeps its own orientation determinant and exact predicate on purpose: the check must not
+// share code with what it verifies (the mesher's orientation vote, the merge's welding).
 #include "partet/check.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -11,14 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "geometry.hpp"
 #include "partet/validate.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kVolumeTolerance = 1e-9;
 
 std::string format_number(double x) {
@@ -50,47 +53,6 @@ std::vector<std::uint32_t> bucket_offsets(std::size_t item_count, std::size_t ve
   for (std::size_t i = 0; i < item_count; ++i) ++start[bucket_of(i) + 1];
   for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
   return start;
-}
-
-struct FaceEntry {
-  std::int32_t mid, high;  // the face's two larger vertices; the smallest is the bucket
-  std::uint32_t slot;      // 4 * tet + opposite corner
-};
-
-std::array<std::int32_t, 3> sorted_face(const Tet& t, int j) {
-  std::int32_t a = t[(j + 1) & 3], b = t[(j + 2) & 3], c = t[(j + 3) & 3];
-  if (a > b) std::swap(a, b);
-  if (b > c) std::swap(b, c);
-  if (a > b) std::swap(a, b);
-  return {a, b, c};
-}
-
-// Calls on_face(first, count) once per distinct triangle with the tets (slots) containing it.
-template <class OnFace>
-void for_each_face(const std::vector<Tet>& tets, std::size_t vertex_count, OnFace on_face) {
-  std::size_t face_count = tets.size() * 4;
-  auto start = bucket_offsets(face_count, vertex_count,
-                              [&](std::size_t i) { return sorted_face(tets[i / 4], int(i % 4))[0]; });
-  std::vector<FaceEntry> entries(face_count);
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t i = 0; i < face_count; ++i) {
-    auto f = sorted_face(tets[i / 4], int(i % 4));
-    entries[fill[f[0]]++] = {f[1], f[2], static_cast<std::uint32_t>(i)};
-  }
-  auto before = [](const FaceEntry& a, const FaceEntry& b) {
-    return a.mid != b.mid ? a.mid < b.mid : a.high < b.high;
-  };
-  for (std::size_t v = 0; v < vertex_count; ++v) {
-    FaceEntry* first = entries.data() + start[v];
-    FaceEntry* last = entries.data() + start[v + 1];
-    std::sort(first, last, before);
-    for (FaceEntry* group = first; group != last;) {
-      FaceEntry* group_end = group + 1;
-      while (group_end != last && !before(*group, *group_end)) ++group_end;
-      on_face(group, static_cast<std::size_t>(group_end - group));
-      group = group_end;
-    }
-  }
 }
 
 // Number of distinct edges of the tets.
@@ -259,103 +221,106 @@ MeshQuality mesh_quality(const TetMesh& mesh) {
   return quality;
 }
 
-CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
-  CheckReport report;
-  auto& violations = report.violations;
-  const std::size_t vertex_count = mesh.points.size();
-  report.vertices = static_cast<std::int64_t>(vertex_count);
-  report.tets = static_cast<std::int64_t>(mesh.tets.size());
+namespace {
 
-  // Everything below indexes points through tets, so bad indices end the check here.
-  {
-    std::int64_t bad = 0, first = -1;
-    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-      for (std::int32_t v : mesh.tets[t])
-        if (v < 0 || static_cast<std::size_t>(v) >= vertex_count) {
-          if (bad++ == 0) first = static_cast<std::int64_t>(t);
-          break;
-        }
-    if (bad > 0) {
-      violations.push_back(std::to_string(bad) + " tets have vertex indices out of range, first: tet " +
-                           std::to_string(first));
-      return report;
-    }
-  }
+using Violations = std::vector<std::string>;
 
-  // Orientation, with an exact predicate: a nearly flat tet must not pass by rounding.
-  {
-    std::int64_t negative = 0, flat = 0, first = -1;
-    long double volume6 = 0;
-    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-      const Tet& tet = mesh.tets[t];
-      const Point3 &a = mesh.points[tet[0]], &b = mesh.points[tet[1]], &c = mesh.points[tet[2]],
-                   &d = mesh.points[tet[3]];
-      CGAL::Orientation o = CGAL::orientation(
-          Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
-          Kernel::Point_3(c[0], c[1], c[2]), Kernel::Point_3(d[0], d[1], d[2]));
-      if (o != CGAL::POSITIVE) {
-        if (negative + flat == 0) first = static_cast<std::int64_t>(t);
-        (o == CGAL::NEGATIVE ? negative : flat)++;
+// Everything else indexes points through tets, so bad indices end the check.
+bool check_indices(const TetMesh& mesh, Violations& violations) {
+  std::int64_t bad = 0, first = -1;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (std::int32_t v : mesh.tets[t])
+      if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size()) {
+        if (bad++ == 0) first = static_cast<std::int64_t>(t);
+        break;
       }
-      volume6 += signed_volume6(a, b, c, d);
-    }
-    report.tet_volume = static_cast<double>(volume6 / 6);
-    if (negative + flat > 0)
-      violations.push_back(std::to_string(negative + flat) + " tets are not positively oriented (" +
-                           std::to_string(negative) + " inverted, " + std::to_string(flat) +
-                           " flat), first: tet " + std::to_string(first));
-  }
+  if (bad > 0)
+    violations.push_back(std::to_string(bad) + " tets have vertex indices out of range, first: tet " +
+                         std::to_string(first));
+  return bad == 0;
+}
 
-  // Unused vertices.
-  std::vector<char> used(vertex_count, 0);
+// Orientation, with an exact predicate: a nearly flat tet must not pass by rounding. Returns the
+// total tet volume.
+double check_orientation(const TetMesh& mesh, Violations& violations) {
+  std::int64_t negative = 0, flat = 0, first = -1;
+  long double volume6 = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const Tet& tet = mesh.tets[t];
+    const Point3 &a = mesh.points[tet[0]], &b = mesh.points[tet[1]], &c = mesh.points[tet[2]],
+                 &d = mesh.points[tet[3]];
+    CGAL::Orientation o =
+        CGAL::orientation(Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
+                          Kernel::Point_3(c[0], c[1], c[2]), Kernel::Point_3(d[0], d[1], d[2]));
+    if (o != CGAL::POSITIVE) {
+      if (negative + flat == 0) first = static_cast<std::int64_t>(t);
+      (o == CGAL::NEGATIVE ? negative : flat)++;
+    }
+    volume6 += signed_volume6(a, b, c, d);
+  }
+  if (negative + flat > 0)
+    violations.push_back(std::to_string(negative + flat) + " tets are not positively oriented (" +
+                         std::to_string(negative) + " inverted, " + std::to_string(flat) + " flat), first: tet " +
+                         std::to_string(first));
+  return static_cast<double>(volume6 / 6);
+}
+
+// Vertices in no tet. Returns the number of used vertices.
+std::int64_t check_unused_vertices(const TetMesh& mesh, Violations& violations) {
+  std::vector<char> used(mesh.points.size(), 0);
   for (const Tet& t : mesh.tets)
     for (std::int32_t v : t) used[v] = 1;
   const std::int64_t used_count = std::count(used.begin(), used.end(), 1);
-  if (used_count < static_cast<std::int64_t>(vertex_count)) {
+  if (used_count < static_cast<std::int64_t>(mesh.points.size())) {
     std::size_t first = std::find(used.begin(), used.end(), 0) - used.begin();
-    violations.push_back(std::to_string(vertex_count - used_count) +
-                         " vertices are in no tet, first: vertex " + std::to_string(first));
+    violations.push_back(std::to_string(mesh.points.size() - used_count) + " vertices are in no tet, first: vertex " +
+                         std::to_string(first));
   }
+  return used_count;
+}
 
-  // Duplicate vertices, and the coordinate index used to find input vertices in the mesh.
-  std::vector<KeyedVertex> by_coordinates(vertex_count);
-  for (std::size_t v = 0; v < vertex_count; ++v)
+// Vertices with identical coordinates. Returns the vertices sorted by coordinates, used to find
+// input vertices in the mesh.
+std::vector<KeyedVertex> check_duplicate_vertices(const TetMesh& mesh, Violations& violations) {
+  std::vector<KeyedVertex> by_coordinates(mesh.points.size());
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
     by_coordinates[v] = {coordinate_key(mesh.points[v]), static_cast<std::int32_t>(v)};
   std::sort(by_coordinates.begin(), by_coordinates.end());
-  {
-    std::int64_t duplicates = 0;
-    std::int32_t first_a = -1, first_b = -1;
-    for (std::size_t i = 1; i < by_coordinates.size(); ++i)
-      if (by_coordinates[i].key == by_coordinates[i - 1].key && duplicates++ == 0) {
-        first_a = by_coordinates[i - 1].index;
-        first_b = by_coordinates[i].index;
-      }
-    if (duplicates > 0)
-      violations.push_back(std::to_string(duplicates) +
-                           " duplicate vertices (identical coordinates), first: vertices " +
-                           std::to_string(first_a) + " and " + std::to_string(first_b));
-  }
+  std::int64_t duplicates = 0;
+  std::int32_t first_a = -1, first_b = -1;
+  for (std::size_t i = 1; i < by_coordinates.size(); ++i)
+    if (by_coordinates[i].key == by_coordinates[i - 1].key && duplicates++ == 0) {
+      first_a = by_coordinates[i - 1].index;
+      first_b = by_coordinates[i].index;
+    }
+  if (duplicates > 0)
+    violations.push_back(std::to_string(duplicates) + " duplicate vertices (identical coordinates), first: vertices " +
+                         std::to_string(first_a) + " and " + std::to_string(first_b));
+  return by_coordinates;
+}
 
-  // Faces: count the tets on each triangle, collect boundary faces oriented out of their tet.
-  std::vector<Triangle> boundary;
-  std::int64_t face_count = 0, overfull = 0, same_side = 0;
+struct FaceCount {
+  std::vector<Triangle> boundary;  // faces in one tet, oriented out of it
+  std::int64_t faces = 0;          // distinct triangles
+};
+
+// Counts the tets on each triangle: at most two, on opposite sides.
+FaceCount check_faces(const TetMesh& mesh, Violations& violations) {
+  FaceCount count;
+  std::int64_t overfull = 0, same_side = 0;
   Triangle first_overfull{}, first_same_side{};
-  for_each_face(mesh.tets, vertex_count, [&](const FaceEntry* group, std::size_t tets_on_face) {
-    ++face_count;
-    auto oriented = [&](std::size_t k) {
-      return outward_face(mesh.tets[group[k].slot / 4], int(group[k].slot % 4));
-    };
+  for_each_face(mesh.tets, mesh.points.size(), [&](const FaceSlot* group, std::size_t tets_on_face) {
+    ++count.faces;
+    auto oriented = [&](std::size_t k) { return outward_face(mesh.tets[group[k].slot / 4], int(group[k].slot % 4)); };
     if (tets_on_face == 1) {
-      boundary.push_back(oriented(0));
+      count.boundary.push_back(oriented(0));
     } else if (tets_on_face == 2) {
       // Two tets on the same side of their shared face overlap.
-      if (normalized(oriented(0)) == normalized(oriented(1)) && same_side++ == 0)
-        first_same_side = oriented(0);
+      if (normalized(oriented(0)) == normalized(oriented(1)) && same_side++ == 0) first_same_side = oriented(0);
     } else if (overfull++ == 0) {
       first_overfull = oriented(0);
     }
   });
-  report.boundary_faces = static_cast<std::int64_t>(boundary.size());
   if (overfull > 0)
     violations.push_back(std::to_string(overfull) +
                          " triangles are in more than two tets, first: " + format_triangle(first_overfull));
@@ -363,105 +328,126 @@ CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
     violations.push_back(std::to_string(same_side) +
                          " triangles have both their tets on the same side (overlap), first: " +
                          format_triangle(first_same_side));
+  return count;
+}
 
-  // Euler characteristic: for a 3-manifold with boundary, chi(M) = chi(boundary) / 2.
-  {
-    std::int64_t edge_count = count_edges(mesh.tets, vertex_count);
-    report.euler_mesh = static_cast<long>(used_count - edge_count + face_count -
-                                          static_cast<std::int64_t>(mesh.tets.size()));
-    long input_chi = surface_euler_characteristic(input);
-    report.euler_expected = input_chi / 2;
-    if (2 * report.euler_mesh != input_chi)
-      violations.push_back("V-E+F-T of the mesh is " + std::to_string(report.euler_mesh) +
-                           ", expected half the Euler characteristic of the input, " +
-                           std::to_string(input_chi) + "/2");
-  }
+// For a 3-manifold with boundary, chi(M) = chi(boundary) / 2.
+void check_euler(const TetMesh& mesh, std::int64_t used_count, std::int64_t face_count, const SurfaceMesh& input,
+                 CheckReport& report) {
+  const std::int64_t edge_count = count_edges(mesh.tets, mesh.points.size());
+  report.euler_mesh =
+      static_cast<long>(used_count - edge_count + face_count - static_cast<std::int64_t>(mesh.tets.size()));
+  const long input_chi = surface_euler_characteristic(input);
+  report.euler_expected = input_chi / 2;
+  if (2 * report.euler_mesh != input_chi)
+    report.violations.push_back("V-E+F-T of the mesh is " + std::to_string(report.euler_mesh) +
+                                ", expected half the Euler characteristic of the input, " +
+                                std::to_string(input_chi) + "/2");
+}
 
-  // Input vertices in the mesh, matched by exact coordinates.
+// The mesh vertex with the same exact coordinates as each input vertex used by a triangle
+// (-1 for unused or missing ones).
+std::vector<std::int32_t> find_input_vertices(const SurfaceMesh& input, const std::vector<KeyedVertex>& by_coordinates,
+                                              Violations& violations) {
   std::vector<std::int32_t> mesh_vertex_of(input.points.size(), -1);
-  {
-    std::vector<char> in_triangle(input.points.size(), 0);
-    for (const Triangle& t : input.triangles)
-      for (std::int32_t v : t)
-        if (v >= 0 && static_cast<std::size_t>(v) < in_triangle.size()) in_triangle[v] = 1;
-    std::int64_t missing = 0, first = -1;
-    for (std::size_t v = 0; v < input.points.size(); ++v) {
-      if (!in_triangle[v]) continue;
-      KeyedVertex probe{coordinate_key(input.points[v]), -1};
-      auto it = std::lower_bound(by_coordinates.begin(), by_coordinates.end(), probe);
-      if (it != by_coordinates.end() && it->key == probe.key) {
-        mesh_vertex_of[v] = it->index;
-      } else if (missing++ == 0) {
-        first = static_cast<std::int64_t>(v);
+  std::vector<char> in_triangle(input.points.size(), 0);
+  for (const Triangle& t : input.triangles)
+    for (std::int32_t v : t)
+      if (v >= 0 && static_cast<std::size_t>(v) < in_triangle.size()) in_triangle[v] = 1;
+  std::int64_t missing = 0, first = -1;
+  for (std::size_t v = 0; v < input.points.size(); ++v) {
+    if (!in_triangle[v]) continue;
+    KeyedVertex probe{coordinate_key(input.points[v]), -1};
+    auto it = std::lower_bound(by_coordinates.begin(), by_coordinates.end(), probe);
+    if (it != by_coordinates.end() && it->key == probe.key) {
+      mesh_vertex_of[v] = it->index;
+    } else if (missing++ == 0) {
+      first = static_cast<std::int64_t>(v);
+    }
+  }
+  if (missing > 0)
+    violations.push_back("input vertex " + std::to_string(first) +
+                         " is missing from the mesh (coordinates changed?); " + std::to_string(missing) +
+                         " input vertices missing in all");
+  return mesh_vertex_of;
+}
+
+// Boundary faces must be exactly the input triangles, with the same orientation.
+void check_boundary_is_input(const std::vector<Triangle>& boundary, const SurfaceMesh& input,
+                             const std::vector<std::int32_t>& mesh_vertex_of, Violations& violations) {
+  std::vector<Triangle> boundary_set(boundary.size());
+  std::transform(boundary.begin(), boundary.end(), boundary_set.begin(), normalized);
+  std::sort(boundary_set.begin(), boundary_set.end());
+  std::vector<Triangle> input_set;
+  input_set.reserve(input.triangles.size());
+  std::int64_t missing = 0, flipped = 0, extra = 0;
+  std::int64_t first_missing = -1, first_flipped = -1;
+  Triangle first_extra{};
+  auto contains = [](const std::vector<Triangle>& set, const Triangle& t) {
+    return std::binary_search(set.begin(), set.end(), t);
+  };
+  for (std::size_t i = 0; i < input.triangles.size(); ++i) {
+    const Triangle& t = input.triangles[i];
+    bool mapped = true;
+    Triangle m{};
+    for (int k = 0; k < 3; ++k) {
+      bool valid = t[k] >= 0 && static_cast<std::size_t>(t[k]) < mesh_vertex_of.size();
+      m[k] = valid ? mesh_vertex_of[t[k]] : -1;
+      mapped = mapped && m[k] >= 0;
+    }
+    if (mapped) {
+      m = normalized(m);
+      input_set.push_back(m);
+      if (contains(boundary_set, m)) continue;
+      if (contains(boundary_set, reversed(m))) {
+        if (flipped++ == 0) first_flipped = static_cast<std::int64_t>(i);
+        continue;
       }
     }
-    if (missing > 0)
-      violations.push_back("input vertex " + std::to_string(first) +
-                           " is missing from the mesh (coordinates changed?); " +
-                           std::to_string(missing) + " input vertices missing in all");
+    if (missing++ == 0) first_missing = static_cast<std::int64_t>(i);
   }
+  std::sort(input_set.begin(), input_set.end());
+  for (const Triangle& f : boundary)
+    if (!contains(input_set, normalized(f)) && !contains(input_set, reversed(f)) && extra++ == 0) first_extra = f;
+  if (missing > 0)
+    violations.push_back(std::to_string(missing) +
+                         " input triangles are not boundary faces of the mesh, first: input triangle " +
+                         std::to_string(first_missing));
+  if (flipped > 0)
+    violations.push_back(std::to_string(flipped) +
+                         " input triangles are boundary faces with the wrong orientation, first: input triangle " +
+                         std::to_string(first_flipped));
+  if (extra > 0)
+    violations.push_back(std::to_string(extra) + " boundary faces of the mesh are not input triangles, first: " +
+                         format_triangle(first_extra));
+}
 
-  // Boundary faces must be exactly the input triangles, with the same orientation.
-  {
-    std::vector<Triangle> boundary_set(boundary.size());
-    std::transform(boundary.begin(), boundary.end(), boundary_set.begin(), normalized);
-    std::sort(boundary_set.begin(), boundary_set.end());
-    std::vector<Triangle> input_set;
-    input_set.reserve(input.triangles.size());
-    std::int64_t missing = 0, flipped = 0, extra = 0;
-    std::int64_t first_missing = -1, first_flipped = -1;
-    Triangle first_extra{};
-    auto contains = [](const std::vector<Triangle>& set, const Triangle& t) {
-      return std::binary_search(set.begin(), set.end(), t);
-    };
-    for (std::size_t i = 0; i < input.triangles.size(); ++i) {
-      const Triangle& t = input.triangles[i];
-      bool mapped = true;
-      Triangle m{};
-      for (int k = 0; k < 3; ++k) {
-        bool valid = t[k] >= 0 && static_cast<std::size_t>(t[k]) < mesh_vertex_of.size();
-        m[k] = valid ? mesh_vertex_of[t[k]] : -1;
-        mapped = mapped && m[k] >= 0;
-      }
-      if (mapped) {
-        m = normalized(m);
-        input_set.push_back(m);
-        if (contains(boundary_set, m)) continue;
-        if (contains(boundary_set, reversed(m))) {
-          if (flipped++ == 0) first_flipped = static_cast<std::int64_t>(i);
-          continue;
-        }
-      }
-      if (missing++ == 0) first_missing = static_cast<std::int64_t>(i);
-    }
-    std::sort(input_set.begin(), input_set.end());
-    for (const Triangle& f : boundary)
-      if (!contains(input_set, normalized(f)) && !contains(input_set, reversed(f)) && extra++ == 0)
-        first_extra = f;
-    if (missing > 0)
-      violations.push_back(std::to_string(missing) +
-                           " input triangles are not boundary faces of the mesh, first: input triangle " +
-                           std::to_string(first_missing));
-    if (flipped > 0)
-      violations.push_back(std::to_string(flipped) +
-                           " input triangles are boundary faces with the wrong orientation, first: input triangle " +
-                           std::to_string(first_flipped));
-    if (extra > 0)
-      violations.push_back(std::to_string(extra) +
-                           " boundary faces of the mesh are not input triangles, first: " +
-                           format_triangle(first_extra));
-  }
-
-  // Volume: the tets must fill exactly what the input encloses (catches filled cavities).
+// The tets must fill exactly what the input encloses (catches filled cavities).
+void check_volume(const SurfaceMesh& input, CheckReport& report) {
   report.surface_volume = enclosed_volume(input);
-  {
-    double scale = std::max(std::abs(report.tet_volume), std::abs(report.surface_volume));
-    if (std::abs(report.tet_volume - report.surface_volume) > kVolumeTolerance * scale)
-      violations.push_back("tet volume " + format_number(report.tet_volume) +
-                           " differs from the volume enclosed by the input, " +
-                           format_number(report.surface_volume));
-  }
+  const double scale = std::max(std::abs(report.tet_volume), std::abs(report.surface_volume));
+  if (std::abs(report.tet_volume - report.surface_volume) > kVolumeTolerance * scale)
+    report.violations.push_back("tet volume " + format_number(report.tet_volume) +
+                                " differs from the volume enclosed by the input, " +
+                                format_number(report.surface_volume));
+}
 
+}  // namespace
+
+CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
+  CheckReport report;
+  report.vertices = static_cast<std::int64_t>(mesh.points.size());
+  report.tets = static_cast<std::int64_t>(mesh.tets.size());
+  if (!check_indices(mesh, report.violations)) return report;
+  report.tet_volume = check_orientation(mesh, report.violations);
+  const std::int64_t used_count = check_unused_vertices(mesh, report.violations);
+  const std::vector<KeyedVertex> by_coordinates = check_duplicate_vertices(mesh, report.violations);
+  const FaceCount faces = check_faces(mesh, report.violations);
+  report.boundary_faces = static_cast<std::int64_t>(faces.boundary.size());
+  check_euler(mesh, used_count, faces.faces, input, report);
+  const auto mesh_vertex_of = find_input_vertices(input, by_coordinates, report.violations);
+  check_boundary_is_input(faces.boundary, input, mesh_vertex_of, report.violations);
+  check_volume(input, report);
   report.quality = mesh_quality(mesh);
   return report;
 }

@@ -12,6 +12,7 @@
 #include <map>
 #include <string>
 
+#include "geometry.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -46,9 +47,6 @@ PlaneFrame frame_of(const CutPlane& plane) {
     }
   // Any vector not parallel to n, then Gram-Schmidt.
   Point3 a = std::abs(n[0]) < 0.9 ? Point3{1, 0, 0} : Point3{0, 1, 0};
-  auto cross = [](const Point3& x, const Point3& y) {
-    return Point3{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-  };
   Point3 u = cross(a, n);
   const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
   for (auto& c : u) c /= len;
@@ -93,15 +91,22 @@ bool in_domain(const CDT& cdt, CDT::Face_handle f) {
   return !cdt.is_infinite(f) && f->info().nesting % 2 == 1;
 }
 
-}  // namespace
+K::Point_2 to_2d(const PlaneFrame& frame, const Point3& p) {
+  const double x = p[0] - frame.origin[0], y = p[1] - frame.origin[1], z = p[2] - frame.origin[2];
+  return K::Point_2(x * frame.u[0] + y * frame.u[1] + z * frame.u[2], x * frame.v[0] + y * frame.v[1] + z * frame.v[2]);
+}
 
-std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
-  if (!(density >= 0) || !std::isfinite(density))
-    throw OptionError("--density must be a finite number >= 0");
-  const std::size_t plane_count = planes.size();
+Point3 lift(const PlaneFrame& frame, const K::Point_2& p) {
+  const double x = p.x(), y = p.y();
+  return {frame.origin[0] + x * frame.u[0] + y * frame.v[0], frame.origin[1] + x * frame.u[1] + y * frame.v[1],
+          frame.origin[2] + x * frame.u[2] + y * frame.v[2]};
+}
 
-  // Border chords of each plane, oriented as the piece below traverses them.
-  std::vector<std::vector<std::array<std::int32_t, 2>>> chords(plane_count);
+using Chord = std::array<std::int32_t, 2>;
+
+// Border chords of each plane, oriented as the piece below traverses them.
+std::vector<std::vector<Chord>> border_chords(const SplitSurface& split, std::size_t plane_count) {
+  std::vector<std::vector<Chord>> chords(plane_count);
   for (std::size_t t = 0; t < split.triangles.size(); ++t) {
     const auto& tri = split.triangles[t];
     const int piece = split.piece[t];
@@ -110,137 +115,154 @@ std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& pl
       const std::int32_t a = tri[e], b = tri[(e + 1) % 3];
       if (!split.is_cut_vertex(a) || !split.is_cut_vertex(b)) continue;
       const std::int32_t ia = a - split.input_vertex_count, ib = b - split.input_vertex_count;
-      if (split.cut_vertex_plane[ia] == piece && split.cut_vertex_plane[ib] == piece)
-        chords[piece].push_back({a, b});
+      if (split.cut_vertex_plane[ia] == piece && split.cut_vertex_plane[ib] == piece) chords[piece].push_back({a, b});
     }
   }
+  return chords;
+}
 
-  std::vector<Cap> caps(plane_count);
-  for (std::size_t j = 0; j < plane_count; ++j) {
+// Inserts the border vertices (sorted by id, so the triangulation is built the same way every
+// time) and the chords as constraints. Returns the border's total length.
+double insert_border(CDT& cdt, const std::vector<Chord>& chords, const std::vector<Point3>& points,
+                     const PlaneFrame& frame, std::size_t j) {
+  std::vector<std::int32_t> ids;
+  for (const auto& c : chords) ids.insert(ids.end(), {c[0], c[1]});
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  std::map<std::int32_t, CDT::Vertex_handle> handle;
+  double border_length = 0;
+  try {
+    for (auto id : ids) {
+      const auto before = cdt.number_of_vertices();
+      auto vh = cdt.insert(to_2d(frame, points[id]));
+      if (cdt.number_of_vertices() == before)
+        throw PartitionError(FailureKind::other, -1,
+                             "cut plane " + std::to_string(j) +
+                                 ": two border points coincide in the plane (near-degenerate crossing)");
+      vh->info() = id;
+      handle[id] = vh;
+    }
+    for (const auto& c : chords) {
+      cdt.insert_constraint(handle[c[0]], handle[c[1]]);
+      border_length += distance(points[c[0]], points[c[1]]);
+    }
+  } catch (const CDT::Intersection_of_constraints_exception&) {
+    throw PartitionError(FailureKind::self_intersection, -1,
+                         "cut plane " + std::to_string(j) +
+                             ": the surface's border loops cross or touch on the plane (self-intersecting input?)");
+  }
+  return border_length;
+}
+
+// A point encroaches on a constrained edge of face g or its neighbours when it lies inside the
+// edge's diametral circle: a point there would make a sliver against the border.
+bool encroaches(const CDT& cdt, CDT::Face_handle g, const K::Point_2& p) {
+  for (int n = -1; n < 3; ++n) {
+    const CDT::Face_handle h = n < 0 ? g : g->neighbor(n);
+    if (cdt.is_infinite(h)) continue;
+    for (int i = 0; i < 3; ++i) {
+      if (!h->is_constrained(i)) continue;
+      const auto& a = h->vertex(CDT::cw(i))->point();
+      const auto& b = h->vertex(CDT::ccw(i))->point();
+      if ((p - a) * (p - b) <= 0) return true;
+    }
+  }
+  return false;
+}
+
+// Inserts p into the domain unless it falls outside, encroaches or coincides; the new point is
+// appended to `points` (so it gets a global id). Returns whether it was inserted.
+bool insert_interior_point(CDT& cdt, const K::Point_2& p, const PlaneFrame& frame, std::vector<Point3>& points) {
+  const CDT::Face_handle g = cdt.locate(p);
+  if (g == CDT::Face_handle() || !in_domain(cdt, g) || encroaches(cdt, g, p)) return false;
+  const int nesting = g->info().nesting;
+  const auto before = cdt.number_of_vertices();
+  auto vh = cdt.insert(p, g);
+  if (cdt.number_of_vertices() == before) return false;  // coincides with an existing point
+  // The new faces fill a region bounded by unconstrained edges: same nesting as before.
+  auto fc = cdt.incident_faces(vh), done = fc;
+  do {
+    fc->info().nesting = nesting;
+  } while (++fc != done);
+  vh->info() = static_cast<std::int32_t>(points.size());
+  points.push_back(lift(frame, p));
+  return true;
+}
+
+// Refinement by size that never splits a border chord (both pieces must keep matching): a too
+// large face gets its centroid unless that encroaches on a border chord. (Circumcenters give
+// rounder triangles but land arbitrarily close to other points, which TetGen then merges.)
+void refine_cap(CDT& cdt, std::size_t chord_count, double border_length, double density, const PlaneFrame& frame,
+                std::vector<Point3>& points) {
+  const double target = border_length / static_cast<double>(chord_count) / density;
+  const double max_area = 2.0 * std::sqrt(3.0) / 4.0 * target * target;
+  const std::size_t budget = 50 * chord_count + 1000;  // bounds the work on odd inputs
+  std::size_t inserted = 0;
+  for (int round = 0; round < 64 && inserted < budget; ++round) {
+    std::vector<std::array<K::Point_2, 3>> large;
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (!in_domain(cdt, f)) continue;
+      const auto& a = f->vertex(0)->point();
+      const auto& b = f->vertex(1)->point();
+      const auto& c = f->vertex(2)->point();
+      if (std::abs(CGAL::area(a, b, c)) > max_area) large.push_back({a, b, c});
+    }
+    const std::size_t before = inserted;
+    for (const auto& t : large) {
+      if (inserted >= budget) break;
+      if (insert_interior_point(cdt, CGAL::centroid(t[0], t[1], t[2]), frame, points)) ++inserted;
+    }
+    if (inserted == before) break;
+  }
+}
+
+// The domain's triangles in a deterministic order, independent of CGAL's internal face order.
+// Counter-clockwise in (u, v) means the normal is +axis: outward for the piece below.
+std::vector<Triangle> domain_triangles(const CDT& cdt) {
+  std::vector<Triangle> triangles;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!in_domain(cdt, f)) continue;
+    triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+  }
+  for (auto& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+// Every chord must be closed by a cap triangle traversing it the other way; otherwise the
+// loops are not properly nested (e.g. an orientation or intersection problem).
+void check_cap_closes_loops(const std::vector<Triangle>& cap, const std::vector<Chord>& chords, std::size_t j) {
+  std::vector<Chord> cap_edges;
+  for (const auto& t : cap)
+    for (int e = 0; e < 3; ++e) cap_edges.push_back({t[(e + 1) % 3], t[e]});
+  std::sort(cap_edges.begin(), cap_edges.end());
+  for (const auto& c : chords)
+    if (!std::binary_search(cap_edges.begin(), cap_edges.end(), c))
+      throw PartitionError(
+          FailureKind::other, -1,
+          "cut plane " + std::to_string(j) +
+              ": the cap does not close the border loops (inconsistent orientation or crossing loops)");
+}
+
+}  // namespace
+
+std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
+  if (!(density >= 0) || !std::isfinite(density)) throw OptionError("the cap density must be a finite number >= 0");
+  const auto chords = border_chords(split, planes.size());
+  std::vector<Cap> caps(planes.size());
+  for (std::size_t j = 0; j < planes.size(); ++j) {
     Cap& cap = caps[j];
     cap.plane = static_cast<int>(j);
     if (chords[j].empty()) continue;  // the plane passes between shells: both sides are closed already
     const PlaneFrame frame = frame_of(planes[j]);
-    auto to_2d = [&](const Point3& p) {
-      const double x = p[0] - frame.origin[0], y = p[1] - frame.origin[1], z = p[2] - frame.origin[2];
-      return K::Point_2(x * frame.u[0] + y * frame.u[1] + z * frame.u[2],
-                        x * frame.v[0] + y * frame.v[1] + z * frame.v[2]);
-    };
-
-    // Border vertices, sorted by id so the triangulation is built the same way every time.
-    std::vector<std::int32_t> ids;
-    for (const auto& c : chords[j]) ids.insert(ids.end(), {c[0], c[1]});
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-
     CDT cdt;
-    std::map<std::int32_t, CDT::Vertex_handle> handle;
-    double border_length = 0;
-    try {
-      for (auto id : ids) {
-        const auto before = cdt.number_of_vertices();
-        auto vh = cdt.insert(to_2d(split.points[id]));
-        if (cdt.number_of_vertices() == before)
-          throw PartitionError("cut plane " + std::to_string(j) +
-                               ": two border points coincide in the plane (near-degenerate crossing)");
-        vh->info() = id;
-        handle[id] = vh;
-      }
-      for (const auto& c : chords[j]) {
-        cdt.insert_constraint(handle[c[0]], handle[c[1]]);
-        const auto& p = split.points[c[0]];
-        const auto& q = split.points[c[1]];
-        border_length += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                                   (p[2] - q[2]) * (p[2] - q[2]));
-      }
-    } catch (const CDT::Intersection_of_constraints_exception&) {
-      throw PartitionError("cut plane " + std::to_string(j) +
-                           ": the surface's border loops cross or touch on the plane (self-intersecting input?)");
-    }
+    const double border_length = insert_border(cdt, chords[j], split.points, frame, j);
     mark_nesting(cdt);
-
-    // Refinement by size that never splits a border chord (both pieces must keep matching): a too
-    // large face gets its centroid unless that encroaches on a border chord. (Circumcenters give
-    // rounder triangles but land arbitrarily close to other points, which TetGen then merges.)
-    const std::int32_t first_interior = static_cast<std::int32_t>(split.points.size());
-    if (density > 0) {
-      const double target = border_length / static_cast<double>(chords[j].size()) / density;
-      const double max_area = 2.0 * std::sqrt(3.0) / 4.0 * target * target;
-      const std::size_t budget = 50 * chords[j].size() + 1000;  // bounds the work on odd inputs
-      std::size_t inserted = 0;
-      // p encroaches on a constrained edge of face g or its neighbours when it lies inside the
-      // edge's diametral circle: a point there would make a sliver against the border.
-      auto encroaches = [&](CDT::Face_handle g, const K::Point_2& p) {
-        for (int n = -1; n < 3; ++n) {
-          const CDT::Face_handle h = n < 0 ? g : g->neighbor(n);
-          if (cdt.is_infinite(h)) continue;
-          for (int i = 0; i < 3; ++i) {
-            if (!h->is_constrained(i)) continue;
-            const auto& a = h->vertex(CDT::cw(i))->point();
-            const auto& b = h->vertex(CDT::ccw(i))->point();
-            if ((p - a) * (p - b) <= 0) return true;
-          }
-        }
-        return false;
-      };
-      auto try_insert = [&](const K::Point_2& p) {
-        const CDT::Face_handle g = cdt.locate(p);
-        if (g == CDT::Face_handle() || !in_domain(cdt, g) || encroaches(g, p)) return false;
-        const int nesting = g->info().nesting;
-        const auto before = cdt.number_of_vertices();
-        auto vh = cdt.insert(p, g);
-        if (cdt.number_of_vertices() == before) return false;  // coincides with an existing point
-        // The new faces fill a region bounded by unconstrained edges: same nesting as before.
-        auto fc = cdt.incident_faces(vh), done = fc;
-        do {
-          fc->info().nesting = nesting;
-        } while (++fc != done);
-        vh->info() = static_cast<std::int32_t>(split.points.size());
-        const double x = p.x(), y = p.y();
-        split.points.push_back({frame.origin[0] + x * frame.u[0] + y * frame.v[0],
-                                frame.origin[1] + x * frame.u[1] + y * frame.v[1],
-                                frame.origin[2] + x * frame.u[2] + y * frame.v[2]});
-        ++inserted;
-        return true;
-      };
-      for (int round = 0; round < 64 && inserted < budget; ++round) {
-        std::vector<std::array<K::Point_2, 3>> large;
-        for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-          if (!in_domain(cdt, f)) continue;
-          const auto& a = f->vertex(0)->point();
-          const auto& b = f->vertex(1)->point();
-          const auto& c = f->vertex(2)->point();
-          if (std::abs(CGAL::area(a, b, c)) > max_area) large.push_back({a, b, c});
-        }
-        const std::size_t before = inserted;
-        for (const auto& t : large) {
-          if (inserted >= budget) break;
-          try_insert(CGAL::centroid(t[0], t[1], t[2]));
-        }
-        if (inserted == before) break;
-      }
-    }
+    const auto first_interior = static_cast<std::int32_t>(split.points.size());
+    if (density > 0) refine_cap(cdt, chords[j].size(), border_length, density, frame, split.points);
     cap.interior_point_count = static_cast<std::int32_t>(split.points.size()) - first_interior;
-
-    // Counter-clockwise in (u, v) means the normal is +axis: outward for the piece below.
-    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-      if (!in_domain(cdt, f)) continue;
-      cap.triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
-    }
-    // Deterministic order, independent of CGAL's internal face order.
-    for (auto& t : cap.triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-    std::sort(cap.triangles.begin(), cap.triangles.end());
-
-    // Every chord must be closed by a cap triangle traversing it the other way; otherwise the
-    // loops are not properly nested (e.g. an orientation or intersection problem).
-    std::vector<std::array<std::int32_t, 2>> cap_edges;
-    for (const auto& t : cap.triangles)
-      for (int e = 0; e < 3; ++e) cap_edges.push_back({t[(e + 1) % 3], t[e]});
-    std::sort(cap_edges.begin(), cap_edges.end());
-    for (const auto& c : chords[j])
-      if (!std::binary_search(cap_edges.begin(), cap_edges.end(), c))
-        throw PartitionError("cut plane " + std::to_string(j) +
-                             ": the cap does not close the border loops (inconsistent orientation or crossing loops)");
+    cap.triangles = domain_triangles(cdt);
+    check_cap_closes_loops(cap.triangles, chords[j], j);
   }
   return caps;
 }

@@ -10,13 +10,13 @@
 #include <unordered_map>
 #include <vector>
 
+#include "geometry.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
 
 namespace partet {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 using Matrix3 = std::array<std::array<double, 3>, 3>;
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "geometry.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -55,8 +56,6 @@ Point3 main_axis(const SurfaceMesh& surface, const std::vector<char>& used) {
   return {axis[0], axis[1], axis[2]};
 }
 
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 }  // namespace
 
 int piece_of_point(const std::vector<CutPlane>& planes, const Point3& p) {
@@ -88,7 +87,7 @@ Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode) {
 
 std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode,
                                         const std::vector<int>& shifts) {
-  if (k < 1) throw OptionError("--pieces must be at least 1 (got " + std::to_string(k) + ")");
+  if (k < 1) throw OptionError("the number of pieces must be at least 1 (got " + std::to_string(k) + ")");
   if (k == 1) return {};
   const auto used = used_vertices(surface);
   const Point3 axis = cut_axis(surface, mode);

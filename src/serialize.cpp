@@ -3,10 +3,36 @@
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array_wrapper.hpp>
-#include <sstream>
+#include <boost/serialization/string.hpp>
+#include <streambuf>
 
 namespace partet {
 namespace {
+
+// Archives read from and write to memory directly: results can be hundreds of MB, and a
+// stringstream would copy them once more.
+class ReadBuffer : public std::streambuf {
+ public:
+  explicit ReadBuffer(std::string_view bytes) {
+    char* begin = const_cast<char*>(bytes.data());
+    setg(begin, begin, begin + bytes.size());
+  }
+};
+
+class WriteBuffer : public std::streambuf {
+ public:
+  std::string bytes;
+
+ protected:
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    bytes.append(s, static_cast<std::size_t>(n));
+    return n;
+  }
+  int_type overflow(int_type c) override {
+    if (!traits_type::eq_int_type(c, traits_type::eof())) bytes.push_back(traits_type::to_char_type(c));
+    return traits_type::not_eof(c);
+  }
+};
 
 // Flat vectors of fixed-size arrays go through as one contiguous block each.
 template <class Archive, class T, std::size_t N>
@@ -38,59 +64,127 @@ void load_block(Archive& ar, std::vector<T>& v) {
 
 constexpr unsigned kArchiveFlags = boost::archive::no_header;
 
+// Runs save(archive) into a string reserved for `expected` bytes.
+template <class Save>
+std::string encode(std::size_t expected, Save save, char tag = 0) {
+  WriteBuffer buffer;
+  buffer.bytes.reserve(expected + 1);
+  if (tag) buffer.bytes.push_back(tag);
+  {
+    boost::archive::binary_oarchive ar(buffer, kArchiveFlags);
+    save(ar);
+  }
+  return std::move(buffer.bytes);
+}
+
+template <class T, class Load>
+T decode(std::string_view bytes, Load load) {
+  ReadBuffer buffer(bytes);
+  boost::archive::binary_iarchive ar(buffer, kArchiveFlags);
+  T value;
+  load(ar, value);
+  return value;
+}
+
 }  // namespace
 
 std::string serialize_piece(const PieceSurface& piece) {
-  std::ostringstream os;
-  {
-    boost::archive::binary_oarchive ar(os, kArchiveFlags);
+  const std::size_t expected = 64 + piece.global_ids.size() * 4 + piece.points.size() * 24 + piece.triangles.size() * 12;
+  return encode(expected, [&](auto& ar) {
     std::int32_t index = piece.index;
     ar << index;
     save_block(ar, piece.global_ids);
     save_block(ar, piece.points);
     save_block(ar, piece.triangles);
-  }
-  return std::move(os).str();
+  });
 }
 
-PieceSurface deserialize_piece(const std::string& bytes) {
-  std::istringstream is(bytes);
-  boost::archive::binary_iarchive ar(is, kArchiveFlags);
-  PieceSurface piece;
-  std::int32_t index = 0;
-  ar >> index;
-  piece.index = index;
-  load_block(ar, piece.global_ids);
-  load_block(ar, piece.points);
-  load_block(ar, piece.triangles);
-  return piece;
+PieceSurface deserialize_piece(std::string_view bytes) {
+  return decode<PieceSurface>(bytes, [](auto& ar, PieceSurface& piece) {
+    std::int32_t index = 0;
+    ar >> index;
+    piece.index = index;
+    load_block(ar, piece.global_ids);
+    load_block(ar, piece.points);
+    load_block(ar, piece.triangles);
+  });
 }
 
-std::string serialize_result(const PieceTetMesh& result) {
-  std::ostringstream os;
-  {
-    boost::archive::binary_oarchive ar(os, kArchiveFlags);
-    std::int32_t index = result.index, count = result.surface_point_count;
-    ar << index << count;
-    save_block(ar, result.mesh.steiner_points);
-    save_block(ar, result.mesh.tets);
-    save_block(ar, result.mesh.neighbours);
-  }
-  return std::move(os).str();
+namespace {
+
+std::string encode_result(const PieceTetMesh& result, char tag) {
+  const std::size_t expected = 64 + result.mesh.steiner_points.size() * 24 + result.mesh.tets.size() * 32;
+  return encode(
+      expected,
+      [&](auto& ar) {
+        std::int32_t index = result.index, count = result.surface_point_count;
+        ar << index << count;
+        save_block(ar, result.mesh.steiner_points);
+        save_block(ar, result.mesh.tets);
+        save_block(ar, result.mesh.neighbours);
+      },
+      tag);
 }
 
-PieceTetMesh deserialize_result(const std::string& bytes) {
-  std::istringstream is(bytes);
-  boost::archive::binary_iarchive ar(is, kArchiveFlags);
-  PieceTetMesh result;
-  std::int32_t index = 0, count = 0;
-  ar >> index >> count;
-  result.index = index;
-  result.surface_point_count = count;
-  load_block(ar, result.mesh.steiner_points);
-  load_block(ar, result.mesh.tets);
-  load_block(ar, result.mesh.neighbours);
-  return result;
+std::string encode_failure(const Failure& failure, char tag) {
+  return encode(
+      64 + failure.message.size(),
+      [&](auto& ar) {
+        std::int32_t kind = static_cast<std::int32_t>(failure.kind), piece = failure.piece;
+        std::vector<std::int32_t> planes(failure.planes.begin(), failure.planes.end());
+        ar << kind << piece;
+        save_block(ar, planes);
+        ar << failure.message;
+      },
+      tag);
+}
+
+constexpr char kResultTag = 'R', kFailureTag = 'F';
+
+}  // namespace
+
+std::string serialize_result(const PieceTetMesh& result) { return encode_result(result, 0); }
+
+PieceTetMesh deserialize_result(std::string_view bytes) {
+  return decode<PieceTetMesh>(bytes, [](auto& ar, PieceTetMesh& result) {
+    std::int32_t index = 0, count = 0;
+    ar >> index >> count;
+    result.index = index;
+    result.surface_point_count = count;
+    load_block(ar, result.mesh.steiner_points);
+    load_block(ar, result.mesh.tets);
+    load_block(ar, result.mesh.neighbours);
+  });
+}
+
+std::string serialize_failure(const Failure& failure) { return encode_failure(failure, 0); }
+
+Failure deserialize_failure(std::string_view bytes) {
+  return decode<Failure>(bytes, [](auto& ar, Failure& failure) {
+    std::int32_t kind = 0, piece = 0;
+    std::vector<std::int32_t> planes;
+    ar >> kind >> piece;
+    load_block(ar, planes);
+    ar >> failure.message;
+    failure.kind = static_cast<FailureKind>(kind);
+    failure.piece = piece;
+    failure.planes.assign(planes.begin(), planes.end());
+  });
+}
+
+std::string serialize_outcome(const PieceOutcome& outcome) {
+  return outcome.failure ? encode_failure(*outcome.failure, kFailureTag) : encode_result(outcome.result, kResultTag);
+}
+
+PieceOutcome deserialize_outcome(std::string_view bytes) {
+  PieceOutcome outcome;
+  if (!bytes.empty() && bytes[0] == kResultTag)
+    outcome.result = deserialize_result(bytes.substr(1));
+  else if (!bytes.empty() && bytes[0] == kFailureTag)
+    outcome.failure = deserialize_failure(bytes.substr(1));
+  else
+    throw InternalError("a meshing reply has no valid tag");
+  return outcome;
 }
 
 }  // namespace partet

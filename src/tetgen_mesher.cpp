@@ -7,26 +7,29 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/face_key.hpp"
-#include "partet/isolated_run.hpp"
-#include "partet/serialize.hpp"
 #include "partet/validate.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
 
-std::string tetgen_error_text(int code) {
+// TetGen's error codes (thrown as int through our terminatetetgen).
+MeshingError tetgen_error(int code, int piece) {
   switch (code) {
-    case 1: return "TetGen ran out of memory";
-    case 2: return "TetGen hit an internal error";
-    case 3: return "TetGen found a self-intersection";
-    case 4: return "TetGen found a very small input feature (below its tolerance)";
-    case 5: return "TetGen found two very close input facets";
-    case 10: return "TetGen rejected the input";
-    default: return "TetGen failed with code " + std::to_string(code);
+    case 1: return MeshingError(FailureKind::tetgen_error, piece, "TetGen ran out of memory");
+    case 2: return MeshingError(FailureKind::tetgen_error, piece, "TetGen hit an internal error");
+    case 3: return MeshingError(FailureKind::self_intersection, piece, "TetGen found a self-intersection");
+    case 4:
+      return MeshingError(FailureKind::tetgen_error, piece,
+                          "TetGen found a very small input feature (below its tolerance)");
+    case 5: return MeshingError(FailureKind::tetgen_error, piece, "TetGen found two very close input facets");
+    case 10: return MeshingError(FailureKind::tetgen_error, piece, "TetGen rejected the input");
+    default: return MeshingError(FailureKind::tetgen_error, piece, "TetGen failed with code " + std::to_string(code));
   }
 }
 
+// Only decides which way TetGen orients its tets, by a vote over many; check_mesh verifies every
+// tet with an exact predicate, independently.
 double orientation_sign(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   const double bx = b[0] - a[0], by = b[1] - a[1], bz = b[2] - a[2];
   const double cx = c[0] - a[0], cy = c[1] - a[1], cz = c[2] - a[2];
@@ -34,58 +37,14 @@ double orientation_sign(const Point3& a, const Point3& b, const Point3& c, const
   return bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx);
 }
 
-LocalTetMesh mesh_in_process(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
-                             const TetgenOptions& options, int piece);
+// A TetGen result as plain arrays, in our orientation.
+struct RawMesh {
+  std::vector<Point3> points;  // the surface's points, then TetGen's Steiner points
+  std::vector<Tet> tets, neighbours;
+};
 
-// Runs mesh_in_process in a child process (see IsolatedRun) and maps how it ended to errors.
-LocalTetMesh mesh_in_child(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
-                           const TetgenOptions& options, int piece) {
-  const double limit =
-      options.timeout_seconds > 0 ? options.timeout_seconds : default_tetgen_timeout(triangles.size(), options);
-  IsolatedRun run(
-      [&] {
-        PieceTetMesh wrapped;
-        wrapped.mesh = mesh_in_process(points, triangles, options, piece);
-        return serialize_result(wrapped);
-      },
-      limit);
-  run.wait();
-  const IsolatedRun::Outcome outcome = run.outcome();
-  if (outcome.ok) return deserialize_result(outcome.bytes).mesh;
-  throw MeshingError(piece, strip_piece_prefix(outcome.message, piece, "TetGen "));
-}
-
-}  // namespace
-
-double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& options) {
-  return (5.0 + 1e-3 * static_cast<double>(triangles)) * (options.quality.empty() ? 1 : 10);
-}
-
-std::string strip_piece_prefix(const std::string& message, int piece, const std::string& process_name) {
-  // A message from inside the child names the piece already; one about how the child ended
-  // ("crashed (signal 6 ...)") needs the name of what ran.
-  const std::string prefix = "piece " + std::to_string(piece) + ": ";
-  if (piece >= 0 && message.compare(0, prefix.size(), prefix) == 0) return message.substr(prefix.size());
-  if (message.rfind("crashed", 0) == 0 || message.rfind("did not finish", 0) == 0 ||
-      message.rfind("ended without", 0) == 0)
-    return process_name + message;
-  return message;
-}
-
-LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
-                                 const TetgenOptions& options, int piece) {
-  if (options.isolate) return mesh_in_child(points, triangles, options, piece);
-  return mesh_in_process(points, triangles, options, piece);
-}
-
-namespace {
-
-LocalTetMesh mesh_in_process(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
-                             const TetgenOptions& options, int piece) {
+void fill_tetgen_input(const std::vector<Point3>& points, const std::vector<Triangle>& triangles, tetgenio& in) {
   const auto n = static_cast<std::int32_t>(points.size());
-  if (triangles.empty()) throw MeshingError(piece, "empty surface");
-
-  tetgenio in, out;
   in.firstnumber = 0;
   in.numberofpoints = n;
   in.pointlist = new REAL[3 * static_cast<std::size_t>(n)];
@@ -102,189 +61,182 @@ LocalTetMesh mesh_in_process(const std::vector<Point3>& points, const std::vecto
     facet.polygonlist[0].numberofvertices = 3;
     facet.polygonlist[0].vertexlist = new int[3]{triangles[f][0], triangles[f][1], triangles[f][2]};
   }
+}
 
+// Runs TetGen and copies its output, after checking that it kept the input points.
+RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
+                   const TetgenOptions& options, int piece) {
+  tetgenio in, out;
+  fill_tetgen_input(points, triangles, in);
   // p: mesh a PLC; Y: no Steiner points on the boundary; z: 0-based; n: neighbours; Q: quiet.
   std::string switches = "pYzQn";
   if (!options.quality.empty()) switches += "q" + options.quality;
   try {
     tetrahedralize(switches.data(), &in, &out);
   } catch (int code) {
-    throw MeshingError(piece, tetgen_error_text(code));
+    throw tetgen_error(code, piece);
   }
+  const auto n = static_cast<std::int32_t>(points.size());
   if (out.numberoftetrahedra <= 0 || out.tetrahedronlist == nullptr)
-    throw MeshingError(piece, "TetGen produced no tetrahedra (is the surface closed?)");
+    throw MeshingError(FailureKind::tetgen_error, piece, "TetGen produced no tetrahedra (is the surface closed?)");
   if (out.numberofpoints < n || out.neighborlist == nullptr)
-    throw MeshingError(piece, "TetGen output is incomplete");
+    throw MeshingError(FailureKind::tetgen_error, piece, "TetGen output is incomplete");
   for (std::int32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
       if (out.pointlist[3 * static_cast<std::size_t>(i) + c] != points[i][c])
-        throw MeshingError(piece, "TetGen moved input point " + std::to_string(i));
+        throw MeshingError(FailureKind::changed_boundary, piece, "TetGen moved input point " + std::to_string(i));
 
-  const std::size_t tet_count = static_cast<std::size_t>(out.numberoftetrahedra);
-  std::vector<Point3> all_points(points);
+  RawMesh raw;
+  raw.points = points;
   for (int i = n; i < out.numberofpoints; ++i)
-    all_points.push_back({out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]});
-  std::vector<Tet> tets(tet_count), neighbours(tet_count);
+    raw.points.push_back({out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]});
+  const std::size_t tet_count = static_cast<std::size_t>(out.numberoftetrahedra);
+  raw.tets.resize(tet_count);
+  raw.neighbours.resize(tet_count);
   for (std::size_t t = 0; t < tet_count; ++t)
     for (int j = 0; j < 4; ++j) {
-      tets[t][j] = out.tetrahedronlist[4 * t + j];
-      neighbours[t][j] = out.neighborlist[4 * t + j];
+      raw.tets[t][j] = out.tetrahedronlist[4 * t + j];
+      raw.neighbours[t][j] = out.neighborlist[4 * t + j];
     }
+  return raw;
+}
 
-  // TetGen orients all tets the same way; find which by a majority over well-shaped samples and
-  // swap two corners when it is the opposite of ours (check_mesh verifies every tet exactly).
+// TetGen orients all tets the same way; find which by a majority over well-shaped samples and
+// swap two corners when it is the opposite of ours.
+void orient_positively(RawMesh& raw) {
   long votes = 0;
-  for (std::size_t t = 0; t < tet_count && t < 2000; ++t) {
-    const auto& q = tets[t];
-    const double s = orientation_sign(all_points[q[0]], all_points[q[1]], all_points[q[2]], all_points[q[3]]);
+  for (std::size_t t = 0; t < raw.tets.size() && t < 2000; ++t) {
+    const auto& q = raw.tets[t];
+    const double s = orientation_sign(raw.points[q[0]], raw.points[q[1]], raw.points[q[2]], raw.points[q[3]]);
     votes += s > 0 ? 1 : (s < 0 ? -1 : 0);
   }
   if (votes < 0)
-    for (std::size_t t = 0; t < tet_count; ++t) {
-      std::swap(tets[t][0], tets[t][1]);
-      std::swap(neighbours[t][0], neighbours[t][1]);
+    for (std::size_t t = 0; t < raw.tets.size(); ++t) {
+      std::swap(raw.tets[t][0], raw.tets[t][1]);
+      std::swap(raw.neighbours[t][0], raw.neighbours[t][1]);
     }
+}
 
-  // Input faces split the tets into regions. A region is solid when its tets lie on the inner
-  // side of the input triangles around it (winding number 1); cavities are dropped.
-  std::unordered_map<FaceKey, std::int32_t, FaceKeyHash> input_face;
+using InputFaces = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
+
+InputFaces index_input_faces(const std::vector<Triangle>& triangles, int piece) {
+  InputFaces input_face;
   input_face.reserve(triangles.size() * 2);
   for (std::size_t f = 0; f < triangles.size(); ++f)
     if (!input_face.emplace(FaceKey(triangles[f]), static_cast<std::int32_t>(f)).second)
-      throw MeshingError(piece, "surface has a duplicate triangle");
+      throw MeshingError(FailureKind::bad_surface, piece, "surface has a duplicate triangle");
+  return input_face;
+}
 
-  std::vector<std::int32_t> region(tet_count, -1);
-  std::vector<std::int64_t> inside_votes, outside_votes;
-  std::vector<std::size_t> stack;
-  std::int32_t region_count = 0;
-  for (std::size_t seed = 0; seed < tet_count; ++seed) {
-    if (region[seed] != -1) continue;
-    region[seed] = region_count;
-    inside_votes.push_back(0);
-    outside_votes.push_back(0);
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const std::size_t t = stack.back();
-      stack.pop_back();
-      for (int j = 0; j < 4; ++j) {
-        const Triangle face = outward_face(tets[t], j);
-        auto it = input_face.find(FaceKey(face));
-        if (it != input_face.end()) {
-          // The input normal points out of the solid: a tet whose outward face agrees is inside.
-          if (same_orientation(face, triangles[it->second]))
-            ++inside_votes[region_count];
-          else
-            ++outside_votes[region_count];
-          continue;
-        }
-        const auto nb = neighbours[t][j];
-        if (nb >= 0 && region[nb] == -1) {
-          region[nb] = region_count;
-          stack.push_back(static_cast<std::size_t>(nb));
-        }
-      }
+// Input faces split the tets into regions. A region is solid when its tets lie on the inner
+// side of the input triangles around it (winding number 1); cavities are not. Returns, per tet,
+// whether it is solid.
+std::vector<char> solid_tets(const RawMesh& raw, const std::vector<Triangle>& triangles,
+                             const InputFaces& input_face, int piece) {
+  std::vector<std::int32_t> region;
+  const std::int32_t region_count = label_tet_regions(
+      raw.neighbours, [](std::size_t) { return true; },
+      [&](std::size_t t, int j) { return input_face.count(FaceKey(outward_face(raw.tets[t], j))) == 0; }, region);
+  std::vector<std::int64_t> inside_votes(region_count, 0), outside_votes(region_count, 0);
+  for (std::size_t t = 0; t < raw.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j) {
+      const Triangle face = outward_face(raw.tets[t], j);
+      auto it = input_face.find(FaceKey(face));
+      if (it == input_face.end()) continue;
+      // The input normal points out of the solid: a tet whose outward face agrees is inside.
+      ++(same_orientation(face, triangles[it->second]) ? inside_votes : outside_votes)[region[t]];
     }
-    ++region_count;
-  }
-
-  std::vector<std::int32_t> new_index(tet_count, -1);
-  LocalTetMesh result;
-  for (std::size_t t = 0; t < tet_count; ++t) {
+  std::vector<char> solid(raw.tets.size(), 0);
+  for (std::size_t t = 0; t < raw.tets.size(); ++t) {
     const auto r = region[t];
     if (inside_votes[r] > 0 && outside_votes[r] > 0)
-      throw MeshingError(piece, "a region of the mesh is both inside and outside the surface "
-                                "(inconsistent orientation or overlapping shells)");
-    if (inside_votes[r] > 0) {
-      new_index[t] = static_cast<std::int32_t>(result.tets.size());
-      result.tets.push_back(tets[t]);
-    }
+      throw MeshingError(FailureKind::bad_surface, piece,
+                         "a region of the mesh is both inside and outside the surface "
+                         "(inconsistent orientation or overlapping shells)");
+    solid[t] = inside_votes[r] > 0;
   }
-  if (result.tets.empty()) throw MeshingError(piece, "no tetrahedra inside the surface (is it inside out?)");
+  return solid;
+}
+
+// The solid tets, renumbered, with the Steiner points they use. A face on the boundary of the
+// kept tets must be one of the input triangles, outward, and every input triangle must be one.
+LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid,
+                             const std::vector<Triangle>& triangles, const InputFaces& input_face, int piece) {
+  const std::vector<std::int32_t> new_index = compact_ids(solid);
+  LocalTetMesh result;
+  for (std::size_t t = 0; t < raw.tets.size(); ++t)
+    if (solid[t]) result.tets.push_back(raw.tets[t]);
+  if (result.tets.empty())
+    throw MeshingError(FailureKind::bad_surface, piece, "no tetrahedra inside the surface (is it inside out?)");
   result.neighbours.reserve(result.tets.size());
   std::vector<char> seen(triangles.size(), 0);
   std::size_t boundary_faces = 0;
-  for (std::size_t t = 0; t < tet_count; ++t) {
-    if (new_index[t] < 0) continue;
+  for (std::size_t t = 0; t < raw.tets.size(); ++t) {
+    if (!solid[t]) continue;
     Tet nb;
     for (int j = 0; j < 4; ++j) {
-      const auto old = neighbours[t][j];
+      const auto old = raw.neighbours[t][j];
       nb[j] = old >= 0 ? new_index[old] : -1;
       if (nb[j] >= 0) continue;
-      // A face on the boundary of the kept tets must be one of the input triangles, outward.
-      const Triangle face = outward_face(tets[t], j);
+      const Triangle face = outward_face(raw.tets[t], j);
       auto it = input_face.find(FaceKey(face));
       if (it == input_face.end() || !same_orientation(face, triangles[it->second]) || seen[it->second])
-        throw MeshingError(piece, "TetGen changed the surface (a boundary face is not an input triangle)");
+        throw MeshingError(FailureKind::changed_boundary, piece,
+                           "TetGen changed the surface (a boundary face is not an input triangle)");
       seen[it->second] = 1;
       ++boundary_faces;
     }
     result.neighbours.push_back(nb);
   }
   if (boundary_faces != triangles.size())
-    throw MeshingError(piece, "TetGen changed the surface: " + std::to_string(triangles.size() - boundary_faces) +
-                                  " input triangles are not faces of the mesh");
+    throw MeshingError(FailureKind::changed_boundary, piece,
+                       "TetGen changed the surface: " + std::to_string(triangles.size() - boundary_faces) +
+                           " input triangles are not faces of the mesh");
+  return result;
+}
 
-  // Interior Steiner points that ended up used by kept tets only.
+// Renumbers the Steiner points used by the kept tets in order of first use, after the surface's.
+void keep_used_steiner_points(LocalTetMesh& mesh, const std::vector<Point3>& all_points, std::int32_t surface_count) {
   std::vector<std::int32_t> point_index(all_points.size(), -1);
-  for (std::int32_t i = 0; i < n; ++i) point_index[i] = i;
-  std::int32_t next = n;
-  for (auto& t : result.tets)
+  for (std::int32_t i = 0; i < surface_count; ++i) point_index[i] = i;
+  std::int32_t next = surface_count;
+  for (auto& t : mesh.tets)
     for (auto& v : t) {
       if (point_index[v] < 0) {
         point_index[v] = next++;
-        result.steiner_points.push_back(all_points[v]);
+        mesh.steiner_points.push_back(all_points[v]);
       }
       v = point_index[v];
     }
-  return result;
 }
 
 }  // namespace
 
+LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
+                                 const TetgenOptions& options, int piece) {
+  if (triangles.empty()) throw MeshingError(FailureKind::bad_surface, piece, "empty surface");
+  RawMesh raw = run_tetgen(points, triangles, options, piece);
+  orient_positively(raw);
+  const InputFaces input_face = index_input_faces(triangles, piece);
+  const std::vector<char> solid = solid_tets(raw, triangles, input_face, piece);
+  LocalTetMesh result = keep_solid_tets(raw, solid, triangles, input_face, piece);
+  keep_used_steiner_points(result, raw.points, static_cast<std::int32_t>(points.size()));
+  return result;
+}
+
 PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options) {
-  // Checks and mesh in one child process (which runs this function again, not isolated), so the
-  // checks run once and the result crosses the process boundary once.
-  if (options.isolate) return deserialize_result(tetrahedralize_piece_to_bytes(piece, options));
   check_piece_topology(piece);
-  const SurfaceMesh surface{piece.points, piece.triangles};
   try {
-    check_no_self_intersections(surface, ("piece " + std::to_string(piece.index)).c_str());
+    check_no_self_intersections(SurfaceMesh{piece.points, piece.triangles}, "its surface");
   } catch (const InputError& e) {
-    throw MeshingError(-1, std::string(e.what()) + " (the input self-intersects, or a cut is too close to a feature)");
+    throw MeshingError(FailureKind::self_intersection, piece.index,
+                       std::string(e.what()) + " (the input self-intersects, or a cut is too close to a feature)");
   }
   PieceTetMesh result;
   result.index = piece.index;
   result.surface_point_count = static_cast<std::int32_t>(piece.points.size());
   result.mesh = mesh_closed_surface(piece.points, piece.triangles, options, piece.index);
   return result;
-}
-
-std::unique_ptr<IsolatedRun> start_piece_meshing(const PieceSurface& piece, const TetgenOptions& options,
-                                                 const std::function<void()>& before) {
-  TetgenOptions in_child = options;
-  in_child.isolate = false;  // the whole piece already runs in the child
-  const double limit = options.timeout_seconds > 0
-                           ? options.timeout_seconds
-                           : 10 + default_tetgen_timeout(piece.triangles.size(), options);
-  return std::make_unique<IsolatedRun>(
-      [&piece, in_child, before] {
-        if (before) before();
-        return serialize_result(tetrahedralize_piece(piece, in_child));
-      },
-      limit);
-}
-
-std::string piece_meshing_result(IsolatedRun& run, int piece) {
-  run.wait();
-  IsolatedRun::Outcome outcome = run.outcome();
-  if (!outcome.ok) throw MeshingError(piece, strip_piece_prefix(outcome.message, piece, "meshing "));
-  return std::move(outcome.bytes);
-}
-
-std::string tetrahedralize_piece_to_bytes(const PieceSurface& piece, const TetgenOptions& options) {
-  if (!options.isolate) return serialize_result(tetrahedralize_piece(piece, options));
-  auto run = start_piece_meshing(piece, options);
-  return piece_meshing_result(*run, piece.index);
 }
 
 }  // namespace partet

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry.hpp"
 #include "partet/errors.hpp"
 #include "partet/validate.hpp"
 
@@ -26,13 +27,6 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using KPoint = Kernel::Point_3;
 
 std::string str(long long n) { return std::to_string(n); }
-
-std::string coordinates_text(const Point3& p) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
-  return out.str();
-}
 
 KPoint to_kernel(const Point3& p) { return {p[0], p[1], p[2]}; }
 

@@ -16,6 +16,7 @@
 #include "partet/pipeline.hpp"
 #include "partet/validate.hpp"
 #include "stage_helpers.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
@@ -32,10 +33,16 @@ Stage prepare(const SurfaceMesh& input, int k, double density = 1.0) {
   Stage s;
   s.options.pieces = k;
   s.options.density = density;
-  s.options.tetgen.isolate = false;
+  s.options.run.isolate = false;
   s.prepared = prepare_pieces(input, s.options);
   for (const auto& piece : s.prepared.pieces) s.results.push_back(tetrahedralize_piece(piece, s.options.tetgen));
   return s;
+}
+
+SurfaceMesher here(const MeshOptions& options) {
+  return [options](const std::vector<Point3>& points, const std::vector<Triangle>& triangles) {
+    return mesh_closed_surface(points, triangles, options.tetgen);
+  };
 }
 
 std::string violations(const CheckReport& r) {
@@ -79,7 +86,7 @@ TEST(RemoveCutVertices, FinishMeshOnGeneratedShapes) {
       const SurfaceMesh input = generate_surface(name, 1500);
       const Stage s = prepare(input, k);
       ASSERT_GT(s.prepared.split.cut_vertex_count(), 0);
-      const MeshResult result = finish_mesh(s.prepared, s.results, s.options);
+      const MeshResult result = finish_mesh(s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
       expect_clean_result(input, s, result);
     }
   }
@@ -88,7 +95,7 @@ TEST(RemoveCutVertices, FinishMeshOnGeneratedShapes) {
 TEST(RemoveCutVertices, DirectCallOnWeldedMesh) {
   const SurfaceMesh input = generate_surface("torus", 1500);
   const Stage s = prepare(input, 3);
-  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, s.results);
+  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   const std::size_t tets_before = mesh.tets.size();
   // Tets touching a cut vertex: exactly the cavity.
   std::int64_t touching = 0;
@@ -97,7 +104,7 @@ TEST(RemoveCutVertices, DirectCallOnWeldedMesh) {
                                                                       v < s.prepared.split.input_vertex_count +
                                                                               s.prepared.split.cut_vertex_count(); }))
       ++touching;
-  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, s.options.tetgen);
+  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, here(s.options));
   EXPECT_EQ(stats.removed, s.prepared.split.cut_vertex_count());
   EXPECT_EQ(stats.cavity_tets_in, touching);
   EXPECT_EQ(mesh.tets.size(), tets_before - stats.cavity_tets_in + stats.cavity_tets_out);
@@ -113,7 +120,7 @@ TEST(RemoveCutVertices, DenseCapsKeepTheirInteriorPoints) {
   const auto& split = s.prepared.split;
   const std::size_t cap_points = split.points.size() - split.input_vertex_count - split.cut_vertex_count();
   ASSERT_GT(cap_points, 0u);
-  const MeshResult result = finish_mesh(s.prepared, s.results, s.options);
+  const MeshResult result = finish_mesh(s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
   expect_clean_result(input, s, result);
   // Cap interior points are interior to the solid. Those outside the re-meshed region stay, in
   // order, right after the input vertices, with unchanged coordinates; a cap point whose every
@@ -132,9 +139,9 @@ TEST(RemoveCutVertices, DenseCapsKeepTheirInteriorPoints) {
 TEST(RemoveCutVertices, OnePieceChangesNothing) {
   const SurfaceMesh input = generate_surface("sphere", 800);
   const Stage s = prepare(input, 1);
-  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, s.results);
+  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   const TetMesh before = mesh;
-  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, s.options.tetgen);
+  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, here(s.options));
   EXPECT_EQ(stats.removed, 0);
   EXPECT_EQ(stats.cavity_tets_in, 0);
   EXPECT_EQ(stats.cavity_tets_out, 0);
@@ -160,7 +167,7 @@ TEST(RemoveCutVertices, UnusedInputVerticesAreDropped) {
   for (const auto& t : sphere.triangles) input.triangles.push_back({id[t[0]], id[t[1]], id[t[2]]});
 
   const Stage s = prepare(input, 3);
-  const MeshResult result = finish_mesh(s.prepared, s.results, s.options);
+  const MeshResult result = finish_mesh(s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
   for (std::size_t v = 0; v < sphere.points.size(); ++v) ASSERT_EQ(result.mesh.points[v], sphere.points[v]);
   EXPECT_EQ(result.boundary_faces, sphere.triangles);
   EXPECT_EQ(result.removal.removed, s.prepared.split.cut_vertex_count());

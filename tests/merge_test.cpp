@@ -1,5 +1,4 @@
-// Merge: weld joins the pieces' tet meshes at the caps; compute_neighbours rebuilds the
-// adjacency from the tets alone.
+// Merge: weld joins the pieces' tet meshes at the caps (neighbours: topology_test).
 #include <gtest/gtest.h>
 
 #include <set>
@@ -12,6 +11,7 @@
 #include "partet/pipeline.hpp"
 #include "partet/validate.hpp"
 #include "stage_helpers.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
@@ -30,11 +30,10 @@ Welded weld_shape(const std::string& name, int faces, int k, double density = 1.
   MeshOptions options;
   options.pieces = k;
   options.density = density;
-  options.tetgen.isolate = false;
   options.tetgen.quality = quality;
   w.prepared = prepare_pieces(generate_surface(name, faces), options);
   for (const auto& piece : w.prepared.pieces) w.results.push_back(tetrahedralize_piece(piece, options.tetgen));
-  w.mesh = weld(w.prepared.split.points, w.prepared.pieces, w.results);
+  w.mesh = weld(w.prepared.split.points, w.prepared.pieces, std::vector<PieceTetMesh>(w.results));
   return w;
 }
 
@@ -131,28 +130,7 @@ TEST(Weld, CapFacesJoinTetsOfNeighbouringPieces) {
 TEST(Weld, MismatchedResultThrows) {
   Welded w = weld_shape("sphere", 500, 2);
   std::swap(w.results[0], w.results[1]);
-  EXPECT_THROW(weld(w.prepared.split.points, w.prepared.pieces, w.results), MeshingError);
-}
-
-TEST(ComputeNeighbours, TwoTetsShareAFace) {
-  // Tets (0,1,2,3) and (1,2,3,4) share face {1,2,3}, opposite vertex 0 and vertex 4.
-  const std::vector<Tet> tets = {{0, 1, 2, 3}, {4, 3, 2, 1}};
-  const auto nb = compute_neighbours(tets);
-  ASSERT_EQ(nb.size(), 2u);
-  EXPECT_EQ(nb[0], (Tet{1, -1, -1, -1}));
-  EXPECT_EQ(nb[1], (Tet{0, -1, -1, -1}));
-  EXPECT_EQ(neighbour_problem(tets, nb), "");
-}
-
-TEST(ComputeNeighbours, EmptyAndIsolated) {
-  EXPECT_TRUE(compute_neighbours({}).empty());
-  const auto nb = compute_neighbours({{0, 1, 2, 3}, {4, 5, 6, 7}});
-  EXPECT_EQ(nb[0], (Tet{-1, -1, -1, -1}));
-  EXPECT_EQ(nb[1], (Tet{-1, -1, -1, -1}));
-}
-
-TEST(ComputeNeighbours, FaceInThreeTetsThrows) {
-  EXPECT_THROW(compute_neighbours({{0, 1, 2, 3}, {4, 3, 2, 1}, {1, 2, 3, 5}}), MeshingError);
+  EXPECT_THROW(weld(w.prepared.split.points, w.prepared.pieces, std::move(w.results)), InternalError);
 }
 
 }  // namespace

@@ -154,9 +154,6 @@ TEST(ChooseCutPlanes, KOneAndInvalidK) {
   EXPECT_THROW(choose_cut_planes(s, -3), OptionError);
 }
 
-// partition.hpp documents PartitionError; the source throws OptionError (so that the retry
-// loop in mesh_with_retries gives up at once). Either way it must be a partet::Error that says
-// how many pieces are possible.
 // Asking for more pieces than the vertices allow gives one plane per usable gap instead.
 void expect_too_many_pieces(const SurfaceMesh& s, int k) {
   const auto planes = choose_cut_planes(s, k);

@@ -165,7 +165,9 @@ TEST(CheckPieceTopology, RejectsOpenPiece) {
   try {
     check_piece_topology(p);
     FAIL() << "open piece accepted";
-  } catch (const PartitionError& e) {
+  } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::bad_surface);
+    EXPECT_EQ(e.failure.piece, 7);
     EXPECT_NE(std::string(e.what()).find("piece 7"), std::string::npos) << e.what();
   }
 }
@@ -173,20 +175,20 @@ TEST(CheckPieceTopology, RejectsOpenPiece) {
 TEST(CheckPieceTopology, RejectsFlippedTriangle) {
   PieceSurface p = octahedron();
   std::swap(p.triangles[3][1], p.triangles[3][2]);
-  EXPECT_THROW(check_piece_topology(p), PartitionError);
+  EXPECT_THROW(check_piece_topology(p), MeshingError);
 }
 
 TEST(CheckPieceTopology, RejectsDegenerateTriangle) {
   PieceSurface p = octahedron();
   p.triangles.push_back({0, 0, 1});
-  EXPECT_THROW(check_piece_topology(p), PartitionError);
+  EXPECT_THROW(check_piece_topology(p), MeshingError);
 }
 
 TEST(CheckPieceTopology, RejectsDuplicatedTriangle) {
   PieceSurface p = octahedron();
   p.triangles.push_back(p.triangles[0]);
   p.triangles.push_back({p.triangles[0][0], p.triangles[0][2], p.triangles[0][1]});
-  EXPECT_THROW(check_piece_topology(p), PartitionError);
+  EXPECT_THROW(check_piece_topology(p), MeshingError);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ MeshOptions options_for(int k, double density = 1.0) {
   MeshOptions o;
   o.pieces = k;
   o.density = density;
-  o.tetgen.isolate = false;  // faster; isolation is covered in tetgen_mesher_test
+  o.run.isolate = false;  // faster; isolation is covered in tetgen_mesher_test
   return o;
 }
 
@@ -182,7 +182,7 @@ TEST(MeshSurface, DeterministicAndIsolationIndependent) {
   MeshOptions o = options_for(4);
   const MeshResult a = mesh_surface(s, o);
   const MeshResult b = mesh_surface(s, o);
-  o.tetgen.isolate = true;
+  o.run.isolate = true;
   const MeshResult c = mesh_surface(s, o);
   for (const MeshResult* r : {&b, &c}) {
     EXPECT_EQ(r->mesh.points, a.mesh.points);
@@ -215,10 +215,10 @@ TEST(MeshWithRetries, FailedPieceMovesItsPlanes) {
   std::vector<std::vector<PieceSurface>> seen;
   const PieceMesher flaky = [&](const std::vector<PieceSurface>& pieces) {
     seen.push_back(pieces);
-    auto outcomes = mesh_pieces_here(pieces, o.tetgen);
+    auto outcomes = mesh_pieces_here(pieces, PieceRunner(o.tetgen, o.run));
     if (calls++ == 0) {
       outcomes[1].result = {};
-      outcomes[1].error = "piece 1: simulated failure";
+      outcomes[1].failure = Failure{FailureKind::tetgen_error, 1, {}, "simulated failure"};
     }
     return outcomes;
   };
@@ -242,15 +242,18 @@ TEST(MeshWithRetries, GivesUpAfterMaxAttempts) {
   int calls = 0;
   const PieceMesher broken = [&](const std::vector<PieceSurface>& pieces) {
     ++calls;
-    auto outcomes = mesh_pieces_here(pieces, o.tetgen);
-    outcomes.back().error = "piece 2: always fails";
+    auto outcomes = mesh_pieces_here(pieces, PieceRunner(o.tetgen, o.run));
+    outcomes.back().failure = Failure{FailureKind::tetgen_error, 2, {}, "always fails"};
     return outcomes;
   };
   try {
     mesh_with_retries(s, o, broken);
     ADD_FAILURE() << "no error";
   } catch (const MeshingError& e) {
-    EXPECT_NE(std::string(e.what()).find("always fails"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("piece 2: always fails (after 3 partitions)"), std::string::npos) << e.what();
+    EXPECT_EQ(e.failure.kind, FailureKind::tetgen_error);
+    // The library names no command-line flags; the CLI adds that advice.
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
   }
   EXPECT_EQ(calls, 3);
 }
@@ -261,11 +264,10 @@ TEST(MeshPiecesHere, ReportsErrorsPerPiece) {
   bad.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   bad.global_ids = {0, 1, 2};
   bad.triangles = {{0, 1, 2}};
-  TetgenOptions t;
-  t.isolate = false;
-  const auto outcomes = mesh_pieces_here({bad}, t);
+  const auto outcomes = mesh_pieces_here({bad}, PieceRunner(TetgenOptions{}, RunOptions{false, 0}));
   ASSERT_EQ(outcomes.size(), 1u);
-  EXPECT_FALSE(outcomes[0].error.empty());
+  ASSERT_TRUE(outcomes[0].failure);
+  EXPECT_EQ(outcomes[0].failure->kind, FailureKind::bad_surface);
 }
 
 }  // namespace

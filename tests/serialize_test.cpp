@@ -42,7 +42,7 @@ struct Real {
 Real real_pieces() {
   MeshOptions options;
   options.pieces = 3;
-  options.tetgen.isolate = false;
+  options.run.isolate = false;
   options.tetgen.quality = "1.5";  // so that the results have Steiner points
   Real r;
   r.prepared = prepare_pieces(generate_surface("torus", 1000), options);
@@ -121,6 +121,34 @@ TEST(Serialize, TruncatedMessageIsRejected) {
   EXPECT_ANY_THROW(deserialize_result(bytes.substr(0, bytes.size() / 2)));
   const std::string pbytes = serialize_piece(r.prepared.pieces[0]);
   EXPECT_ANY_THROW(deserialize_piece(pbytes.substr(0, pbytes.size() - 1)));
+}
+
+TEST(Serialize, FailuresAndOutcomesRoundTrip) {
+  const Failure failure{FailureKind::self_intersection, -1, {0, 3, 7}, "near cut plane(s) 0, 3, 7: boom"};
+  const Failure back = deserialize_failure(serialize_failure(failure));
+  EXPECT_EQ(back.kind, failure.kind);
+  EXPECT_EQ(back.piece, failure.piece);
+  EXPECT_EQ(back.planes, failure.planes);
+  EXPECT_EQ(back.message, failure.message);
+
+  PieceOutcome failed;
+  failed.failure = Failure{FailureKind::crashed, 5, {}, "meshing crashed (signal 6)"};
+  const PieceOutcome f = deserialize_outcome(serialize_outcome(failed));
+  ASSERT_TRUE(f.failure);
+  EXPECT_EQ(f.failure->kind, FailureKind::crashed);
+  EXPECT_EQ(f.failure->text(), "piece 5: meshing crashed (signal 6)");
+
+  const Real r = real_pieces();
+  PieceOutcome ok;
+  ok.result = r.results[1];
+  const PieceOutcome o = deserialize_outcome(serialize_outcome(ok));
+  EXPECT_FALSE(o.failure);
+  expect_same(o.result, r.results[1]);
+  // The reply is the tag byte and the result's own encoding: no second copy of a format.
+  EXPECT_EQ(serialize_outcome(ok).substr(1), serialize_result(r.results[1]));
+
+  EXPECT_THROW(deserialize_outcome(""), InternalError);
+  EXPECT_THROW(deserialize_outcome("X123"), InternalError);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // TetGen wrapper: mesh_closed_surface fills a closed surface without changing its boundary;
-// tetrahedralize_piece checks and meshes one piece.
+// tetrahedralize_piece checks and meshes one piece. (Runs in child processes: piece_runner_test.)
 #include <gtest/gtest.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -24,16 +24,7 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using namespace partet::test;
 
-TetgenOptions in_process() {
-  TetgenOptions o;
-  o.isolate = false;
-  return o;
-}
-TetgenOptions isolated() {
-  TetgenOptions o;
-  o.isolate = true;
-  return o;
-}
+TetgenOptions in_process() { return TetgenOptions{}; }
 
 // All points of a local mesh: the surface points, then the Steiner points.
 std::vector<Point3> all_points(const std::vector<Point3>& surface_points, const LocalTetMesh& m) {
@@ -85,21 +76,7 @@ void expect_fills_surface(const SurfaceMesh& s, const LocalTetMesh& m) {
 
 TEST(MeshClosedSurface, Sphere) {
   const SurfaceMesh s = generate_surface("sphere", 1500);
-  for (const auto& options : {in_process(), isolated()}) {
-    SCOPED_TRACE(options.isolate ? "isolated" : "in process");
-    const LocalTetMesh m = mesh_closed_surface(s.points, s.triangles, options);
-    expect_fills_surface(s, m);
-  }
-}
-
-TEST(MeshClosedSurface, IsolatedRunGivesTheSameMesh) {
-  const SurfaceMesh s = generate_surface("torus", 1500);
-  const LocalTetMesh a = mesh_closed_surface(s.points, s.triangles, in_process());
-  const LocalTetMesh b = mesh_closed_surface(s.points, s.triangles, isolated());
-  EXPECT_EQ(a.tets, b.tets);
-  EXPECT_EQ(a.neighbours, b.neighbours);
-  EXPECT_EQ(a.steiner_points, b.steiner_points);
-  expect_fills_surface(s, a);
+  expect_fills_surface(s, mesh_closed_surface(s.points, s.triangles, in_process()));
 }
 
 TEST(MeshClosedSurface, TorusAndGenus3) {
@@ -172,16 +149,14 @@ TEST(MeshClosedSurface, TwoSpheresBothFilled) {
 TEST(MeshClosedSurface, QualityAddsSteinerPointsAndKeepsTheBoundary) {
   const SurfaceMesh s = generate_surface("sphere", 800);
   const LocalTetMesh plain = mesh_closed_surface(s.points, s.triangles, in_process());
-  for (const auto& base : {in_process(), isolated()}) {
-    TetgenOptions options = base;
-    options.quality = "1.5";
-    const LocalTetMesh m = mesh_closed_surface(s.points, s.triangles, options);
-    expect_fills_surface(s, m);
-    EXPECT_GT(m.steiner_points.size(), plain.steiner_points.size());
-    EXPECT_GT(m.tets.size(), plain.tets.size());
-    // Steiner points are strictly inside the unit sphere (no boundary Steiner points with -Y).
-    for (const auto& q : m.steiner_points) EXPECT_LT(norm(q), 1.0);
-  }
+  TetgenOptions options;
+  options.quality = "1.5";
+  const LocalTetMesh m = mesh_closed_surface(s.points, s.triangles, options);
+  expect_fills_surface(s, m);
+  EXPECT_GT(m.steiner_points.size(), plain.steiner_points.size());
+  EXPECT_GT(m.tets.size(), plain.tets.size());
+  // Steiner points are strictly inside the unit sphere (no boundary Steiner points with -Y).
+  for (const auto& q : m.steiner_points) EXPECT_LT(norm(q), 1.0);
 }
 
 TEST(MeshClosedSurface, SingleTetrahedron) {
@@ -203,15 +178,13 @@ SurfaceMesh open_sphere() {
 
 TEST(MeshClosedSurface, OpenSurfaceThrows) {
   const SurfaceMesh s = open_sphere();
-  for (const auto& options : {in_process(), isolated()}) {
-    SCOPED_TRACE(options.isolate ? "isolated" : "in process");
-    try {
-      mesh_closed_surface(s.points, s.triangles, options, 5);
-      ADD_FAILURE() << "open surface accepted";
-    } catch (const MeshingError& e) {
-      EXPECT_EQ(e.piece, 5);
-      EXPECT_NE(std::string(e.what()).find("piece 5"), std::string::npos) << e.what();
-    }
+  try {
+    mesh_closed_surface(s.points, s.triangles, in_process(), 5);
+    ADD_FAILURE() << "open surface accepted";
+  } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.piece, 5);
+    EXPECT_EQ(e.failure.kind, FailureKind::tetgen_error);
+    EXPECT_NE(std::string(e.what()).find("piece 5"), std::string::npos) << e.what();
   }
 }
 
@@ -219,31 +192,17 @@ TEST(MeshClosedSurface, InsideOutThrows) {
   SurfaceMesh s = generate_surface("sphere", 500);
   for (auto& t : s.triangles) std::swap(t[1], t[2]);
   EXPECT_THROW(mesh_closed_surface(s.points, s.triangles, in_process()), MeshingError);
-  EXPECT_THROW(mesh_closed_surface(s.points, s.triangles, isolated()), MeshingError);
 }
 
 TEST(MeshClosedSurface, DuplicateTriangleThrows) {
   SurfaceMesh s = generate_surface("sphere", 200);
   s.triangles.push_back(s.triangles[3]);
   EXPECT_THROW(mesh_closed_surface(s.points, s.triangles, in_process()), MeshingError);
-  EXPECT_THROW(mesh_closed_surface(s.points, s.triangles, isolated()), MeshingError);
 }
 
 TEST(MeshClosedSurface, EmptySurfaceThrows) {
   EXPECT_THROW(mesh_closed_surface({}, {}, in_process()), MeshingError);
-  EXPECT_THROW(mesh_closed_surface({{0, 0, 0}}, {}, isolated()), MeshingError);
-}
-
-TEST(MeshClosedSurface, TimeoutBecomesAnError) {
-  const SurfaceMesh s = generate_surface("sphere", 2000);
-  TetgenOptions options = isolated();
-  options.timeout_seconds = 1e-6;
-  try {
-    mesh_closed_surface(s.points, s.triangles, options, 2);
-    ADD_FAILURE() << "no timeout";
-  } catch (const MeshingError& e) {
-    EXPECT_NE(std::string(e.what()).find("did not finish"), std::string::npos) << e.what();
-  }
+  EXPECT_THROW(mesh_closed_surface({{0, 0, 0}}, {}, in_process()), MeshingError);
 }
 
 TEST(TetrahedralizePiece, PiecesOfATorus) {
@@ -272,7 +231,13 @@ TEST(TetrahedralizePiece, RejectsOpenAndSelfIntersectingPieces) {
   open.points = s.points;
   open.triangles = s.triangles;
   for (std::size_t i = 0; i < s.points.size(); ++i) open.global_ids.push_back(static_cast<std::int32_t>(i));
-  EXPECT_THROW(tetrahedralize_piece(open, in_process()), PartitionError);
+  try {
+    tetrahedralize_piece(open, in_process());
+    ADD_FAILURE() << "open piece accepted";
+  } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::bad_surface);
+    EXPECT_EQ(e.failure.piece, 3);
+  }
 
   // Two overlapping tetrahedra: closed and oriented, but self-intersecting.
   PieceSurface two;
@@ -287,6 +252,7 @@ TEST(TetrahedralizePiece, RejectsOpenAndSelfIntersectingPieces) {
     tetrahedralize_piece(two, in_process());
     ADD_FAILURE() << "self-intersecting piece accepted";
   } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::self_intersection);
     EXPECT_NE(std::string(e.what()).find("piece 4"), std::string::npos) << e.what();
   }
 }

@@ -1,7 +1,10 @@
-// Typed errors. Every message is one line a user can act on.
+// Typed errors. Every message is one line a user can act on; errors about meshing carry what
+// failed, where, and which cut planes were involved, so that retry decisions never parse text.
 #pragma once
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace partet {
 
@@ -14,26 +17,55 @@ struct InputError : Error {
   using Error::Error;
 };
 
-// A command-line option has a value that cannot be used.
+// An option has a value that cannot be used.
 struct OptionError : Error {
   using Error::Error;
-};
-
-// Partitioning or surface closure could not produce valid pieces.
-struct PartitionError : Error {
-  using Error::Error;
-};
-
-// TetGen failed on a piece or changed its boundary.
-struct MeshingError : Error {
-  MeshingError(int piece, const std::string& what)
-      : Error(piece >= 0 ? "piece " + std::to_string(piece) + ": " + what : what), piece(piece) {}
-  int piece;
 };
 
 // Writing or reading result files failed.
 struct OutputError : Error {
   using Error::Error;
+};
+
+// A bug: an invariant partet relies on does not hold. Never the user's fault.
+struct InternalError : Error {
+  explicit InternalError(const std::string& what) : Error("internal error: " + what) {}
+};
+
+// What went wrong while meshing a piece (or a region around cut vertices).
+enum class FailureKind : std::int32_t {
+  tetgen_error = 0,        // TetGen stopped with an error code
+  self_intersection = 1,   // the surface given to TetGen intersects itself
+  changed_boundary = 2,    // TetGen's result does not have exactly the given boundary
+  bad_surface = 3,         // the surface is not closed, manifold and oriented
+  crashed = 4,             // the meshing process died from a signal
+  timed_out = 5,           // the meshing process ran past its time limit
+  no_result = 6,           // the meshing process ended without a result
+  injected = 7,            // a test hook (PARTET_INJECT_FAILURE)
+  other = 8,               // any other error inside the meshing process
+};
+
+// A meshing failure as a value: it crosses process and rank boundaries serialized.
+struct Failure {
+  FailureKind kind = FailureKind::other;
+  std::int32_t piece = -1;   // -1: not about one piece
+  std::vector<int> planes;   // cut planes involved, when known (moving them is the remedy)
+  std::string message;       // without the "piece N: " prefix
+
+  // "piece N: message" (or the message alone).
+  std::string text() const { return piece >= 0 ? "piece " + std::to_string(piece) + ": " + message : message; }
+};
+
+struct MeshingError : Error {
+  explicit MeshingError(Failure f) : Error(f.text()), failure(std::move(f)) {}
+  MeshingError(FailureKind kind, int piece, const std::string& message, std::vector<int> planes = {})
+      : MeshingError(Failure{kind, piece, std::move(planes), message}) {}
+  Failure failure;
+};
+
+// Partitioning or surface closure could not produce valid pieces.
+struct PartitionError : MeshingError {
+  using MeshingError::MeshingError;
 };
 
 }  // namespace partet

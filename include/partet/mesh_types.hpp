@@ -1,5 +1,11 @@
 // Plain interchange types passed between stages: flat arrays, no CGAL or TetGen objects,
 // cheap to serialize and to keep in memory.
+//
+// Conventions for every tet mesh in partet:
+// - a tet (p0, p1, p2, p3) is positively oriented: det[p1-p0, p2-p0, p3-p0] > 0;
+// - face j of a tet is the face opposite its vertex j; outward_face(t, j) lists it with its
+//   normal pointing out of the tet;
+// - neighbours[t][j] is the tet across face j, or -1 where face j is on the boundary.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -18,9 +24,7 @@ struct SurfaceMesh {
   std::vector<Triangle> triangles;
 };
 
-// A tetrahedral mesh. Every tet is positively oriented: orient3d(p0,p1,p2,p3) > 0, i.e.
-// det[p1-p0, p2-p0, p3-p0] > 0. neighbours[t][j] is the tet sharing the face opposite
-// vertex j, or -1 on the boundary.
+// A tetrahedral mesh (see the conventions above).
 struct TetMesh {
   std::vector<Point3> points;
   std::vector<Tet> tets;
@@ -32,5 +36,20 @@ inline Triangle outward_face(const Tet& t, int j) {
   static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   return {t[kFace[j][0]], t[kFace[j][1]], t[kFace[j][2]]};
 }
+
+// A tet mesh of a closed surface, numbered locally: points [0, surface point count) are the
+// surface's points in the same order; later points are interior Steiner points, listed here.
+struct LocalTetMesh {
+  std::vector<Point3> steiner_points;
+  std::vector<Tet> tets;
+  std::vector<Tet> neighbours;  // -1 where the face is on the surface
+};
+
+// A piece's tet mesh as sent back to rank 0.
+struct PieceTetMesh {
+  int index = 0;
+  std::int32_t surface_point_count = 0;  // local ids below this map through the piece's global_ids
+  LocalTetMesh mesh;
+};
 
 }  // namespace partet

@@ -1,23 +1,20 @@
 // The distributed job: rank 0 reads, partitions and closes; pieces are meshed on all ranks;
-// rank 0 gathers, merges and writes. Every rank returns the same exit code.
+// rank 0 gathers, merges and writes. The driver only decides where pieces go and moves their
+// bytes; every step ends with an agreement of all ranks.
 #pragma once
 #include <string>
 
-#include "partet/pipeline.hpp"
+#include "partet/job.hpp"
 
 namespace partet::mpi {
 
-struct MeshJob {
-  std::string input;
-  std::string output_prefix;
-  std::string report_path;  // empty: no JSON report
-  MeshOptions options;
-  bool check_output = false;  // run check_mesh on the result before writing
-  bool quiet = false;
-  std::string dump_pieces_dir;  // non-empty: write each piece's surface there before meshing it
+struct JobStatus {
+  int exit_code = 0;            // the same on every rank
+  std::string error;            // on rank 0, when exit_code != 0
+  bool meshing_failed = false;  // the error is a meshing failure (another partition may help)
 };
 
 // Call between MPI_Init and MPI_Finalize on every rank of MPI_COMM_WORLD.
-int run_mesh_job(const MeshJob& job);
+JobStatus run_mesh_job(const MeshJob& job);
 
 }  // namespace partet::mpi

@@ -1,9 +1,8 @@
-// The stages in order, on plain data. The MPI layer decides only where tetrahedralize_piece
-// runs; everything else here runs on rank 0.
+// The stages in order, on plain data. The MPI layer decides only where the pieces are meshed;
+// everything else here runs on rank 0.
 #pragma once
 #include <functional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "partet/closure.hpp"
@@ -11,6 +10,8 @@
 #include "partet/mesh_types.hpp"
 #include "partet/partition.hpp"
 #include "partet/piece.hpp"
+#include "partet/piece_runner.hpp"
+#include "partet/stage_timer.hpp"
 #include "partet/tetgen_mesher.hpp"
 
 namespace partet {
@@ -22,10 +23,8 @@ struct MeshOptions {
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
   int max_attempts = 6;           // partitions tried before giving up, plus one per 4 pieces beyond the first
   TetgenOptions tetgen;
+  RunOptions run;
 };
-
-// Wall seconds per named stage, in the order the stages ran.
-using StageTimes = std::vector<std::pair<std::string, double>>;
 
 struct PreparedPieces {
   SurfaceMesh input;
@@ -35,15 +34,15 @@ struct PreparedPieces {
   std::int64_t cap_triangles = 0;
 };
 
-// Partition, surface closure, piece assembly and the pieces' combinatorial checks.
+// 1-2. Partition, surface closure, piece assembly and the pieces' combinatorial checks.
 // The input must already be validated.
 PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, StageTimes* times = nullptr);
 
 // One cut-plane move after a failure.
 struct RetryRecord {
-  int attempt = 0;           // the attempt that failed (0 = first)
-  std::string reason;        // what failed
-  std::vector<int> planes;   // planes moved for the next attempt
+  int attempt = 0;          // the attempt that failed (0 = first)
+  std::string reason;       // what failed
+  std::vector<int> planes;  // planes moved for the next attempt
 };
 
 struct MeshResult {
@@ -56,34 +55,27 @@ struct MeshResult {
   std::vector<RetryRecord> retries;
 };
 
-// What meshing one piece gave: a result, or an error message naming the piece.
-struct PieceOutcome {
-  PieceTetMesh result;
-  std::string error;
-};
-
-// Meshes all pieces (here, or on other ranks) and returns their outcomes in piece order.
+// 3. Meshes all pieces (here, or on other ranks) and returns their outcomes in piece order.
 using PieceMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
 
-// Meshes every piece in this process, one after another.
-std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const TetgenOptions& options);
+// Meshes every piece with the runner, one after another.
+std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner);
+
+// 4-5. Weld the pieces' meshes (consumed: each is freed once welded, so rank 0 never holds the
+// pieces and the merged mesh in full at once) and remove the cut vertices. results must be
+// ordered by piece index.
+MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results, const MeshOptions& options,
+                       StageTimes* times = nullptr);
 
 // The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
 // boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
-// cut-vertex removal or a cap fails, all planes move. Pieces unchanged by the moves keep their
-// earlier result. From the third attempt on the cap density
-// is halved each time (0 on the last attempt). After max_attempts (+1 per 4 pieces) partitions the
-// last error is thrown with advice. Input and option errors are thrown at once.
+// cut-vertex removal fails, the planes of the failing region move; when partition or closure
+// fails, all planes move. Pieces unchanged by the moves keep their earlier result. From the
+// third attempt on the cap density is halved each time (0 on the last attempt). After
+// max_attempts (+1 per 4 pieces) partitions the last failure is thrown as MeshingError.
+// Input and option errors are thrown at once.
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
                              StageTimes* times = nullptr);
-
-// Weld the pieces' meshes and remove the cut vertices. results must be ordered by piece index.
-MeshResult finish_mesh(const PreparedPieces& prepared, const std::vector<PieceTetMesh>& results,
-                       const MeshOptions& options, StageTimes* times = nullptr);
-// The same, consuming the results: each piece's arrays are freed as soon as they are welded, so
-// rank 0 never holds the pieces and the merged mesh in full at once.
-MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results, const MeshOptions& options,
-                       StageTimes* times = nullptr);
 
 // The whole pipeline in one process (pieces meshed one after another).
 MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);

@@ -1,16 +1,28 @@
-// Byte encoding of the messages the MPI layer moves (Boost.Serialization binary archives).
+// Byte encoding of what crosses a process or rank boundary: pieces, piece results and meshing
+// failures (Boost.Serialization binary archives, flat arrays as single blocks).
 #pragma once
+#include <cstddef>
 #include <string>
+#include <string_view>
 
+#include "partet/errors.hpp"
+#include "partet/mesh_types.hpp"
 #include "partet/piece.hpp"
-#include "partet/tetgen_mesher.hpp"
 
 namespace partet {
 
 std::string serialize_piece(const PieceSurface& piece);
-PieceSurface deserialize_piece(const std::string& bytes);
+PieceSurface deserialize_piece(std::string_view bytes);
 
 std::string serialize_result(const PieceTetMesh& result);
-PieceTetMesh deserialize_result(const std::string& bytes);
+PieceTetMesh deserialize_result(std::string_view bytes);
+
+std::string serialize_failure(const Failure& failure);
+Failure deserialize_failure(std::string_view bytes);
+
+// A meshing run's reply: one tag byte ('R' result, 'F' failure), then the result or failure.
+std::string serialize_outcome(const PieceOutcome& outcome);
+// Throws InternalError on bytes that are no reply.
+PieceOutcome deserialize_outcome(std::string_view bytes);
 
 }  // namespace partet

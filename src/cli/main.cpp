@@ -1,13 +1,16 @@
-// partet command line: mesh (MPI-aware), check, generate.
+// partet command line: mesh (MPI-aware), check, generate. A thin layer: it parses options,
+// sets the log level, calls the library and turns errors into messages and exit codes.
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "partet/check.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
+#include "partet/log.hpp"
 #include "partet/mpi_driver.hpp"
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
@@ -31,10 +34,7 @@ bool valid_quality(const std::string& q) {
   return positive(q.substr(0, slash)) && positive(q.substr(slash + 1));
 }
 
-int run_check(const std::string& input_path, const std::string& prefix) {
-  const partet::SurfaceMesh input = partet::read_surface(input_path);
-  const partet::TetMesh mesh = partet::read_tetgen_files(prefix);
-  const partet::CheckReport report = partet::check_mesh(input, mesh);
+void print_check(const partet::CheckReport& report) {
   const auto& q = report.quality;
   std::printf("vertices %lld, tets %lld, boundary faces %lld\n", static_cast<long long>(report.vertices),
               static_cast<long long>(report.tets), static_cast<long long>(report.boundary_faces));
@@ -45,7 +45,54 @@ int run_check(const std::string& input_path, const std::string& prefix) {
               static_cast<long long>(q.above_175deg));
   for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
   std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
+}
+
+void print_check_json(const partet::CheckReport& report) {
+  const auto& q = report.quality;
+  const nlohmann::json json = {
+      {"ok", report.ok()},
+      {"violations", report.violations},
+      {"vertices", report.vertices},
+      {"tets", report.tets},
+      {"boundary_faces", report.boundary_faces},
+      {"tet_volume", report.tet_volume},
+      {"surface_volume", report.surface_volume},
+      {"euler_mesh", report.euler_mesh},
+      {"euler_expected", report.euler_expected},
+      {"quality",
+       {{"amips_avg", q.amips_avg},
+        {"amips_max", q.amips_max},
+        {"min_dihedral_deg", q.min_dihedral_deg},
+        {"max_dihedral_deg", q.max_dihedral_deg},
+        {"tets_below_5deg", q.below_5deg},
+        {"tets_above_175deg", q.above_175deg}}}};
+  std::printf("%s\n", json.dump(2).c_str());
+}
+
+int run_check(const std::string& input_path, const std::string& prefix, bool json) {
+  const partet::CheckReport report =
+      partet::check_mesh(partet::read_surface(input_path), partet::read_tetgen_files(prefix));
+  json ? print_check_json(report) : print_check(report);
   return report.ok() ? 0 : 2;
+}
+
+int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
+  MPI_Init(&argc, &argv);
+  int code = 1;
+  try {
+    const partet::mpi::JobStatus status = partet::mpi::run_mesh_job(job);
+    code = status.exit_code;
+    if (!status.error.empty()) {
+      // The library's messages name no flags; what the user can change is said here.
+      const bool advise = status.meshing_failed && job.options.pieces > 1;
+      partet::log::error(status.error + (advise ? "; try another --pieces value or --axis" : ""));
+    }
+  } catch (const std::exception& e) {
+    partet::log::error(e.what());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+  }
+  MPI_Finalize();
+  return code;
 }
 
 }  // namespace
@@ -54,30 +101,37 @@ int main(int argc, char** argv) {
   CLI::App app{"partet: distributed boundary-preserving tetrahedral meshing around TetGen"};
   app.require_subcommand(1);
 
-  partet::mpi::MeshJob job;
+  partet::MeshJob job;
   std::string quality;
+  bool quiet = false, verbose = false;
   auto* mesh = app.add_subcommand("mesh", "tetrahedralize a closed surface (run under mpirun for several ranks)");
   mesh->add_option("input", job.input, "closed triangle surface (.off .obj .ply .stl)")->required();
   mesh->add_option("-o,--output", job.output_prefix, "output prefix: writes PREFIX.node .ele .face .neigh")->required();
   mesh->add_option("-k,--pieces", job.options.pieces, "number of pieces (cut planes + 1)")
-      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
   mesh->add_option("-d,--density", job.options.density,
                    "cap refinement: target cap edge length = mean cut-loop edge length / D; 0 = no interior cap points")
-      ->check(CLI::Range(0.0, 100.0))->capture_default_str();
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   mesh->add_option("-q,--quality", quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
   std::string axis = "auto";
   mesh->add_option("--axis", axis,
                    "cut direction: auto = coordinate axis nearest the PCA axis (exactly planar caps), pca = the PCA axis")
-      ->check(CLI::IsMember({"auto", "pca"}))->capture_default_str();
+      ->check(CLI::IsMember({"auto", "pca"}))
+      ->capture_default_str();
   mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
-  mesh->add_flag("--quiet", job.quiet, "print errors only");
+  mesh->add_flag("--quiet", quiet, "print errors only");
+  mesh->add_flag("--verbose", verbose, "print more detail");
   mesh->add_option("--dump-pieces", job.dump_pieces_dir, "write each piece's closed surface to DIR/piece_<i>.off (debugging)");
 
   std::string check_input, check_prefix;
+  bool check_json = false;
   auto* check = app.add_subcommand("check", "verify a tet mesh against its input surface and print its quality");
   check->add_option("input", check_input, "the surface that was meshed")->required();
   check->add_option("prefix", check_prefix, "prefix of the .node/.ele files")->required();
+  check->add_flag("--json", check_json, "print the result as JSON");
 
   std::string shape, generate_output;
   int faces = 2000;
@@ -89,7 +143,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   try {
-    if (*check) return run_check(check_input, check_prefix);
+    if (*check) return run_check(check_input, check_prefix, check_json);
     if (*generate) {
       const partet::SurfaceMesh s = partet::generate_surface(shape, faces);
       partet::write_off(s, generate_output);
@@ -97,26 +151,17 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "partet: error: %s\n", e.what());
+    partet::log::error(e.what());
     return 1;
   }
 
-  // mesh
   if (!valid_quality(quality)) {
-    std::fprintf(stderr, "partet: error: --quality must be R or R/ANGLE with positive numbers (got '%s')\n",
-                 quality.c_str());
+    partet::log::error("--quality must be R or R/ANGLE with positive numbers (got '" + quality + "')");
     return 1;
   }
   job.options.tetgen.quality = quality;
   job.options.axis = axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
-  MPI_Init(&argc, &argv);
-  int code = 1;
-  try {
-    code = partet::mpi::run_mesh_job(job);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "partet: error: %s\n", e.what());
-    MPI_Abort(MPI_COMM_WORLD, 1);
-  }
-  MPI_Finalize();
-  return code;
+  partet::log::set_level(quiet ? partet::log::Level::quiet
+                               : verbose ? partet::log::Level::verbose : partet::log::Level::normal);
+  return run_mesh(argc, argv, job);
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "partet/errors.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
@@ -312,53 +313,6 @@ bool file_exists(const std::string& path) {
   return true;
 }
 
-// Pairs up tets across shared faces. Faces are bucketed by their smallest vertex (counting
-// sort, linear), then matched within the small bucket: much faster than a global hash map at
-// millions of tets. A face in more than two tets is ambiguous and left at -1.
-std::vector<Tet> compute_neighbours(const std::vector<Tet>& tets, std::size_t vertex_count) {
-  struct FaceEntry {
-    std::int32_t mid, high;  // the face's other two vertices, sorted
-    std::uint32_t slot;      // 4 * tet + opposite corner
-  };
-  std::vector<Tet> neighbours(tets.size(), Tet{-1, -1, -1, -1});
-  std::vector<std::uint32_t> bucket_start(vertex_count + 1, 0);
-  auto sorted_face = [&](const Tet& t, int j) {
-    std::int32_t a = t[(j + 1) & 3], b = t[(j + 2) & 3], c = t[(j + 3) & 3];
-    if (a > b) std::swap(a, b);
-    if (b > c) std::swap(b, c);
-    if (a > b) std::swap(a, b);
-    return std::array<std::int32_t, 3>{a, b, c};
-  };
-  for (const Tet& t : tets)
-    for (int j = 0; j < 4; ++j) ++bucket_start[sorted_face(t, j)[0] + 1];
-  for (std::size_t v = 0; v < vertex_count; ++v) bucket_start[v + 1] += bucket_start[v];
-  std::vector<FaceEntry> entries(tets.size() * 4);
-  std::vector<std::uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
-  for (std::size_t t = 0; t < tets.size(); ++t)
-    for (int j = 0; j < 4; ++j) {
-      auto f = sorted_face(tets[t], j);
-      entries[fill[f[0]]++] = {f[1], f[2], static_cast<std::uint32_t>(4 * t + j)};
-    }
-  auto before = [](const FaceEntry& a, const FaceEntry& b) {
-    return a.mid != b.mid ? a.mid < b.mid : a.high < b.high;
-  };
-  for (std::size_t v = 0; v < vertex_count; ++v) {
-    auto first = entries.begin() + bucket_start[v], last = entries.begin() + bucket_start[v + 1];
-    std::sort(first, last, before);
-    for (auto group = first; group != last;) {
-      auto group_end = group + 1;
-      while (group_end != last && !before(*group, *group_end)) ++group_end;
-      if (group_end - group == 2) {
-        std::uint32_t a = group[0].slot, b = group[1].slot;
-        neighbours[a / 4][a % 4] = static_cast<std::int32_t>(b / 4);
-        neighbours[b / 4][b % 4] = static_cast<std::int32_t>(a / 4);
-      }
-      group = group_end;
-    }
-  }
-  return neighbours;
-}
-
 }  // namespace
 
 void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
@@ -401,7 +355,7 @@ TetMesh read_tetgen_files(const std::string& prefix, std::vector<Triangle>* boun
   std::int64_t vertex_base = 0;
   mesh.points = read_node(prefix + ".node", vertex_base);
   mesh.tets = read_ele(prefix + ".ele", vertex_base, mesh.points.size());
-  mesh.neighbours = compute_neighbours(mesh.tets, mesh.points.size());
+  mesh.neighbours = compute_neighbours(mesh.tets, mesh.points.size(), CrowdedFace::leave_open);
   if (boundary_faces) {
     boundary_faces->clear();
     std::string face_path = prefix + ".face";

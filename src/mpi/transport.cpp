@@ -1,4 +1,4 @@
-#include "partet/mpi_transport.hpp"
+#include "mpi/transport.hpp"
 
 #include <algorithm>
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "partet/mpi_transport.hpp"
+#include "mpi/transport.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "partet/isolated_run.hpp"
+#include "process/isolated_run.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -43,25 +43,18 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     throw Error(std::string("cannot fork: ") + std::strerror(errno));
   }
   if (child_ == 0) {
-    // First byte 'R' (result) or 'E' (error text). TetGen's assertion text and MPI's crash
-    // handlers would only clutter the parent's output.
+    // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
     ::close(fds[0]);
     ::signal(SIGABRT, SIG_DFL);
     ::signal(SIGSEGV, SIG_DFL);
     ::signal(SIGBUS, SIG_DFL);
     if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) ::dup2(devnull, STDERR_FILENO);
-    std::string message;
-    char kind = 'R';
+    bool ok = false;
     try {
-      message = work();
-    } catch (const std::exception& e) {
-      kind = 'E';
-      message = e.what();
+      const std::string bytes = work();
+      ok = write_all(fds[1], bytes.data(), bytes.size());
     } catch (...) {
-      kind = 'E';
-      message = "unknown error";
     }
-    const bool ok = write_all(fds[1], &kind, 1) && write_all(fds[1], message.data(), message.size());
     ::close(fds[1]);
     ::_exit(ok ? 0 : 3);
   }
@@ -70,7 +63,7 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
 }
 
 IsolatedRun::~IsolatedRun() {
-  if (!done_ && child_ > 0) {
+  if (end_ == ProcessEnd::running && child_ > 0) {
     ::kill(child_, SIGKILL);
     int status = 0;
     while (::waitpid(child_, &status, 0) < 0 && errno == EINTR) {
@@ -80,7 +73,7 @@ IsolatedRun::~IsolatedRun() {
 }
 
 bool IsolatedRun::poll(int wait_ms) {
-  if (done_) return true;
+  if (end_ != ProcessEnd::running) return true;
   char buffer[1 << 16];
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
   for (;;) {
@@ -119,20 +112,16 @@ void IsolatedRun::finish(bool timed_out) {
   int status = 0;
   while (::waitpid(child_, &status, 0) < 0 && errno == EINTR) {
   }
-  done_ = true;
   if (timed_out) {
-    outcome_.message = "did not finish within " + std::to_string(static_cast<long long>(timeout_seconds_)) + " s";
+    end_ = ProcessEnd::timed_out;
   } else if (WIFSIGNALED(status)) {
-    const int sig = WTERMSIG(status);
-    outcome_.message = "crashed (signal " + std::to_string(sig) +
-                       (sig == SIGABRT ? ": an internal assertion failed)" : std::string(")"));
-  } else if (received_.empty()) {
-    outcome_.message = "ended without a result";
-  } else if (received_[0] == 'E') {
-    outcome_.message = received_.substr(1);
+    end_ = ProcessEnd::crashed;
+    signal_ = WTERMSIG(status);
+  } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    end_ = ProcessEnd::no_result;
   } else {
-    outcome_.ok = true;
-    outcome_.bytes = received_.substr(1);
+    end_ = ProcessEnd::finished;
+    return;
   }
   received_.clear();
   received_.shrink_to_fit();

@@ -1,4 +1,5 @@
-// Moving byte buffers between ranks. MPI 3.1 counts are int, so buffers go in chunks.
+// Moving byte buffers between ranks (internal header). MPI 3.1 counts are int, so buffers go
+// in chunks.
 #pragma once
 #include <mpi.h>
 

@@ -1,0 +1,69 @@
+// A mesh job as the command line describes it, and the steps rank 0 runs around the pipeline:
+// reading and validating the input, checking and writing the result, the JSON report and the
+// summary. No MPI here: the MPI driver calls these on rank 0.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "partet/check.hpp"
+#include "partet/pipeline.hpp"
+
+namespace partet {
+
+struct MeshJob {
+  std::string input;
+  std::string output_prefix;
+  std::string report_path;  // empty: no JSON report
+  MeshOptions options;
+  bool check_output = false;     // run check_mesh on the result before writing
+  std::string dump_pieces_dir;   // non-empty: write each piece's surface there before meshing it
+};
+
+// What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.
+struct RankStats {
+  double tetgen_seconds = 0;
+  double peak_rss_mb = 0;
+  double bytes_sent = 0, bytes_received = 0;
+  double pieces = 0;
+  double tetgen_child_peak_rss_mb = 0;
+  double send_seconds = 0, receive_seconds = 0;  // time spent inside MPI sends and receives
+};
+constexpr int kRankStatsDoubles = 8;
+static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
+              "RankStats is gathered as kRankStatsDoubles raw doubles");
+
+// Peak resident set sizes of this process and of its (waited-for) child processes, MB.
+double own_peak_rss_mb();
+double children_peak_rss_mb();
+
+// Reads the input and runs the cheap checks (closed, manifold, oriented, outward). Self-
+// intersections are checked per piece, in parallel, right before TetGen: a face pair on
+// opposite sides of a cut can only meet on the cut plane, where the cap's constrained
+// triangulation rejects crossing loops. Throws InputError.
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times);
+
+// Checks the result if asked (throws Error when the check fails) and writes the output files.
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times);
+
+// Everything the report and the summary say about a finished job.
+struct JobSummary {
+  const MeshJob& job;
+  const SurfaceMesh& input;
+  const MeshResult& result;
+  const CheckReport& check;
+  const StageTimes& times;
+  const std::vector<RankStats>& ranks;
+  const std::vector<std::vector<int>>& pieces_of_rank;
+  double total_seconds;
+};
+
+// The --report JSON document.
+std::string report_json(const JobSummary& summary);
+// Writes the report; a failure is a warning (the mesh is already written).
+void write_report(const JobSummary& summary);
+// The lines printed at the end of a successful run.
+void print_summary(const JobSummary& summary);
+
+}  // namespace partet

@@ -1,0 +1,64 @@
+// Where a piece is meshed: in this process, or in an isolated child process with a time limit.
+// The runner owns that decision, the process handling and the bytes a result travels as; the
+// stages stay pure and the MPI layer only moves those bytes.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+#include "partet/piece.hpp"
+#include "partet/tetgen_mesher.hpp"
+
+namespace partet {
+
+struct RunOptions {
+  // Run TetGen in a forked child process: Debian's TetGen can abort() (failed assert) or loop
+  // forever on hard inputs; in a child that becomes an ordinary failure.
+  bool isolate = true;
+  // Seconds before a run is given up (isolated runs only); 0 = a limit scaled with the input
+  // size (5 s + 1 ms per triangle, x10 with quality refinement; +10 s for a whole piece).
+  double timeout_seconds = 0;
+};
+
+// A piece being meshed. Its reply is serialize_outcome's bytes.
+class PieceJob {
+ public:
+  virtual ~PieceJob() = default;
+  // Waits at most wait_ms; true once the reply is ready.
+  virtual bool poll(int wait_ms) = 0;
+  // Blocks until the reply is ready and returns it (once).
+  virtual std::string take_reply() = 0;
+};
+
+class PieceRunner {
+ public:
+  PieceRunner(TetgenOptions tetgen, RunOptions run) : tetgen_(std::move(tetgen)), run_(run) {}
+
+  // True when jobs run in a child process, so the caller can do other work meanwhile.
+  bool runs_in_background() const { return run_.isolate; }
+
+  // Starts checking and meshing the piece; before() runs first, where the work runs (a test
+  // hook). The piece must outlive the job.
+  std::unique_ptr<PieceJob> start(const PieceSurface& piece, std::function<void()> before = {}) const;
+  // Blocking forms: the reply bytes, or the outcome.
+  std::string mesh_to_reply(const PieceSurface& piece, std::function<void()> before = {}) const;
+  PieceOutcome mesh(const PieceSurface& piece) const;
+
+  // Meshes a closed surface (not a piece: e.g. a region around cut vertices). Throws
+  // MeshingError.
+  LocalTetMesh mesh_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles) const;
+
+  const TetgenOptions& tetgen() const { return tetgen_; }
+
+ private:
+  TetgenOptions tetgen_;
+  RunOptions run_;
+};
+
+// The time limit used when RunOptions::timeout_seconds is 0, for a surface of that many
+// triangles.
+double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& options);
+
+}  // namespace partet

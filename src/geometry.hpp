@@ -1,0 +1,28 @@
+// Small vector helpers on Point3 shared by the stages (internal header).
+#pragma once
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "partet/mesh_types.hpp"
+
+namespace partet {
+
+constexpr double kPi = 3.14159265358979323846;
+
+inline Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Point3 cross(const Point3& a, const Point3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double norm(const Point3& a) { return std::sqrt(dot(a, a)); }
+inline double distance(const Point3& a, const Point3& b) { return norm(sub(a, b)); }
+
+// "(x, y, z)" with enough digits to read back the same doubles.
+inline std::string coordinates_text(const Point3& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.17g, %.17g, %.17g)", p[0], p[1], p[2]);
+  return text;
+}
+
+}  // namespace partet

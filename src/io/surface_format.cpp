@@ -1,0 +1,298 @@
+#include "io/surface_format.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include "partet/errors.hpp"
+
+namespace partet {
+
+const char* const kSupportedFormats = ".off, .obj, .ply, .stl";
+
+namespace {
+
+// Splits text into lines with '#' comments removed, keeping 1-based line numbers.
+struct TextLine {
+  std::size_t number;
+  std::string text;
+};
+
+std::vector<TextLine> content_lines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<TextLine> lines;
+  std::string line;
+  std::size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    if (line.find_first_not_of(" \t\r\n") == std::string::npos) continue;
+    lines.push_back({number, line});
+  }
+  return lines;
+}
+
+std::vector<std::string> tokens_of(const std::string& text) {
+  std::istringstream in(text);
+  return {std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
+}
+
+// strtod accepts "nan" and "inf" (unlike operator>>), which is what lets us name them.
+std::optional<double> parse_double(const std::string& token) {
+  const char* begin = token.c_str();
+  char* end = nullptr;
+  errno = 0;
+  double value = std::strtod(begin, &end);
+  if (end == begin || *end != '\0') return std::nullopt;
+  return value;
+}
+
+std::optional<long long> parse_integer(const std::string& token) {
+  const char* begin = token.c_str();
+  char* end = nullptr;
+  errno = 0;
+  long long value = std::strtoll(begin, &end, 10);
+  if (end == begin || *end != '\0' || errno == ERANGE) return std::nullopt;
+  return value;
+}
+
+
+}  // namespace
+
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+std::string format_name(const std::string& ext) {
+  std::string name = ext;
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return name;
+}
+
+// Returns what is wrong with an ASCII OFF file, or an empty string if we cannot tell.
+std::string diagnose_off(const std::string& path) {
+  std::vector<TextLine> lines = content_lines(path);
+  if (lines.empty()) return "the file is empty";
+  std::vector<std::string> header = tokens_of(lines[0].text);
+  const std::string& keyword = header[0];
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0)
+    return "the file does not start with an OFF header";
+  // Binary and higher-dimensional variants are beyond this simple scan.
+  if (keyword.find('n') != std::string::npos || keyword.find('4') != std::string::npos ||
+      std::find(header.begin(), header.end(), "BINARY") != header.end())
+    return "";
+  bool homogeneous = keyword.find('H') != std::string::npos;
+
+  std::size_t next = 1;
+  std::vector<std::string> counts(header.begin() + 1, header.end());
+  if (counts.empty()) {
+    if (next >= lines.size()) return "the file ends after the header (truncated?)";
+    counts = tokens_of(lines[next++].text);
+  }
+  // CGAL reads three counts even when the line has two, taking the third from the next line.
+  if (counts.size() < 3)
+    return "the header must give three counts (vertices, faces, edges), found " +
+           std::to_string(counts.size());
+  std::optional<long long> vertex_count = parse_integer(counts[0]);
+  std::optional<long long> face_count =
+      counts.size() >= 2 ? parse_integer(counts[1]) : std::optional<long long>();
+  if (!vertex_count || !face_count || *vertex_count < 0 || *face_count < 0)
+    return "the header does not give valid vertex and face counts";
+
+  for (long long v = 0; v < *vertex_count; ++v, ++next) {
+    if (next >= lines.size())
+      return "the file ends after " + std::to_string(v) + " of " +
+             std::to_string(*vertex_count) + " vertices (truncated?)";
+    std::vector<std::string> tokens = tokens_of(lines[next].text);
+    std::size_t needed = homogeneous ? 4 : 3;
+    if (tokens.size() < needed)
+      return "vertex " + std::to_string(v) + " (line " + std::to_string(lines[next].number) +
+             ") has fewer than " + std::to_string(needed) + " coordinates";
+    for (std::size_t c = 0; c < needed; ++c) {
+      std::optional<double> value = parse_double(tokens[c]);
+      if (!value)
+        return "vertex " + std::to_string(v) + " (line " + std::to_string(lines[next].number) +
+               ") has a coordinate that is not a number: '" + tokens[c] + "'";
+      if (!std::isfinite(*value))
+        return "vertex " + std::to_string(v) + " has a non-finite coordinate (" + tokens[c] + ")";
+    }
+  }
+  if (*face_count == 0) return "the file contains no faces";
+  for (long long f = 0; f < *face_count; ++f, ++next) {
+    if (next >= lines.size())
+      return "the file ends after " + std::to_string(f) + " of " + std::to_string(*face_count) +
+             " faces (truncated?)";
+    std::vector<std::string> tokens = tokens_of(lines[next].text);
+    std::optional<long long> corners = parse_integer(tokens[0]);
+    if (!corners || *corners < 1)
+      return "face " + std::to_string(f) + " (line " + std::to_string(lines[next].number) +
+             ") does not start with a valid corner count";
+    if (static_cast<long long>(tokens.size()) - 1 < *corners)
+      return "face " + std::to_string(f) + " (line " + std::to_string(lines[next].number) +
+             ") lists " + std::to_string(*corners) + " corners but gives only " +
+             std::to_string(tokens.size() - 1) + " indices";
+    for (long long c = 1; c <= *corners; ++c) {
+      std::optional<long long> index = parse_integer(tokens[c]);
+      if (!index)
+        return "face " + std::to_string(f) + " (line " + std::to_string(lines[next].number) +
+               ") has an index that is not an integer: '" + tokens[c] + "'";
+      if (*index < 0 || *index >= *vertex_count)
+        return "face " + std::to_string(f) + " refers to vertex " + std::to_string(*index) +
+               ", but there are only " + std::to_string(*vertex_count) + " vertices";
+    }
+  }
+  return "";
+}
+
+// Returns what is wrong with an OBJ file, or an empty string if we cannot tell.
+std::string diagnose_obj(const std::string& path) {
+  long long vertex_count = 0;
+  long long face_count = 0;
+  for (const TextLine& line : content_lines(path)) {
+    std::vector<std::string> tokens = tokens_of(line.text);
+    if (tokens[0] == "v") {
+      if (tokens.size() < 4)
+        return "vertex " + std::to_string(vertex_count) + " (line " +
+               std::to_string(line.number) + ") has fewer than 3 coordinates";
+      for (std::size_t c = 1; c <= 3; ++c) {
+        std::optional<double> value = parse_double(tokens[c]);
+        if (!value)
+          return "vertex " + std::to_string(vertex_count) + " (line " +
+                 std::to_string(line.number) + ") has a coordinate that is not a number: '" +
+                 tokens[c] + "'";
+        if (!std::isfinite(*value))
+          return "vertex " + std::to_string(vertex_count) + " has a non-finite coordinate (" +
+                 tokens[c] + ")";
+      }
+      ++vertex_count;
+    } else if (tokens[0] == "f") {
+      for (std::size_t c = 1; c < tokens.size(); ++c) {
+        std::string index_text = tokens[c].substr(0, tokens[c].find('/'));
+        std::optional<long long> index = parse_integer(index_text);
+        if (!index)
+          return "face " + std::to_string(face_count) + " (line " + std::to_string(line.number) +
+                 ") has an index that is not an integer: '" + tokens[c] + "'";
+        // OBJ indices are 1-based; negative ones count back from the latest vertex.
+        long long resolved = *index > 0 ? *index - 1 : vertex_count + *index;
+        if (*index == 0 || resolved < 0 || resolved >= vertex_count)
+          return "face " + std::to_string(face_count) + " (line " + std::to_string(line.number) +
+                 ") refers to vertex " + index_text + ", but only " +
+                 std::to_string(vertex_count) + " vertices precede it";
+      }
+      ++face_count;
+    } else if (!std::isalpha(static_cast<unsigned char>(tokens[0][0]))) {
+      return "line " + std::to_string(line.number) + " is not an OBJ statement";
+    }
+  }
+  if (face_count == 0) return "the file contains no faces";
+  return "";
+}
+
+
+// Counts an OFF or PLY header declares, checked against the file size before CGAL reads it:
+// CGAL reserves memory for the declared counts, so a corrupt header asking for a billion
+// vertices would otherwise exhaust memory instead of failing (found by fuzzing).
+void check_declared_counts(const std::string& path, const std::string& ext, std::uintmax_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  std::istringstream lines(head);
+  std::string line;
+  long double vertices = 0, faces = 0;
+  if (ext == "off") {
+    std::vector<std::string> tokens;
+    while (tokens.size() < 3 && std::getline(lines, line)) {
+      const auto hash = line.find('#');
+      for (const auto& t : tokens_of(hash == std::string::npos ? line : line.substr(0, hash))) tokens.push_back(t);
+    }
+    if (tokens.empty()) return;
+    std::size_t first = 1;  // after the keyword (counts may follow it on the same line)
+    if (tokens[0].find("OFF") == std::string::npos) first = 0;
+    if (tokens.size() < first + 2) return;
+    // CGAL reads a count from the leading digits of a token ("12+3" counts as 12): so do we.
+    auto leading_integer = [](const std::string& token) -> std::optional<long long> {
+      errno = 0;
+      char* end = nullptr;
+      const long long value = std::strtoll(token.c_str(), &end, 10);
+      if (end == token.c_str()) return std::nullopt;
+      if (errno == ERANGE) return std::numeric_limits<long long>::max();  // absurd: rejected below
+      return value;
+    };
+    const auto v = leading_integer(tokens[first]), f = leading_integer(tokens[first + 1]);
+    if (!v || !f) return;  // CGAL or the diagnosis reports a malformed header
+    vertices = static_cast<long double>(*v);
+    faces = static_cast<long double>(*f);
+  } else if (ext == "ply") {
+    // CGAL's PLY reader crashes on a "property" line before any "element" line (found by
+    // fuzzing), so the header's structure is checked here first.
+    bool in_element = false, ended = false;
+    int line_number = 0;
+    while (std::getline(lines, line)) {
+      ++line_number;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      const auto tokens = tokens_of(line);
+      if (line_number == 1) {
+        if (line != "ply") throw InputError("cannot read '" + path + "': not a PLY file (no 'ply' line)");
+        continue;
+      }
+      if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info" || tokens[0] == "format") continue;
+      if (tokens[0] == "end_header") {
+        ended = true;
+        break;
+      }
+      if (tokens[0] == "element") {
+        if (tokens.size() != 3 || !parse_integer(tokens[2]) || *parse_integer(tokens[2]) < 0)
+          throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
+                           " (element NAME COUNT expected)");
+        in_element = true;
+      } else if (tokens[0] == "property") {
+        if (!in_element)
+          throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
+                           " (a property before any element)");
+      } else {
+        throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
+                         " (unknown keyword '" + tokens[0] + "')");
+      }
+    }
+    if (!ended && head.size() < 65536)
+      throw InputError("cannot read '" + path + "': the PLY header has no end_header line");
+    lines.clear();
+    lines.seekg(0);
+    while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
+      const auto tokens = tokens_of(line);
+      if (tokens.size() == 3 && tokens[0] == "element") {
+        const auto n = parse_integer(tokens[2]);
+        if (!n) continue;
+        if (tokens[1] == "vertex") vertices = static_cast<long double>(*n);
+        if (tokens[1] == "face") faces = static_cast<long double>(*n);
+      }
+    }
+  } else {
+    return;
+  }
+  // The smallest possible records: "0 0 0\n" per vertex and "3 0 1 2\n" per face (binary
+  // variants are larger).
+  // Small files are left to CGAL and the diagnosis, which says more precisely where they end.
+  const long double smallest = vertices * 6 + faces * 8;
+  if (smallest > static_cast<long double>(file_size) && smallest > 16.0L * 1024 * 1024)
+    throw InputError("cannot read '" + path + "': the header declares " +
+                     std::to_string(static_cast<long long>(vertices)) + " vertices and " +
+                     std::to_string(static_cast<long long>(faces)) + " faces, more than a file of " +
+                     std::to_string(file_size) + " bytes can hold (truncated or corrupt?)");
+}
+
+}  // namespace partet

@@ -1,0 +1,138 @@
+#include "partet/job.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "partet/errors.hpp"
+#include "partet/log.hpp"
+#include "partet/surface_io.hpp"
+#include "partet/tetgen_files.hpp"
+#include "partet/validate.hpp"
+
+namespace partet {
+namespace {
+
+double peak_rss_mb(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+}  // namespace
+
+double own_peak_rss_mb() { return peak_rss_mb(RUSAGE_SELF); }
+double children_peak_rss_mb() { return peak_rss_mb(RUSAGE_CHILDREN); }
+
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times) {
+  StageTimer timer(&times);
+  SurfaceMesh input = read_surface(path);
+  timer.lap("read");
+  validate_topology(input);
+  const double volume = enclosed_volume(input);
+  if (!(volume > 0))
+    throw InputError("input is inside out: normals point inwards (enclosed volume " + std::to_string(volume) +
+                     "); flip the face orientation");
+  timer.lap("validate");
+  return input;
+}
+
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result,
+                            StageTimes& times) {
+  CheckReport check;
+  StageTimer timer(&times);
+  if (job.check_output) {
+    check = check_mesh(input, result.mesh);
+    timer.lap("check");
+    if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
+  }
+  write_tetgen_files(result.mesh, result.boundary_faces, job.output_prefix);
+  timer.lap("write");
+  return check;
+}
+
+std::string report_json(const JobSummary& s) {
+  nlohmann::json report;
+  report["input"] = s.job.input;
+  report["output_prefix"] = s.job.output_prefix;
+  report["ranks"] = s.ranks.size();
+  report["pieces"] = s.result.pieces;
+  report["pieces_requested"] = s.job.options.pieces;
+  report["density"] = s.job.options.density;
+  report["tetgen_quality"] = s.job.options.tetgen.quality;
+  report["stage_seconds"] = nlohmann::json::object();
+  for (const auto& [stage, seconds] : s.times)
+    report["stage_seconds"][stage] = report["stage_seconds"].value(stage, 0.0) + seconds;
+  // Rank 0's time inside the sends and receives of the meshing rounds (part of "tetgen", which
+  // is the wall time of the rounds: pieces are sent, meshed and gathered concurrently).
+  report["stage_seconds"]["send"] = s.ranks[0].send_seconds;
+  report["stage_seconds"]["gather"] = s.ranks[0].receive_seconds;
+  report["total_seconds"] = s.total_seconds;
+  report["counts"] = {{"input_vertices", s.input.points.size()},
+                      {"input_faces", s.input.triangles.size()},
+                      {"cut_vertices_inserted", s.result.cut_vertices_inserted},
+                      {"cut_vertices_removed", s.result.removal.removed},
+                      {"cap_triangles", s.result.cap_triangles},
+                      {"output_vertices", s.result.mesh.points.size()},
+                      {"output_tets", s.result.mesh.tets.size()}};
+  report["retries"] = nlohmann::json::array();
+  for (const auto& r : s.result.retries)
+    report["retries"].push_back({{"attempt", r.attempt}, {"reason", r.reason}, {"planes_moved", r.planes}});
+  for (std::size_t r = 0; r < s.ranks.size(); ++r) {
+    const RankStats& stats = s.ranks[r];
+    report["rank"].push_back({{"rank", r},
+                              {"pieces", s.pieces_of_rank[r]},
+                              {"tetgen_seconds", stats.tetgen_seconds},
+                              {"peak_rss_mb", stats.peak_rss_mb},
+                              {"tetgen_process_peak_rss_mb", stats.tetgen_child_peak_rss_mb},
+                              {"bytes_sent", stats.bytes_sent},
+                              {"send_seconds", stats.send_seconds},
+                              {"receive_seconds", stats.receive_seconds},
+                              {"bytes_received", stats.bytes_received}});
+  }
+  if (s.job.check_output)
+    report["quality"] = {{"amips_avg", s.check.quality.amips_avg},
+                         {"amips_max", s.check.quality.amips_max},
+                         {"min_dihedral_deg", s.check.quality.min_dihedral_deg},
+                         {"max_dihedral_deg", s.check.quality.max_dihedral_deg}};
+  return report.dump(2) + "\n";
+}
+
+void write_report(const JobSummary& summary) {
+  if (summary.job.report_path.empty()) return;
+  std::ofstream out(summary.job.report_path);
+  out << report_json(summary);
+  if (!out) log::warning("cannot write report '" + summary.job.report_path + "'");
+}
+
+void print_summary(const JobSummary& s) {
+  const auto& mesh = s.result.mesh;
+  log::info(std::to_string(s.input.triangles.size()) + " faces -> " + std::to_string(mesh.tets.size()) + " tets, " +
+            std::to_string(mesh.points.size()) + " vertices; " + std::to_string(s.result.pieces) + " pieces on " +
+            std::to_string(s.ranks.size()) + " ranks; " + std::to_string(s.result.removal.removed) +
+            " cut vertices removed; " + format("%.2f s", s.total_seconds));
+  std::string stages = "stages:";
+  for (const auto& [stage, seconds] : s.times) stages += " " + stage + format(" %.2f", seconds);
+  double worst = 0;
+  for (const auto& r : s.ranks) worst = std::max({worst, r.peak_rss_mb, r.tetgen_child_peak_rss_mb});
+  log::info(stages + format("; peak RSS %.0f MB (largest process)", worst));
+  if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
+  if (s.job.check_output) {
+    char text[96];
+    std::snprintf(text, sizeof text, "check passed; AMIPS avg %.3g max %.3g", s.check.quality.amips_avg,
+                  s.check.quality.amips_max);
+    log::info(text);
+  }
+  log::info("wrote " + s.job.output_prefix + ".node/.ele/.face/.neigh");
+}
+
+}  // namespace partet

@@ -1,0 +1,34 @@
+#include "partet/log.hpp"
+
+#include <cstdio>
+
+namespace partet::log {
+namespace {
+
+Level g_level = Level::normal;
+int g_rank = 0;
+
+void emit(std::FILE* stream, const char* kind, const std::string& message) {
+  const std::string who = g_rank == 0 ? "partet" : "partet[rank " + std::to_string(g_rank) + "]";
+  std::fprintf(stream, "%s: %s%s\n", who.c_str(), kind, message.c_str());
+  std::fflush(stream);
+}
+
+}  // namespace
+
+void set_level(Level level) { g_level = level; }
+Level level() { return g_level; }
+void set_rank(int rank) { g_rank = rank; }
+
+void error(const std::string& message) { emit(stderr, "error: ", message); }
+void warning(const std::string& message) {
+  if (g_level != Level::quiet) emit(stderr, "warning: ", message);
+}
+void info(const std::string& message) {
+  if (g_level != Level::quiet) emit(stdout, "", message);
+}
+void debug(const std::string& message) {
+  if (g_level == Level::verbose) emit(stdout, "", message);
+}
+
+}  // namespace partet::log

@@ -1,0 +1,140 @@
+// The piece runner: the same results in this process and in an isolated child, and every way
+// a run can end (error, crash, time limit) as a typed failure.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "partet/closure.hpp"
+#include "partet/errors.hpp"
+#include "partet/generate.hpp"
+#include "partet/partition.hpp"
+#include "partet/piece.hpp"
+#include "partet/piece_runner.hpp"
+#include "partet/serialize.hpp"
+
+namespace partet {
+namespace {
+
+PieceRunner runner(bool isolate, double timeout = 0, const std::string& quality = "") {
+  TetgenOptions tetgen;
+  tetgen.quality = quality;
+  RunOptions run;
+  run.isolate = isolate;
+  run.timeout_seconds = timeout;
+  return PieceRunner(tetgen, run);
+}
+
+std::vector<PieceSurface> torus_pieces() {
+  const SurfaceMesh s = generate_surface("torus", 2000);
+  const auto planes = choose_cut_planes(s, 3);
+  SplitSurface split = split_at_planes(s, planes);
+  return assemble_pieces(split, build_caps(split, planes, 1.0));
+}
+
+PieceSurface open_piece() {
+  PieceSurface piece;
+  piece.index = 3;
+  const SurfaceMesh s = generate_surface("sphere", 500);
+  piece.points = s.points;
+  piece.triangles.assign(s.triangles.begin() + 1, s.triangles.end());
+  for (std::size_t i = 0; i < s.points.size(); ++i) piece.global_ids.push_back(static_cast<std::int32_t>(i));
+  return piece;
+}
+
+TEST(PieceRunner, ChildGivesTheSameResultAsThisProcess) {
+  for (const auto& piece : torus_pieces()) {
+    SCOPED_TRACE("piece " + std::to_string(piece.index));
+    const PieceOutcome here = runner(false, 0, "1.5").mesh(piece);
+    const PieceOutcome child = runner(true, 0, "1.5").mesh(piece);
+    ASSERT_FALSE(here.failure) << here.failure->text();
+    ASSERT_FALSE(child.failure) << child.failure->text();
+    EXPECT_EQ(here.result.index, piece.index);
+    EXPECT_EQ(child.result.index, piece.index);
+    EXPECT_EQ(here.result.surface_point_count, child.result.surface_point_count);
+    EXPECT_EQ(here.result.mesh.tets, child.result.mesh.tets);
+    EXPECT_EQ(here.result.mesh.neighbours, child.result.mesh.neighbours);
+    EXPECT_EQ(here.result.mesh.steiner_points, child.result.mesh.steiner_points);
+  }
+}
+
+TEST(PieceRunner, SurfaceInAChildIsTheSameAsHere) {
+  const SurfaceMesh s = generate_surface("torus", 1500);
+  const LocalTetMesh a = runner(false).mesh_surface(s.points, s.triangles);
+  const LocalTetMesh b = runner(true).mesh_surface(s.points, s.triangles);
+  EXPECT_EQ(a.tets, b.tets);
+  EXPECT_EQ(a.neighbours, b.neighbours);
+  EXPECT_EQ(a.steiner_points, b.steiner_points);
+}
+
+TEST(PieceRunner, BadPieceIsATypedFailureInBothModes) {
+  const PieceSurface piece = open_piece();
+  for (bool isolate : {false, true}) {
+    SCOPED_TRACE(isolate ? "isolated" : "in process");
+    const PieceOutcome outcome = runner(isolate).mesh(piece);
+    ASSERT_TRUE(outcome.failure);
+    EXPECT_EQ(outcome.failure->kind, FailureKind::bad_surface);
+    EXPECT_EQ(outcome.failure->piece, 3);
+    EXPECT_NE(outcome.failure->text().find("piece 3: "), std::string::npos) << outcome.failure->text();
+  }
+}
+
+TEST(PieceRunner, SurfaceFailureInAChildThrowsItsKind) {
+  SurfaceMesh s = generate_surface("sphere", 500);
+  s.triangles.erase(s.triangles.begin() + 17);
+  try {
+    runner(true).mesh_surface(s.points, s.triangles);
+    ADD_FAILURE() << "open surface accepted";
+  } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::tetgen_error);
+  }
+}
+
+TEST(PieceRunner, TimeLimitIsATypedFailure) {
+  const auto pieces = torus_pieces();
+  const PieceOutcome outcome = runner(true, 1e-6).mesh(pieces[0]);
+  ASSERT_TRUE(outcome.failure);
+  EXPECT_EQ(outcome.failure->kind, FailureKind::timed_out);
+  EXPECT_NE(outcome.failure->text().find("did not finish"), std::string::npos) << outcome.failure->text();
+
+  const SurfaceMesh s = generate_surface("sphere", 2000);
+  try {
+    runner(true, 1e-6).mesh_surface(s.points, s.triangles);
+    ADD_FAILURE() << "no timeout";
+  } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::timed_out);
+  }
+}
+
+TEST(PieceRunner, CrashAndHookFailuresInAChild) {
+  const auto pieces = torus_pieces();
+  const PieceRunner isolated = runner(true);
+  const std::string crash = isolated.mesh_to_reply(pieces[1], [] { std::abort(); });
+  const PieceOutcome crashed = deserialize_outcome(crash);
+  ASSERT_TRUE(crashed.failure);
+  EXPECT_EQ(crashed.failure->kind, FailureKind::crashed);
+  EXPECT_EQ(crashed.failure->piece, 1);
+  EXPECT_NE(crashed.failure->text().find("crashed (signal 6"), std::string::npos) << crashed.failure->text();
+
+  const PieceOutcome injected = deserialize_outcome(isolated.mesh_to_reply(
+      pieces[2], [] { throw MeshingError(FailureKind::injected, 2, "injected"); }));
+  ASSERT_TRUE(injected.failure);
+  EXPECT_EQ(injected.failure->kind, FailureKind::injected);
+  EXPECT_EQ(injected.failure->piece, 2);
+}
+
+TEST(PieceRunner, BackgroundJobsCanBePolled) {
+  const auto pieces = torus_pieces();
+  auto job = runner(true).start(pieces[0]);
+  while (!job->poll(10)) {
+  }
+  const PieceOutcome outcome = deserialize_outcome(job->take_reply());
+  EXPECT_FALSE(outcome.failure);
+  EXPECT_FALSE(outcome.result.mesh.tets.empty());
+  EXPECT_TRUE(runner(true).runs_in_background());
+  EXPECT_FALSE(runner(false).runs_in_background());
+}
+
+}  // namespace
+}  // namespace partet
