@@ -3,20 +3,16 @@
 # same run. Prints medians over RUNS runs and the ratios against TetGen.
 # Usage: bench_vs_tetgen.sh INPUT.off [RUNS] [K...]    (env RANKS="1 2" chooses the rank counts)
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-partet=${PARTET:-$here/../build/partet}
+source "$(dirname "$0")/common.sh"
 input=$(realpath "$1")
 runs=${2:-3}
 shift 2 2>/dev/null || shift $#
 ks=("$@")
 [ ${#ks[@]} -eq 0 ] && ks=(2 8)
 ranks=(${RANKS:-1 2})
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+make_work_dir
 cp "$input" "$work/input.off"
 
-median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 # Runs a command under GNU time; appends "wall_s rss_mb" to a file.
 measure() {
   local out=$1; shift

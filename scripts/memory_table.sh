@@ -2,12 +2,9 @@
 # Peak memory per rank from partet's --report, next to `tetgen -pYQ` on the same input.
 # Usage: memory_table.sh INPUT.off   (env: ONE_RANK_KS="1 2 4 8 16", TWO_RANK_KS="2 4 8")
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-partet=${PARTET:-$here/../build/partet}
+source "$(dirname "$0")/common.sh"
 input=$(realpath "$1")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+make_work_dir
 cp "$input" "$work/input.off"
 (cd "$work" && /usr/bin/time -f "%e %M" -o "$work/t" tetgen -pYQ input.off > /dev/null)
 read -r tg_wall tg_kb < "$work/t"

@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+source scripts/common.sh
 mkdir -p out
 ./build/partet generate genus3 --faces 20000 -o out/genus3.off
 mpirun -np 2 --oversubscribe ./build/partet mesh out/genus3.off -o out/genus3 --pieces 2

@@ -2,8 +2,8 @@
 # Meshes every model in a directory at several piece counts, checks each result and prints a
 # pass/fail table. Usage: sweep.sh [PARTET] [MESHES_DIR] [MAX_FACES] [K...]
 set -uo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-partet=${1:-$here/../build/partet}
+source "$(dirname "$0")/common.sh"
+partet=${1:-$partet}
 meshes=${2:-$here/../../shared/meshes}
 max_faces=${3:-100000000}
 shift 3 2>/dev/null || shift $#

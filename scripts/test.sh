@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+source scripts/common.sh
 export OMPI_MCA_rmaps_base_oversubscribe=1
 args=(--test-dir build --output-on-failure -j "${PARTET_TEST_JOBS:-2}")
 if [ -n "${PARTET_TEST_LABEL:-}" ]; then args+=(-L "$PARTET_TEST_LABEL"); else args+=(-LE "known_failure"); fi

@@ -47,8 +47,7 @@ Triangle reversed(const Triangle& t) { return normalized({t[0], t[2], t[1]}); }
 // Counting-sort offsets of items bucketed by a vertex: bucketing by the smallest vertex and
 // sorting the small buckets is linear and much faster than a global hash map at millions of tets.
 template <class BucketOf>
-std::vector<std::uint32_t> bucket_offsets(std::size_t item_count, std::size_t vertex_count,
-                                          BucketOf bucket_of) {
+std::vector<std::uint32_t> bucket_offsets(std::size_t item_count, std::size_t vertex_count, BucketOf bucket_of) {
   std::vector<std::uint32_t> start(vertex_count + 1, 0);
   for (std::size_t i = 0; i < item_count; ++i) ++start[bucket_of(i) + 1];
   for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
@@ -101,9 +100,7 @@ CoordinateKey coordinate_key(const Point3& p) {
 struct KeyedVertex {
   CoordinateKey key;
   std::int32_t index;
-  bool operator<(const KeyedVertex& o) const {
-    return key == o.key ? index < o.index : key < o.key;
-  }
+  bool operator<(const KeyedVertex& o) const { return key == o.key ? index < o.index : key < o.key; }
 };
 
 double signed_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
@@ -113,8 +110,7 @@ double signed_volume6(const Point3& a, const Point3& b, const Point3& c, const P
     v[k] = c[k] - a[k];
     w[k] = d[k] - a[k];
   }
-  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-         u[2] * (v[0] * w[1] - v[1] * w[0]);
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
 // Euler characteristic V - E + F of the input surface, counting only vertices in triangles.
@@ -127,8 +123,7 @@ long surface_euler_characteristic(const SurfaceMesh& surface) {
       std::int32_t a = t[k], b = t[(k + 1) % 3];
       if (a >= 0 && static_cast<std::size_t>(a) < used.size()) used[a] = 1;
       if (a > b) std::swap(a, b);
-      edges.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 |
-                      static_cast<std::uint32_t>(b));
+      edges.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 | static_cast<std::uint32_t>(b));
     }
   std::sort(edges.begin(), edges.end());
   long edge_count = std::unique(edges.begin(), edges.end()) - edges.begin();
@@ -143,8 +138,7 @@ double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Poi
   // a=0, b=(1,0,0), c=(1/2, sqrt3/2, 0), d=(1/2, sqrt3/6, sqrt(2/3)). W^-1 is upper triangular:
   //   [1, -1/sqrt3, -1/sqrt6; 0, 2/sqrt3, -1/sqrt6; 0, 0, sqrt(3/2)]
   // so J's columns are m0, (2 m1 - m0)/sqrt3, (3 m2 - m0 - m1)/sqrt6, and det J = sqrt2 det M.
-  static const double kInvSqrt3 = 1 / std::sqrt(3.0), kInvSqrt6 = 1 / std::sqrt(6.0),
-                      kSqrt2 = std::sqrt(2.0);
+  static const double kInvSqrt3 = 1 / std::sqrt(3.0), kInvSqrt6 = 1 / std::sqrt(6.0), kSqrt2 = std::sqrt(2.0);
   double m[3][3];
   for (int k = 0; k < 3; ++k) {
     m[0][k] = b[k] - a[k];
@@ -172,8 +166,7 @@ MeshQuality mesh_quality(const TetMesh& mesh) {
   long double amips_sum = 0;
   double amips_max = 0, largest_cos = -1, smallest_cos = 1;
   for (const Tet& t : mesh.tets) {
-    const Point3* p[4] = {&mesh.points[t[0]], &mesh.points[t[1]], &mesh.points[t[2]],
-                          &mesh.points[t[3]]};
+    const Point3* p[4] = {&mesh.points[t[0]], &mesh.points[t[1]], &mesh.points[t[2]], &mesh.points[t[3]]};
     double energy = amips_energy(*p[0], *p[1], *p[2], *p[3]);
     amips_sum += energy;
     amips_max = std::max(amips_max, energy);
@@ -189,16 +182,14 @@ MeshQuality mesh_quality(const TetMesh& mesh) {
       normal[j][0] = u[1] * v[2] - u[2] * v[1];
       normal[j][1] = u[2] * v[0] - u[0] * v[2];
       normal[j][2] = u[0] * v[1] - u[1] * v[0];
-      length[j] = std::sqrt(normal[j][0] * normal[j][0] + normal[j][1] * normal[j][1] +
-                            normal[j][2] * normal[j][2]);
+      length[j] = std::sqrt(normal[j][0] * normal[j][0] + normal[j][1] * normal[j][1] + normal[j][2] * normal[j][2]);
     }
     double tet_largest_cos = -1, tet_smallest_cos = 1;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
         double cos_angle;
         if (length[i] > 0 && length[j] > 0) {
-          double dot = normal[i][0] * normal[j][0] + normal[i][1] * normal[j][1] +
-                       normal[i][2] * normal[j][2];
+          double dot = normal[i][0] * normal[j][0] + normal[i][1] * normal[j][1] + normal[i][2] * normal[j][2];
           cos_angle = std::clamp(-dot / (length[i] * length[j]), -1.0, 1.0);
         } else {
           // A face without area has no defined angles: count it as both extremes.
@@ -247,11 +238,9 @@ double check_orientation(const TetMesh& mesh, Violations& violations) {
   long double volume6 = 0;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     const Tet& tet = mesh.tets[t];
-    const Point3 &a = mesh.points[tet[0]], &b = mesh.points[tet[1]], &c = mesh.points[tet[2]],
-                 &d = mesh.points[tet[3]];
-    CGAL::Orientation o =
-        CGAL::orientation(Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
-                          Kernel::Point_3(c[0], c[1], c[2]), Kernel::Point_3(d[0], d[1], d[2]));
+    const Point3 &a = mesh.points[tet[0]], &b = mesh.points[tet[1]], &c = mesh.points[tet[2]], &d = mesh.points[tet[3]];
+    CGAL::Orientation o = CGAL::orientation(Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
+                                            Kernel::Point_3(c[0], c[1], c[2]), Kernel::Point_3(d[0], d[1], d[2]));
     if (o != CGAL::POSITIVE) {
       if (negative + flat == 0) first = static_cast<std::int64_t>(t);
       (o == CGAL::NEGATIVE ? negative : flat)++;
@@ -325,9 +314,9 @@ FaceCount check_faces(const TetMesh& mesh, Violations& violations) {
     violations.push_back(std::to_string(overfull) +
                          " triangles are in more than two tets, first: " + format_triangle(first_overfull));
   if (same_side > 0)
-    violations.push_back(std::to_string(same_side) +
-                         " triangles have both their tets on the same side (overlap), first: " +
-                         format_triangle(first_same_side));
+    violations.push_back(
+        std::to_string(same_side) +
+        " triangles have both their tets on the same side (overlap), first: " + format_triangle(first_same_side));
   return count;
 }
 
@@ -341,8 +330,8 @@ void check_euler(const TetMesh& mesh, std::int64_t used_count, std::int64_t face
   report.euler_expected = input_chi / 2;
   if (2 * report.euler_mesh != input_chi)
     report.violations.push_back("V-E+F-T of the mesh is " + std::to_string(report.euler_mesh) +
-                                ", expected half the Euler characteristic of the input, " +
-                                std::to_string(input_chi) + "/2");
+                                ", expected half the Euler characteristic of the input, " + std::to_string(input_chi) +
+                                "/2");
 }
 
 // The mesh vertex with the same exact coordinates as each input vertex used by a triangle
@@ -418,8 +407,8 @@ void check_boundary_is_input(const std::vector<Triangle>& boundary, const Surfac
                          " input triangles are boundary faces with the wrong orientation, first: input triangle " +
                          std::to_string(first_flipped));
   if (extra > 0)
-    violations.push_back(std::to_string(extra) + " boundary faces of the mesh are not input triangles, first: " +
-                         format_triangle(first_extra));
+    violations.push_back(std::to_string(extra) +
+                         " boundary faces of the mesh are not input triangles, first: " + format_triangle(first_extra));
 }
 
 // The tets must fill exactly what the input encloses (catches filled cavities).

@@ -87,9 +87,7 @@ void mark_nesting(CDT& cdt) {
   }
 }
 
-bool in_domain(const CDT& cdt, CDT::Face_handle f) {
-  return !cdt.is_infinite(f) && f->info().nesting % 2 == 1;
-}
+bool in_domain(const CDT& cdt, CDT::Face_handle f) { return !cdt.is_infinite(f) && f->info().nesting % 2 == 1; }
 
 K::Point_2 to_2d(const PlaneFrame& frame, const Point3& p) {
   const double x = p[0] - frame.origin[0], y = p[1] - frame.origin[1], z = p[2] - frame.origin[2];
@@ -136,9 +134,9 @@ double insert_border(CDT& cdt, const std::vector<Chord>& chords, const std::vect
       const auto before = cdt.number_of_vertices();
       auto vh = cdt.insert(to_2d(frame, points[id]));
       if (cdt.number_of_vertices() == before)
-        throw PartitionError(FailureKind::other, -1,
-                             "cut plane " + std::to_string(j) +
-                                 ": two border points coincide in the plane (near-degenerate crossing)");
+        throw PartitionError(
+            FailureKind::other, -1,
+            "cut plane " + std::to_string(j) + ": two border points coincide in the plane (near-degenerate crossing)");
       vh->info() = id;
       handle[id] = vh;
     }

@@ -33,10 +33,10 @@ FragmentParents fragment_parents(const SplitSurface& split) {
 
 // One connected part of the region: the closed surface around it and its new tets.
 struct Part {
-  std::vector<Triangle> faces;         // its boundary, global ids, then local ids once closed
-  std::vector<std::int32_t> parents;   // input triangles replacing its boundary fragments
-  std::vector<int> planes;             // cut planes of its cut vertices
-  std::vector<std::int32_t> ids;       // local id -> global id
+  std::vector<Triangle> faces;        // its boundary, global ids, then local ids once closed
+  std::vector<std::int32_t> parents;  // input triangles replacing its boundary fragments
+  std::vector<int> planes;            // cut planes of its cut vertices
+  std::vector<std::int32_t> ids;      // local id -> global id
   LocalTetMesh mesh;
 };
 
@@ -60,7 +60,8 @@ std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<char>& in_
       if (nb < 0 && cut.touches(face)) {
         auto it = parent_of.find(FaceKey(face));
         if (it == parent_of.end())
-          throw InternalError("cut-vertex removal: a boundary face with a cut vertex is no fragment of an input triangle");
+          throw InternalError(
+              "cut-vertex removal: a boundary face with a cut vertex is no fragment of an input triangle");
         part.parents.push_back(it->second);
         continue;
       }
@@ -155,9 +156,7 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
 
 // Drops unused points (the cut vertices, and input vertices no triangle uses), keeping order.
 void drop_unused_points(TetMesh& mesh, const CutRange& cut, CutVertexRemovalStats& stats) {
-  std::vector<char> used(mesh.points.size(), 0);
-  for (const auto& t : mesh.tets)
-    for (auto v : t) used[v] = 1;
+  const std::vector<char> used = used_vertices(mesh.points.size(), mesh.tets);
   const std::vector<std::int32_t> new_id = compact_ids(used);
   std::vector<Point3> points;
   points.reserve(mesh.points.size());

@@ -17,7 +17,6 @@
 namespace partet {
 namespace {
 
-
 using Matrix3 = std::array<std::array<double, 3>, 3>;
 
 Matrix3 rotation(Point3 axis, double angle) {
@@ -31,8 +30,7 @@ Matrix3 rotation(Point3 axis, double angle) {
 }
 
 Point3 apply(const Matrix3& m, const Point3& p) {
-  return {m[0][0] * p[0] + m[0][1] * p[1] + m[0][2] * p[2],
-          m[1][0] * p[0] + m[1][1] * p[1] + m[1][2] * p[2],
+  return {m[0][0] * p[0] + m[0][1] * p[1] + m[0][2] * p[2], m[1][0] * p[0] + m[1][1] * p[1] + m[1][2] * p[2],
           m[2][0] * p[0] + m[2][1] * p[1] + m[2][2] * p[2]};
 }
 
@@ -40,15 +38,13 @@ Point3 apply(const Matrix3& m, const Point3& p) {
 Matrix3 shape_rotation() { return rotation({1.0, 2.0, 3.0}, 0.4321); }
 
 // Appends `part` to `surface`, rotated by `turn` and then moved by `offset`.
-void append(SurfaceMesh& surface, const SurfaceMesh& part, const Matrix3& turn,
-            const Point3& offset = {0, 0, 0}) {
+void append(SurfaceMesh& surface, const SurfaceMesh& part, const Matrix3& turn, const Point3& offset = {0, 0, 0}) {
   const auto base = static_cast<std::int32_t>(surface.points.size());
   for (const Point3& p : part.points) {
     Point3 q = apply(turn, p);
     surface.points.push_back({q[0] + offset[0], q[1] + offset[1], q[2] + offset[2]});
   }
-  for (const Triangle& t : part.triangles)
-    surface.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  for (const Triangle& t : part.triangles) surface.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
 
 void reverse_orientation(SurfaceMesh& surface) {
@@ -64,27 +60,30 @@ int geodesic_frequency(double target_faces) {
 
 // A geodesic sphere: each face of an icosahedron split into n^2 triangles, with all points
 // projected onto the sphere. Unlike a UV sphere it has no poles with slivers.
-SurfaceMesh geodesic_sphere(int n, double radius) {
+// The regular icosahedron (unnormalized corners, outward faces).
+std::array<Point3, 12> icosahedron_corners() {
   const double phi = (1 + std::sqrt(5.0)) / 2;
-  const std::array<Point3, 12> corners = {{{-1, phi, 0},
-                                           {1, phi, 0},
-                                           {-1, -phi, 0},
-                                           {1, -phi, 0},
-                                           {0, -1, phi},
-                                           {0, 1, phi},
-                                           {0, -1, -phi},
-                                           {0, 1, -phi},
-                                           {phi, 0, -1},
-                                           {phi, 0, 1},
-                                           {-phi, 0, -1},
-                                           {-phi, 0, 1}}};
-  const std::array<std::array<int, 3>, 20> faces = {{{0, 11, 5}, {0, 5, 1},  {0, 1, 7},
-                                                     {0, 7, 10}, {0, 10, 11}, {1, 5, 9},
-                                                     {5, 11, 4}, {11, 10, 2}, {10, 7, 6},
-                                                     {7, 1, 8},  {3, 9, 4},  {3, 4, 2},
-                                                     {3, 2, 6},  {3, 6, 8},  {3, 8, 9},
-                                                     {4, 9, 5},  {2, 4, 11}, {6, 2, 10},
-                                                     {8, 6, 7},  {9, 8, 1}}};
+  return {{{-1, phi, 0},
+           {1, phi, 0},
+           {-1, -phi, 0},
+           {1, -phi, 0},
+           {0, -1, phi},
+           {0, 1, phi},
+           {0, -1, -phi},
+           {0, 1, -phi},
+           {phi, 0, -1},
+           {phi, 0, 1},
+           {-phi, 0, -1},
+           {-phi, 0, 1}}};
+}
+constexpr std::array<std::array<int, 3>, 20> kIcosahedronFaces = {
+    {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+     {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+     {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}}};
+
+SurfaceMesh geodesic_sphere(int n, double radius) {
+  const std::array<Point3, 12> corners = icosahedron_corners();
+  const auto& faces = kIcosahedronFaces;
   // Edge numbering, so that points on an icosahedron edge are shared by its two faces.
   std::array<std::array<int, 12>, 12> edge_id{};
   for (auto& row : edge_id) row.fill(-1);
@@ -100,8 +99,7 @@ SurfaceMesh geodesic_sphere(int n, double radius) {
   sphere.points.assign(12 + 30 * (n - 1) + 20 * interior_per_face, Point3{0, 0, 0});
   auto project = [&](std::int32_t index, const Point3& p) {
     const double length = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    sphere.points[index] = {radius * p[0] / length, radius * p[1] / length,
-                            radius * p[2] / length};
+    sphere.points[index] = {radius * p[0] / length, radius * p[1] / length, radius * p[2] / length};
   };
   for (int v = 0; v < 12; ++v) project(v, corners[v]);
   for (int a = 0; a < 12; ++a)
@@ -138,16 +136,13 @@ SurfaceMesh geodesic_sphere(int n, double radius) {
       for (int b = 1; a + b < n; ++b) {
         Point3 p;
         for (int i = 0; i < 3; ++i)
-          p[i] = ((n - a - b) * corners[face[0]][i] + a * corners[face[1]][i] +
-                  b * corners[face[2]][i]) /
-                 n;
+          p[i] = ((n - a - b) * corners[face[0]][i] + a * corners[face[1]][i] + b * corners[face[2]][i]) / n;
         project(index(a, b), p);
       }
     for (int a = 0; a < n; ++a)
       for (int b = 0; a + b < n; ++b) {
         sphere.triangles.push_back({index(a, b), index(a + 1, b), index(a, b + 1)});
-        if (a + b + 2 <= n)
-          sphere.triangles.push_back({index(a + 1, b), index(a + 1, b + 1), index(a, b + 1)});
+        if (a + b + 2 <= n) sphere.triangles.push_back({index(a + 1, b), index(a + 1, b + 1), index(a, b + 1)});
       }
   }
   return sphere;
@@ -213,8 +208,7 @@ SurfaceMesh make_genus3(int faces) {
       id = static_cast<std::int32_t>(slab.points.size());
       const double z = kThickness / 2 - kThickness * layer / layers;
       slab.points.push_back({kScale * (static_cast<double>(gx) / cells - kBlocksX / 2.0),
-                             kScale * (static_cast<double>(gy) / cells - kBlocksY / 2.0),
-                             kScale * z});
+                             kScale * (static_cast<double>(gy) / cells - kBlocksY / 2.0), kScale * z});
     }
     return id;
   };
@@ -222,8 +216,8 @@ SurfaceMesh make_genus3(int faces) {
   for (int cy = 0; cy < ny; ++cy)
     for (int cx = 0; cx < nx; ++cx) {
       if (!solid(cx, cy)) continue;
-      const std::int32_t t00 = vertex(cx, cy, 0), t10 = vertex(cx + 1, cy, 0),
-                         t11 = vertex(cx + 1, cy + 1, 0), t01 = vertex(cx, cy + 1, 0);
+      const std::int32_t t00 = vertex(cx, cy, 0), t10 = vertex(cx + 1, cy, 0), t11 = vertex(cx + 1, cy + 1, 0),
+                         t01 = vertex(cx, cy + 1, 0);
       slab.triangles.push_back({t00, t10, t11});
       slab.triangles.push_back({t00, t11, t01});
       const std::int32_t b00 = vertex(cx, cy, layers), b10 = vertex(cx + 1, cy, layers),
@@ -240,10 +234,8 @@ SurfaceMesh make_genus3(int faces) {
       for (const auto& side : sides) {
         if (solid(side[4], side[5])) continue;
         for (int l = 0; l < layers; ++l) {
-          const std::int32_t b_upper = vertex(side[2], side[3], l),
-                             a_upper = vertex(side[0], side[1], l),
-                             a_lower = vertex(side[0], side[1], l + 1),
-                             b_lower = vertex(side[2], side[3], l + 1);
+          const std::int32_t b_upper = vertex(side[2], side[3], l), a_upper = vertex(side[0], side[1], l),
+                             a_lower = vertex(side[0], side[1], l + 1), b_lower = vertex(side[2], side[3], l + 1);
           slab.triangles.push_back({b_upper, a_upper, a_lower});
           slab.triangles.push_back({b_upper, a_lower, b_lower});
         }
@@ -264,8 +256,7 @@ SurfaceMesh make_nested(int faces) {
   SurfaceMesh cavity = geodesic_sphere(geodesic_frequency(0.3 * faces), 0.6);
   reverse_orientation(cavity);
   append(surface, cavity, rotation({-2.0, 1.0, 0.5}, 0.9876));
-  append(surface, geodesic_sphere(geodesic_frequency(0.2 * faces), 0.3),
-         rotation({0.3, -1.0, 2.0}, 1.2345));
+  append(surface, geodesic_sphere(geodesic_frequency(0.2 * faces), 0.3), rotation({0.3, -1.0, 2.0}, 1.2345));
   return surface;
 }
 
@@ -275,8 +266,7 @@ SurfaceMesh make_two_spheres(int faces) {
   const Matrix3 turn = shape_rotation();
   SurfaceMesh surface;
   append(surface, geodesic_sphere(n, 1.0), turn, apply(turn, {-1.25, 0, 0}));
-  append(surface, geodesic_sphere(n, 1.0), rotation({-2.0, 1.0, 0.5}, 0.9876),
-         apply(turn, {1.25, 0, 0}));
+  append(surface, geodesic_sphere(n, 1.0), rotation({-2.0, 1.0, 0.5}, 0.9876), apply(turn, {1.25, 0, 0}));
   return surface;
 }
 
@@ -301,8 +291,8 @@ std::string known_shapes_text() {
 
 SurfaceMesh generate_surface(const std::string& shape, int faces) {
   if (faces < 1)
-    throw OptionError("the target face count for a generated shape must be at least 1 (got " +
-                      std::to_string(faces) + ")");
+    throw OptionError("the target face count for a generated shape must be at least 1 (got " + std::to_string(faces) +
+                      ")");
   for (const ShapeMaker& maker : kShapes)
     if (shape == maker.name) return maker.make(faces);
   throw OptionError("unknown shape '" + shape + "' (known: " + known_shapes_text() + ")");

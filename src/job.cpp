@@ -46,8 +46,7 @@ SurfaceMesh read_valid_input(const std::string& path, StageTimes& times) {
   return input;
 }
 
-CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result,
-                            StageTimes& times) {
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times) {
   CheckReport check;
   StageTimer timer(&times);
   if (job.check_output) {

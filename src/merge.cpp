@@ -17,7 +17,8 @@ TetMesh weld(const std::vector<Point3>& surface_points, const std::vector<PieceS
   mesh.tets.reserve(tet_total);
   mesh.neighbours.reserve(tet_total);
   for (std::size_t p = 0; p < results.size(); ++p) {
-    if (results[p].index != pieces[p].index || results[p].surface_point_count != std::int32_t(pieces[p].global_ids.size()))
+    if (results[p].index != pieces[p].index ||
+        results[p].surface_point_count != std::int32_t(pieces[p].global_ids.size()))
       throw InternalError("the result of piece " + std::to_string(results[p].index) + " does not match its piece");
     append_local_mesh(results[p].mesh, pieces[p].global_ids, mesh.points, mesh.tets, mesh.neighbours);
     results[p].mesh = LocalTetMesh();  // welded: free it now

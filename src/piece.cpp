@@ -34,9 +34,7 @@ std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::
 }
 
 void check_piece_topology(const PieceSurface& piece) {
-  const auto fail = [&](const std::string& what) {
-    throw MeshingError(FailureKind::bad_surface, piece.index, what);
-  };
+  const auto fail = [&](const std::string& what) { throw MeshingError(FailureKind::bad_surface, piece.index, what); };
   // Every directed edge must appear once and its reverse once: closed and consistently oriented.
   std::vector<std::uint64_t> directed;
   directed.reserve(piece.triangles.size() * 3);
@@ -44,8 +42,7 @@ void check_piece_topology(const PieceSurface& piece) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
   };
   for (const auto& t : piece.triangles) {
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-      fail("its surface has a degenerate triangle");
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) fail("its surface has a degenerate triangle");
     for (int e = 0; e < 3; ++e) directed.push_back(key(t[e], t[(e + 1) % 3]));
   }
   std::sort(directed.begin(), directed.end());

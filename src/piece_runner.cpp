@@ -28,12 +28,16 @@ Failure process_failure(const IsolatedRun& run, int piece, const std::string& wh
   switch (run.end()) {
     case ProcessEnd::crashed: {
       const int sig = run.signal();
-      return {FailureKind::crashed, piece, {},
+      return {FailureKind::crashed,
+              piece,
+              {},
               what + " crashed (signal " + std::to_string(sig) +
                   (sig == SIGABRT ? ": an internal assertion failed)" : std::string(")"))};
     }
     case ProcessEnd::timed_out:
-      return {FailureKind::timed_out, piece, {},
+      return {FailureKind::timed_out,
+              piece,
+              {},
               what + " did not finish within " + std::to_string(static_cast<long long>(run.timeout_seconds())) + " s"};
     default:
       return {FailureKind::no_result, piece, {}, what + " ended without a result"};
@@ -60,7 +64,9 @@ class ChildProcessJob : public PieceJob {
   std::string take_reply() override {
     run_.wait();
     if (run_.end() == ProcessEnd::finished) return run_.take_bytes();
-    return serialize_outcome(PieceOutcome{{}, process_failure(run_, piece_, "meshing")});
+    PieceOutcome outcome;
+    outcome.failure = process_failure(run_, piece_, "meshing");
+    return serialize_outcome(outcome);
   }
 
  private:
@@ -85,11 +91,10 @@ std::string PieceRunner::mesh_to_reply(const PieceSurface& piece, std::function<
   return start(piece, std::move(before))->take_reply();
 }
 
-PieceOutcome PieceRunner::mesh(const PieceSurface& piece) const {
-  return deserialize_outcome(mesh_to_reply(piece));
-}
+PieceOutcome PieceRunner::mesh(const PieceSurface& piece) const { return deserialize_outcome(mesh_to_reply(piece)); }
 
-LocalTetMesh PieceRunner::mesh_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles) const {
+LocalTetMesh PieceRunner::mesh_surface(const std::vector<Point3>& points,
+                                       const std::vector<Triangle>& triangles) const {
   if (!run_.isolate) return mesh_closed_surface(points, triangles, tetgen_);
   const double limit =
       run_.timeout_seconds > 0 ? run_.timeout_seconds : default_tetgen_timeout(triangles.size(), tetgen_);

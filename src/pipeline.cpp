@@ -83,7 +83,8 @@ class RetryPlan {
       final.piece = -1;
       throw MeshingError(final);
     }
-    std::string note = "attempt " + std::to_string(attempt_ + 1) + " failed: " + failure.text() + "; moving cut plane(s)";
+    std::string note =
+        "attempt " + std::to_string(attempt_ + 1) + " failed: " + failure.text() + "; moving cut plane(s)";
     for (int j : planes) note += " " + std::to_string(j);
     // From the third attempt on, also simplify the caps: fewer interior cap points leave TetGen
     // less to recover on the cap (the last attempt uses none).
@@ -135,10 +136,7 @@ std::vector<PieceOutcome> mesh_uncached(const std::vector<PieceSurface>& pieces,
 
 // Input vertices keep their order in the output; the ones no triangle uses are dropped.
 std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input) {
-  std::vector<char> used(input.points.size(), 0);
-  for (const auto& t : input.triangles)
-    for (auto v : t) used[v] = 1;
-  const std::vector<std::int32_t> new_id = compact_ids(used);
+  const std::vector<std::int32_t> new_id = compact_ids(used_vertices(input.points.size(), input.triangles));
   std::vector<Triangle> faces;
   faces.reserve(input.triangles.size());
   for (const auto& t : input.triangles) faces.push_back({new_id[t[0]], new_id[t[1]], new_id[t[2]]});

@@ -3,6 +3,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace partet {
@@ -24,73 +25,60 @@ Point3 newell_normal(const std::vector<Point3>& corners) {
   return {nx, ny, nz};
 }
 
-}  // namespace
+using Flat = std::vector<Kernel::Point_2>;
+using Corner = std::array<std::size_t, 3>;  // positions in the polygon
 
-// Triangulates a polygon with more than three corners, keeping its orientation. Convex
-// polygons get a fan; others are ear-clipped in the plane of their dominant normal component.
-// Returns false if no valid triangulation was found.
-bool triangulate_polygon(const Polygon& polygon, const std::vector<Point3>& points,
-                         std::vector<Triangle>& triangles) {
-  const std::size_t k = polygon.size();
-  Polygon sorted = polygon;
-  std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
-
-  std::vector<Point3> corners;
-  for (std::size_t index : polygon) corners.push_back(points[index]);
+// The polygon projected to the plane of its dominant normal component, counter-clockwise.
+// Empty when the polygon has no area.
+Flat flatten(const std::vector<Point3>& corners) {
   const Point3 normal = newell_normal(corners);
-  double components[3] = {std::abs(normal[0]), std::abs(normal[1]), std::abs(normal[2])};
-  int drop = static_cast<int>(std::max_element(components, components + 3) - components);
-  if (components[drop] == 0) return false;
-  const double sign[3] = {normal[0], normal[1], normal[2]};
+  const double components[3] = {std::abs(normal[0]), std::abs(normal[1]), std::abs(normal[2])};
+  const int drop = static_cast<int>(std::max_element(components, components + 3) - components);
+  if (components[drop] == 0) return {};
   // Dropping coordinate `drop` keeps (drop+1, drop+2) as a right-handed pair, so the polygon is
   // counterclockwise in 2D exactly when the normal's dropped component is positive.
-  const bool flip = sign[drop] < 0;
-  std::vector<Kernel::Point_2> flat;
+  const bool flip = normal[drop] < 0;
+  Flat flat;
   for (const Point3& p : corners) {
-    double u = p[(drop + 1) % 3], v = p[(drop + 2) % 3];
+    const double u = p[(drop + 1) % 3], v = p[(drop + 2) % 3];
     flat.emplace_back(u, flip ? -v : v);
   }
+  return flat;
+}
 
-  auto emit = [&](std::size_t a, std::size_t b, std::size_t c) {
-    triangles.push_back({static_cast<std::int32_t>(polygon[a]),
-                         static_cast<std::int32_t>(polygon[b]),
-                         static_cast<std::int32_t>(polygon[c])});
-  };
+bool is_convex(const Flat& flat) {
+  const std::size_t k = flat.size();
+  for (std::size_t i = 0; i < k; ++i)
+    if (CGAL::orientation(flat[(i + k - 1) % k], flat[i], flat[(i + 1) % k]) != CGAL::LEFT_TURN) return false;
+  return true;
+}
 
-  bool convex = true;
-  for (std::size_t i = 0; i < k && convex; ++i)
-    convex = CGAL::orientation(flat[(i + k - 1) % k], flat[i], flat[(i + 1) % k]) ==
-             CGAL::LEFT_TURN;
-  if (convex) {
-    for (std::size_t i = 1; i + 1 < k; ++i) emit(0, i, i + 1);
-    return true;
+// abc is a left turn with no other remaining corner inside or on it (a corner on the ear's
+// boundary blocks it too: clipping would create a T-junction).
+bool is_ear(const Flat& flat, std::size_t a, std::size_t b, std::size_t c, const std::vector<std::size_t>& remaining) {
+  if (CGAL::orientation(flat[a], flat[b], flat[c]) != CGAL::LEFT_TURN) return false;
+  for (std::size_t other : remaining) {
+    if (other == a || other == b || other == c) continue;
+    if (CGAL::orientation(flat[a], flat[b], flat[other]) != CGAL::RIGHT_TURN &&
+        CGAL::orientation(flat[b], flat[c], flat[other]) != CGAL::RIGHT_TURN &&
+        CGAL::orientation(flat[c], flat[a], flat[other]) != CGAL::RIGHT_TURN)
+      return false;
   }
+  return true;
+}
 
-  auto is_ear = [&](std::size_t a, std::size_t b, std::size_t c,
-                    const std::vector<std::size_t>& remaining) {
-    if (CGAL::orientation(flat[a], flat[b], flat[c]) != CGAL::LEFT_TURN) return false;
-    for (std::size_t other : remaining) {
-      if (other == a || other == b || other == c) continue;
-      // A corner on the ear's boundary blocks it too: clipping would create a T-junction.
-      if (CGAL::orientation(flat[a], flat[b], flat[other]) != CGAL::RIGHT_TURN &&
-          CGAL::orientation(flat[b], flat[c], flat[other]) != CGAL::RIGHT_TURN &&
-          CGAL::orientation(flat[c], flat[a], flat[other]) != CGAL::RIGHT_TURN)
-        return false;
-    }
-    return true;
-  };
-  std::vector<std::size_t> remaining(k);
-  for (std::size_t i = 0; i < k; ++i) remaining[i] = i;
-  // Walk around the polygon clipping ears; a full round without one means there is none.
+// Walks around the polygon clipping ears; a full round without one means there is none.
+bool clip_ears(const Flat& flat, std::vector<Corner>& out) {
+  std::vector<std::size_t> remaining(flat.size());
+  for (std::size_t i = 0; i < remaining.size(); ++i) remaining[i] = i;
   std::size_t i = 0, misses = 0;
   while (remaining.size() > 3) {
     const std::size_t n = remaining.size();
     if (misses >= n) return false;
     i %= n;
-    std::size_t a = remaining[(i + n - 1) % n], b = remaining[i], c = remaining[(i + 1) % n];
-    if (is_ear(a, b, c, remaining)) {
-      emit(a, b, c);
+    const std::size_t a = remaining[(i + n - 1) % n], b = remaining[i], c = remaining[(i + 1) % n];
+    if (is_ear(flat, a, b, c, remaining)) {
+      out.push_back({a, b, c});
       remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(i));
       misses = 0;
       if (i > 0) --i;  // the previous corner may have just become an ear
@@ -99,10 +87,30 @@ bool triangulate_polygon(const Polygon& polygon, const std::vector<Point3>& poin
       ++misses;
     }
   }
-  if (CGAL::orientation(flat[remaining[0]], flat[remaining[1]], flat[remaining[2]]) !=
-      CGAL::LEFT_TURN)
+  if (CGAL::orientation(flat[remaining[0]], flat[remaining[1]], flat[remaining[2]]) != CGAL::LEFT_TURN) return false;
+  out.push_back({remaining[0], remaining[1], remaining[2]});
+  return true;
+}
+
+}  // namespace
+
+bool triangulate_polygon(const Polygon& polygon, const std::vector<Point3>& points, std::vector<Triangle>& triangles) {
+  Polygon sorted = polygon;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  std::vector<Point3> corners;
+  for (std::size_t index : polygon) corners.push_back(points[index]);
+  const Flat flat = flatten(corners);
+  if (flat.empty()) return false;
+  std::vector<Corner> ears;
+  if (is_convex(flat)) {
+    for (std::size_t i = 1; i + 1 < flat.size(); ++i) ears.push_back({0, i, i + 1});
+  } else if (!clip_ears(flat, ears)) {
     return false;
-  emit(remaining[0], remaining[1], remaining[2]);
+  }
+  for (const Corner& e : ears)
+    triangles.push_back({static_cast<std::int32_t>(polygon[e[0]]), static_cast<std::int32_t>(polygon[e[1]]),
+                         static_cast<std::int32_t>(polygon[e[2]])});
   return true;
 }
 

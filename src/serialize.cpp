@@ -89,7 +89,8 @@ T decode(std::string_view bytes, Load load) {
 }  // namespace
 
 std::string serialize_piece(const PieceSurface& piece) {
-  const std::size_t expected = 64 + piece.global_ids.size() * 4 + piece.points.size() * 24 + piece.triangles.size() * 12;
+  const std::size_t expected =
+      64 + piece.global_ids.size() * 4 + piece.points.size() * 24 + piece.triangles.size() * 12;
   return encode(expected, [&](auto& ar) {
     std::int32_t index = piece.index;
     ar << index;

@@ -16,15 +16,21 @@ namespace {
 // TetGen's error codes (thrown as int through our terminatetetgen).
 MeshingError tetgen_error(int code, int piece) {
   switch (code) {
-    case 1: return MeshingError(FailureKind::tetgen_error, piece, "TetGen ran out of memory");
-    case 2: return MeshingError(FailureKind::tetgen_error, piece, "TetGen hit an internal error");
-    case 3: return MeshingError(FailureKind::self_intersection, piece, "TetGen found a self-intersection");
+    case 1:
+      return MeshingError(FailureKind::tetgen_error, piece, "TetGen ran out of memory");
+    case 2:
+      return MeshingError(FailureKind::tetgen_error, piece, "TetGen hit an internal error");
+    case 3:
+      return MeshingError(FailureKind::self_intersection, piece, "TetGen found a self-intersection");
     case 4:
       return MeshingError(FailureKind::tetgen_error, piece,
                           "TetGen found a very small input feature (below its tolerance)");
-    case 5: return MeshingError(FailureKind::tetgen_error, piece, "TetGen found two very close input facets");
-    case 10: return MeshingError(FailureKind::tetgen_error, piece, "TetGen rejected the input");
-    default: return MeshingError(FailureKind::tetgen_error, piece, "TetGen failed with code " + std::to_string(code));
+    case 5:
+      return MeshingError(FailureKind::tetgen_error, piece, "TetGen found two very close input facets");
+    case 10:
+      return MeshingError(FailureKind::tetgen_error, piece, "TetGen rejected the input");
+    default:
+      return MeshingError(FailureKind::tetgen_error, piece, "TetGen failed with code " + std::to_string(code));
   }
 }
 
@@ -131,8 +137,8 @@ InputFaces index_input_faces(const std::vector<Triangle>& triangles, int piece) 
 // Input faces split the tets into regions. A region is solid when its tets lie on the inner
 // side of the input triangles around it (winding number 1); cavities are not. Returns, per tet,
 // whether it is solid.
-std::vector<char> solid_tets(const RawMesh& raw, const std::vector<Triangle>& triangles,
-                             const InputFaces& input_face, int piece) {
+std::vector<char> solid_tets(const RawMesh& raw, const std::vector<Triangle>& triangles, const InputFaces& input_face,
+                             int piece) {
   std::vector<std::int32_t> region;
   const std::int32_t region_count = label_tet_regions(
       raw.neighbours, [](std::size_t) { return true; },
@@ -160,8 +166,8 @@ std::vector<char> solid_tets(const RawMesh& raw, const std::vector<Triangle>& tr
 
 // The solid tets, renumbered, with the Steiner points they use. A face on the boundary of the
 // kept tets must be one of the input triangles, outward, and every input triangle must be one.
-LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid,
-                             const std::vector<Triangle>& triangles, const InputFaces& input_face, int piece) {
+LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid, const std::vector<Triangle>& triangles,
+                             const InputFaces& input_face, int piece) {
   const std::vector<std::int32_t> new_index = compact_ids(solid);
   LocalTetMesh result;
   for (std::size_t t = 0; t < raw.tets.size(); ++t)

@@ -34,7 +34,8 @@ void connect_open_faces(const std::vector<Tet>& tets, std::vector<Tet>& neighbou
   std::vector<OpenFace> open;
   auto collect = [&](std::size_t t) {
     for (int j = 0; j < 4; ++j)
-      if (neighbours[t][j] < 0) open.push_back({FaceKey(outward_face(tets[t], j)), 4 * static_cast<std::uint64_t>(t) + j});
+      if (neighbours[t][j] < 0)
+        open.push_back({FaceKey(outward_face(tets[t], j)), 4 * static_cast<std::uint64_t>(t) + j});
   };
   if (candidates) {
     for (auto t : *candidates) collect(static_cast<std::size_t>(t));

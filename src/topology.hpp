@@ -85,6 +85,15 @@ std::int32_t label_tet_regions(const std::vector<Tet>& neighbours, Include inclu
 // `scratch` must have one entry per original vertex, all -1; it is left that way.
 std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles, std::vector<std::int32_t>& scratch);
 
+// Which of vertex_count vertices the cells (triangles or tets) use.
+template <class Cell>
+std::vector<char> used_vertices(std::size_t vertex_count, const std::vector<Cell>& cells) {
+  std::vector<char> used(vertex_count, 0);
+  for (const auto& c : cells)
+    for (auto v : c) used[v] = 1;
+  return used;
+}
+
 // Ids for the entries where used[i] is true, 0, 1, 2, ... in order; -1 elsewhere.
 std::vector<std::int32_t> compact_ids(const std::vector<char>& used);
 

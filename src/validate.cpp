@@ -79,8 +79,7 @@ std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
 }
 
 bool is_collinear(const Triangle& t, const std::vector<Point3>& points) {
-  return CGAL::collinear(to_kernel(points[t[0]]), to_kernel(points[t[1]]),
-                         to_kernel(points[t[2]]));
+  return CGAL::collinear(to_kernel(points[t[0]]), to_kernel(points[t[1]]), to_kernel(points[t[2]]));
 }
 
 void check_indices_and_coordinates(const SurfaceMesh& surface, const char* what) {
@@ -89,15 +88,14 @@ void check_indices_and_coordinates(const SurfaceMesh& surface, const char* what)
   for (std::size_t f = 0; f < surface.triangles.size(); ++f)
     for (std::int32_t v : surface.triangles[f])
       if (v < 0 || v >= vertex_count)
-        throw InputError(std::string(what) + " has an invalid face: face " + str(f) +
-                         " refers to vertex " + str(v) + ", but there are only " +
-                         str(vertex_count) + " vertices");
+        throw InputError(std::string(what) + " has an invalid face: face " + str(f) + " refers to vertex " + str(v) +
+                         ", but there are only " + str(vertex_count) + " vertices");
   for (const Triangle& t : surface.triangles)
     for (std::int32_t v : t) {
       const Point3& p = surface.points[v];
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-        throw InputError(std::string(what) + " has a non-finite coordinate at vertex " + str(v) +
-                         " " + coordinates_text(p));
+        throw InputError(std::string(what) + " has a non-finite coordinate at vertex " + str(v) + " " +
+                         coordinates_text(p));
     }
 }
 
@@ -105,8 +103,7 @@ void check_degenerate_faces(const SurfaceMesh& surface, const char* what) {
   const std::string prefix = std::string(what) + " has a degenerate face: face ";
   for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
     const Triangle& t = surface.triangles[f];
-    if (t[0] == t[1] || t[0] == t[2])
-      throw InputError(prefix + str(f) + " repeats vertex " + str(t[0]));
+    if (t[0] == t[1] || t[0] == t[2]) throw InputError(prefix + str(f) + " repeats vertex " + str(t[0]));
     if (t[1] == t[2]) throw InputError(prefix + str(f) + " repeats vertex " + str(t[1]));
   }
   for (std::size_t f = 0; f < surface.triangles.size(); ++f)
@@ -157,54 +154,63 @@ void check_duplicate_vertices(const SurfaceMesh& surface, const char* what) {
     }
   }
   if (duplicates > 0)
-    throw InputError(std::string(what) + " has duplicate vertices: vertices " + str(first_a) +
-                     " and " + str(first_b) + " are both at " + coordinates_text(points[first_a]) +
+    throw InputError(std::string(what) + " has duplicate vertices: vertices " + str(first_a) + " and " + str(first_b) +
+                     " are both at " + coordinates_text(points[first_a]) +
                      (duplicates > 1 ? " (" + str(duplicates) + " duplicates)" : ""));
 }
 
-// Every undirected edge must be used by exactly two faces, traversing it in opposite
-// directions; then the faces around each vertex must form a single fan.
-void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
-  const std::vector<Triangle>& triangles = surface.triangles;
-  const std::size_t face_count = triangles.size();
+struct EdgeUse {
+  std::uint32_t count = 0;
+  std::int32_t faces[2] = {-1, -1};
+  bool forward[2] = {false, false};  // traversed from the lower to the higher vertex index
+};
 
-  struct EdgeUse {
-    std::uint32_t count = 0;
-    std::int32_t faces[2] = {-1, -1};
-    bool forward[2] = {false, false};  // traversed from the lower to the higher vertex index
-  };
-  FlatIndexMap edge_ids(face_count * 3 / 2 + 1);
+// Every edge of the surface with the faces using it, and for each corner (3 f + c) the edge
+// leaving it.
+struct EdgeTable {
   std::vector<EdgeUse> edges;
-  edges.reserve(face_count * 3 / 2 + 1);
-  std::vector<std::uint32_t> corner_edge(face_count * 3);  // edge leaving corner c of face f
+  std::vector<std::uint32_t> corner_edge;
+};
+
+EdgeTable edge_table(const std::vector<Triangle>& triangles) {
+  const std::size_t face_count = triangles.size();
+  EdgeTable table;
+  FlatIndexMap edge_ids(face_count * 3 / 2 + 1);
+  table.edges.reserve(face_count * 3 / 2 + 1);
+  table.corner_edge.resize(face_count * 3);
   for (std::size_t f = 0; f < face_count; ++f) {
     const Triangle& t = triangles[f];
     for (int c = 0; c < 3; ++c) {
       std::int32_t from = t[c], to = t[(c + 1) % 3];
-      std::uint32_t id =
-          edge_ids.find_or_insert(edge_key(from, to), static_cast<std::uint32_t>(edges.size()));
-      if (id == edges.size()) edges.emplace_back();
-      EdgeUse& edge = edges[id];
+      std::uint32_t id = edge_ids.find_or_insert(edge_key(from, to), static_cast<std::uint32_t>(table.edges.size()));
+      if (id == table.edges.size()) table.edges.emplace_back();
+      EdgeUse& edge = table.edges[id];
       if (edge.count < 2) {
         edge.faces[edge.count] = static_cast<std::int32_t>(f);
         edge.forward[edge.count] = from < to;
       }
       ++edge.count;
-      corner_edge[3 * f + c] = id;
+      table.corner_edge[3 * f + c] = id;
     }
   }
+  return table;
+}
 
+// Every undirected edge must be used by exactly two faces, traversing it in opposite directions.
+void check_edges(const SurfaceMesh& surface, const EdgeTable& table, const std::string& subject) {
+  const std::vector<Triangle>& triangles = surface.triangles;
   long long border = 0, crowded = 0, misoriented = 0;
-  const EdgeUse *first_border = nullptr, *first_misoriented = nullptr;
+  std::size_t first_border_corner = 0;
+  const EdgeUse* first_misoriented = nullptr;
   std::uint64_t first_crowded_key = 0, first_misoriented_key = 0;
-  for (std::size_t f = 0; f < face_count; ++f) {
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
     for (int c = 0; c < 3; ++c) {
-      const EdgeUse& edge = edges[corner_edge[3 * f + c]];
+      const EdgeUse& edge = table.edges[table.corner_edge[3 * f + c]];
       // Visit each edge once, from the face that introduced it.
       if (edge.faces[0] != static_cast<std::int32_t>(f)) continue;
       std::uint64_t key = edge_key(triangles[f][c], triangles[f][(c + 1) % 3]);
       if (edge.count == 1) {
-        if (border++ == 0) first_border = &edge;
+        if (border++ == 0) first_border_corner = 3 * f + c;
       } else if (edge.count > 2) {
         if (crowded++ == 0) first_crowded_key = key;
       } else if (edge.forward[0] == edge.forward[1]) {
@@ -215,35 +221,29 @@ void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
       }
     }
   }
-  const std::string subject(what);
-  if (border > 0) {
-    const Triangle& t = triangles[first_border->faces[0]];
-    int c = 0;
-    while (&edges[corner_edge[3 * first_border->faces[0] + c]] != first_border) ++c;
-    throw InputError(subject + " is not closed: " + str(border) + " border edge" +
-                     (border > 1 ? "s" : "") + ", first at vertex " + str(t[c]));
-  }
-  if (crowded > 0) {
-    throw InputError(subject + " is not manifold: " + str(crowded) + " edge" +
-                     (crowded > 1 ? "s" : "") +
+  if (border > 0)
+    throw InputError(subject + " is not closed: " + str(border) + " border edge" + (border > 1 ? "s" : "") +
+                     ", first at vertex " + str(triangles[first_border_corner / 3][first_border_corner % 3]));
+  if (crowded > 0)
+    throw InputError(subject + " is not manifold: " + str(crowded) + " edge" + (crowded > 1 ? "s" : "") +
                      " shared by more than two faces, first between vertices " +
                      str(static_cast<long long>(first_crowded_key >> 32)) + " and " +
                      str(static_cast<long long>(first_crowded_key & 0xffffffffu)));
-  }
-  if (misoriented > 0) {
-    throw InputError(subject + " is not consistently oriented: faces " +
-                     str(first_misoriented->faces[0]) + " and " +
-                     str(first_misoriented->faces[1]) +
-                     " traverse the edge between vertices " +
+  if (misoriented > 0)
+    throw InputError(subject + " is not consistently oriented: faces " + str(first_misoriented->faces[0]) + " and " +
+                     str(first_misoriented->faces[1]) + " traverse the edge between vertices " +
                      str(static_cast<long long>(first_misoriented_key >> 32)) + " and " +
-                     str(static_cast<long long>(first_misoriented_key & 0xffffffffu)) +
-                     " in the same direction" +
+                     str(static_cast<long long>(first_misoriented_key & 0xffffffffu)) + " in the same direction" +
                      (misoriented > 1 ? " (" + str(misoriented) + " such edges)" : ""));
-  }
+}
 
-  // Walk around each vertex: from corner (f, v), cross the edge leaving v to the other face of
-  // that edge. With every edge shared by exactly two opposite faces this is a permutation of
-  // the corners, and its cycles at v are the fans of faces around v.
+// The faces around each vertex must form a single fan. Walk around each vertex: from corner
+// (f, v), cross the edge leaving v to the other face of that edge. With every edge shared by
+// exactly two opposite faces this is a permutation of the corners, and its cycles at v are the
+// fans of faces around v.
+void check_fans(const SurfaceMesh& surface, const EdgeTable& table, const std::string& subject) {
+  const std::vector<Triangle>& triangles = surface.triangles;
+  const std::size_t face_count = triangles.size();
   std::vector<char> visited(face_count * 3, 0);
   std::vector<std::uint32_t> fans(surface.points.size(), 0);
   for (std::size_t start = 0; start < face_count * 3; ++start) {
@@ -253,7 +253,7 @@ void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
     std::size_t corner = start;
     while (!visited[corner]) {
       visited[corner] = 1;
-      const EdgeUse& edge = edges[corner_edge[corner]];
+      const EdgeUse& edge = table.edges[table.corner_edge[corner]];
       const auto f = static_cast<std::int32_t>(corner / 3);
       const std::int32_t g = edge.faces[0] == f ? edge.faces[1] : edge.faces[0];
       int c = 0;
@@ -266,9 +266,15 @@ void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
   for (std::size_t v = 0; v < fans.size(); ++v)
     if (fans[v] > 1 && split_vertices++ == 0) first_split = static_cast<std::int64_t>(v);
   if (split_vertices > 0)
-    throw InputError(subject + " is not manifold: vertex " + str(first_split) + " joins " +
-                     str(fans[first_split]) + " separate fans of faces" +
+    throw InputError(subject + " is not manifold: vertex " + str(first_split) + " joins " + str(fans[first_split]) +
+                     " separate fans of faces" +
                      (split_vertices > 1 ? " (" + str(split_vertices) + " such vertices)" : ""));
+}
+
+void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
+  const EdgeTable table = edge_table(surface.triangles);
+  check_edges(surface, table, what);
+  check_fans(surface, table, what);
 }
 
 // True if faces a and b share more than a common edge or vertex (mirrors the rules of CGAL's
@@ -326,25 +332,23 @@ void check_no_self_intersections(const SurfaceMesh& surface, const char* what) {
   boxes.reserve(triangles.size());
   for (std::size_t f = 0; f < triangles.size(); ++f) {
     const Triangle& t = triangles[f];
-    CGAL::Bbox_3 box = to_kernel(points[t[0]]).bbox() + to_kernel(points[t[1]]).bbox() +
-                       to_kernel(points[t[2]]).bbox();
+    CGAL::Bbox_3 box = to_kernel(points[t[0]]).bbox() + to_kernel(points[t[1]]).bbox() + to_kernel(points[t[2]]).bbox();
     boxes.emplace_back(box, static_cast<std::uint32_t>(f));
   }
 
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   auto report = [&](const Box& a, const Box& b) {
     std::uint32_t f = a.info(), g = b.info();
-    if (faces_intersect(triangles[f], triangles[g], points))
-      pairs.emplace_back(std::min(f, g), std::max(f, g));
+    if (faces_intersect(triangles[f], triangles[g], points)) pairs.emplace_back(std::min(f, g), std::max(f, g));
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), report);
   if (pairs.empty()) return;
 
   // The box traversal order is an implementation detail; report the lowest pair.
   auto first = *std::min_element(pairs.begin(), pairs.end());
-  throw InputError(std::string(what) + " self-intersects: faces " + str(first.first) + " and " +
-                   str(first.second) + " intersect (" + str(static_cast<long long>(pairs.size())) +
-                   " intersecting pair" + (pairs.size() > 1 ? "s" : "") + ")");
+  throw InputError(std::string(what) + " self-intersects: faces " + str(first.first) + " and " + str(first.second) +
+                   " intersect (" + str(static_cast<long long>(pairs.size())) + " intersecting pair" +
+                   (pairs.size() > 1 ? "s" : "") + ")");
 }
 
 double enclosed_volume(const SurfaceMesh& surface) {
@@ -368,8 +372,8 @@ double enclosed_volume(const SurfaceMesh& surface) {
       b[i] = surface.points[t[1]][i] - origin[i];
       c[i] = surface.points[t[2]][i] - origin[i];
     }
-    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                  a[2] * (b[0] * c[1] - b[1] * c[0]);
+    six_volume +=
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   return static_cast<double>(six_volume / 6);
 }

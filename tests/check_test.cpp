@@ -20,8 +20,7 @@ double det6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) 
     v[k] = c[k] - a[k];
     w[k] = d[k] - a[k];
   }
-  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-         u[2] * (v[0] * w[1] - v[1] * w[0]);
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
 // Unit cube corners: index = x + 2y + 4z.
@@ -180,8 +179,7 @@ TEST(CheckMesh, OverlappingTets) {
   if (det6(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0) std::swap(t[2], t[3]);
   m.tets.push_back(t);
   CheckReport r = check_mesh(cube_surface(), m);
-  EXPECT_TRUE(has_violation(r, "1 triangles have both their tets on the same side (overlap)"))
-      << all_violations(r);
+  EXPECT_TRUE(has_violation(r, "1 triangles have both their tets on the same side (overlap)")) << all_violations(r);
 }
 
 TEST(CheckMesh, UnusedVertex) {
@@ -207,8 +205,7 @@ TEST(CheckMesh, MovedInputVertex) {
   TetMesh m = cube_mesh();
   m.points[7][2] = std::nextafter(1.0, 2.0);
   CheckReport r = check_mesh(cube_surface(), m);
-  EXPECT_TRUE(has_violation(r, "input vertex 7 is missing from the mesh (coordinates changed?)"))
-      << all_violations(r);
+  EXPECT_TRUE(has_violation(r, "input vertex 7 is missing from the mesh (coordinates changed?)")) << all_violations(r);
 }
 
 TEST(CheckMesh, ReversedInputIsWronglyOriented) {
@@ -259,8 +256,7 @@ TEST(CheckMesh, CavityPasses) {
 TEST(CheckMesh, FilledCavityFails) {
   TetMesh m = grid_mesh(3, [](int, int, int) { return false; });
   CheckReport r = check_mesh(cube_with_cavity_surface(), m);
-  EXPECT_TRUE(has_violation(r, "tet volume 27 differs from the volume enclosed by the input"))
-      << all_violations(r);
+  EXPECT_TRUE(has_violation(r, "tet volume 27 differs from the volume enclosed by the input")) << all_violations(r);
   EXPECT_TRUE(has_violation(r, "input triangles are not boundary faces")) << all_violations(r);
 }
 

@@ -169,8 +169,8 @@ TEST(BuildCaps, DensityAddsInteriorPointsOnThePlane) {
 TEST(BuildCaps, DensityMustBeFiniteAndNonNegative) {
   const SurfaceMesh s = generate_surface("sphere", 300);
   const auto planes = choose_cut_planes(s, 2);
-  for (double density : {-1.0, -1e-300, std::numeric_limits<double>::quiet_NaN(),
-                         std::numeric_limits<double>::infinity()}) {
+  for (double density :
+       {-1.0, -1e-300, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     SplitSurface split = split_at_planes(s, planes);
     EXPECT_THROW(build_caps(split, planes, density), OptionError) << density;
   }
@@ -200,8 +200,8 @@ TEST(BuildCaps, TorusCutThroughTheHoleHasTwoLoops) {
       vertices.insert(t.begin(), t.end());
       for (int e = 0; e < 3; ++e) edges.insert({std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])});
     }
-    const long euler = static_cast<long>(vertices.size()) - static_cast<long>(edges.size()) +
-                       static_cast<long>(cap.triangles.size());
+    const long euler =
+        static_cast<long>(vertices.size()) - static_cast<long>(edges.size()) + static_cast<long>(cap.triangles.size());
     EXPECT_EQ(euler, 2) << "two disks";
     const double disk = kPi * 0.4 * 0.4;
     const double area = cap_area(c, cap);

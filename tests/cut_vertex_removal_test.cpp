@@ -100,9 +100,10 @@ TEST(RemoveCutVertices, DirectCallOnWeldedMesh) {
   // Tets touching a cut vertex: exactly the cavity.
   std::int64_t touching = 0;
   for (const auto& t : mesh.tets)
-    if (std::any_of(t.begin(), t.end(), [&](std::int32_t v) { return s.prepared.split.is_cut_vertex(v) &&
-                                                                      v < s.prepared.split.input_vertex_count +
-                                                                              s.prepared.split.cut_vertex_count(); }))
+    if (std::any_of(t.begin(), t.end(), [&](std::int32_t v) {
+          return s.prepared.split.is_cut_vertex(v) &&
+                 v < s.prepared.split.input_vertex_count + s.prepared.split.cut_vertex_count();
+        }))
       ++touching;
   const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, here(s.options));
   EXPECT_EQ(stats.removed, s.prepared.split.cut_vertex_count());

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "partet/check.hpp"
 #include "partet/partition.hpp"
@@ -52,8 +52,7 @@ SurfaceMesh flat_octahedron(double eps) {
 // three coplanar triangles, one with angles of about 0.005 degrees, which the cuts cross.
 SurfaceMesh cube_with_sliver() {
   SurfaceMesh s;
-  s.points = {{0, 0, 0}, {3, 0, 0}, {3, 1, 0}, {0, 1, 0}, {0, 0, 1}, {3, 0, 1}, {3, 1, 1}, {0, 1, 1},
-              {1.11, 1e-4, 0}};
+  s.points = {{0, 0, 0}, {3, 0, 0}, {3, 1, 0}, {0, 1, 0}, {0, 0, 1}, {3, 0, 1}, {3, 1, 1}, {0, 1, 1}, {1.11, 1e-4, 0}};
   s.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
                  {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
   // Split bottom triangle (0, 2, 1), which has the edge 0-1, at point 8 near that edge.

@@ -46,8 +46,7 @@ int component_count(const SurfaceMesh& s) {
 }
 
 TEST(Generate, ShapeNames) {
-  EXPECT_EQ(generated_shape_names(),
-            (std::vector<std::string>{"sphere", "torus", "genus3", "nested", "two_spheres"}));
+  EXPECT_EQ(generated_shape_names(), (std::vector<std::string>{"sphere", "torus", "genus3", "nested", "two_spheres"}));
 }
 
 class EveryShape : public ::testing::TestWithParam<std::pair<std::string, int>> {};
@@ -62,8 +61,7 @@ TEST_P(EveryShape, IsValidAndNearTheTarget) {
     EXPECT_LE(count, 2.0 * faces);
     EXPECT_GE(count, 0.5 * faces);
   }
-  EXPECT_EQ(used_vertex_count(surface), static_cast<long long>(surface.points.size()))
-      << "no unreferenced vertices";
+  EXPECT_EQ(used_vertex_count(surface), static_cast<long long>(surface.points.size())) << "no unreferenced vertices";
 }
 
 std::vector<std::pair<std::string, int>> every_shape_and_size() {
@@ -74,9 +72,7 @@ std::vector<std::pair<std::string, int>> every_shape_and_size() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Generate, EveryShape, ::testing::ValuesIn(every_shape_and_size()),
-                         [](const auto& info) {
-                           return info.param.first + "_" + std::to_string(info.param.second);
-                         });
+                         [](const auto& info) { return info.param.first + "_" + std::to_string(info.param.second); });
 
 TEST(Generate, Topology) {
   for (int faces : {1, 1000, 20000}) {

@@ -24,8 +24,7 @@ struct Welded {
   TetMesh mesh;
 };
 
-Welded weld_shape(const std::string& name, int faces, int k, double density = 1.0,
-                  const std::string& quality = "") {
+Welded weld_shape(const std::string& name, int faces, int k, double density = 1.0, const std::string& quality = "") {
   Welded w;
   MeshOptions options;
   options.pieces = k;
@@ -47,7 +46,8 @@ void expect_valid_weld(const Welded& w) {
   }
   ASSERT_EQ(mesh.points.size(), w.prepared.split.points.size() + steiner);
   ASSERT_EQ(mesh.tets.size(), tets);
-  for (std::size_t v = 0; v < w.prepared.split.points.size(); ++v) ASSERT_EQ(mesh.points[v], w.prepared.split.points[v]);
+  for (std::size_t v = 0; v < w.prepared.split.points.size(); ++v)
+    ASSERT_EQ(mesh.points[v], w.prepared.split.points[v]);
   std::size_t next = w.prepared.split.points.size();
   for (const auto& r : w.results)
     for (const auto& q : r.mesh.steiner_points) EXPECT_EQ(mesh.points[next++], q);
@@ -61,7 +61,8 @@ void expect_valid_weld(const Welded& w) {
     for (const auto& local : r.mesh.tets) {
       for (int j = 0; j < 4; ++j) {
         const auto v = local[j];
-        const Point3& expected = v < r.surface_point_count ? piece.points[v] : r.mesh.steiner_points[v - r.surface_point_count];
+        const Point3& expected =
+            v < r.surface_point_count ? piece.points[v] : r.mesh.steiner_points[v - r.surface_point_count];
         ASSERT_EQ(mesh.points[mesh.tets[t][j]], expected);
         if (v >= r.surface_point_count)
           EXPECT_EQ(mesh.tets[t][j], static_cast<std::int32_t>(steiner_base + v - r.surface_point_count));

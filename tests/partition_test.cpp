@@ -27,9 +27,12 @@ using namespace partet::test;
 int exact_side(const CutPlane& plane, const Point3& p) {
   const K::Plane_3 h(plane.normal[0], plane.normal[1], plane.normal[2], -plane.offset);
   switch (h.oriented_side(K::Point_3(p[0], p[1], p[2]))) {
-    case CGAL::ON_POSITIVE_SIDE: return 1;
-    case CGAL::ON_NEGATIVE_SIDE: return -1;
-    default: return 0;
+    case CGAL::ON_POSITIVE_SIDE:
+      return 1;
+    case CGAL::ON_NEGATIVE_SIDE:
+      return -1;
+    default:
+      return 0;
   }
 }
 
@@ -50,8 +53,7 @@ struct Shape {
   const char* name;
   int faces;
 };
-const Shape kShapes[] = {{"sphere", 2000}, {"torus", 2000}, {"genus3", 2000}, {"nested", 3000},
-                         {"two_spheres", 2000}};
+const Shape kShapes[] = {{"sphere", 2000}, {"torus", 2000}, {"genus3", 2000}, {"nested", 3000}, {"two_spheres", 2000}};
 
 TEST(CutAxis, CoordinateAxisClosestToMainAxis) {
   // A sphere stretched 3x along y: the main axis is y.
@@ -263,8 +265,7 @@ void expect_valid_split(const SurfaceMesh& s, const std::vector<CutPlane>& plane
   // Input edges, for checking the recorded edge of each cut vertex.
   std::set<std::pair<std::int32_t, std::int32_t>> input_edges;
   for (const auto& t : s.triangles)
-    for (int e = 0; e < 3; ++e)
-      input_edges.insert({std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])});
+    for (int e = 0; e < 3; ++e) input_edges.insert({std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])});
 
   std::set<std::array<std::int32_t, 3>> edge_plane;
   for (std::int32_t c = 0; c < split.cut_vertex_count(); ++c) {
@@ -318,8 +319,8 @@ void expect_valid_split(const SurfaceMesh& s, const std::vector<CutPlane>& plane
       ASSERT_LT(v, static_cast<std::int32_t>(split.points.size()));
       if (split.is_cut_vertex(v)) {
         const int j = split.cut_vertex_plane[v - split.input_vertex_count];
-        EXPECT_TRUE(j == piece - 1 || j == piece) << "triangle " << t << " in piece " << piece
-                                                  << " uses a cut vertex of plane " << j;
+        EXPECT_TRUE(j == piece - 1 || j == piece)
+            << "triangle " << t << " in piece " << piece << " uses a cut vertex of plane " << j;
         // A cut vertex comes from an edge of the parent triangle.
         const auto [a, b] = split.cut_vertex_edge[v - split.input_vertex_count];
         const Triangle& pt = s.triangles[parent];
@@ -390,8 +391,8 @@ TEST(SplitAtPlanes, UncutTrianglesAreKept) {
   for (std::size_t f = 0; f < s.triangles.size(); ++f) {
     const Triangle& tri = s.triangles[f];
     const int p0 = piece_of_point(planes, s.points[tri[0]]);
-    const bool crosses = piece_of_point(planes, s.points[tri[1]]) != p0 ||
-                         piece_of_point(planes, s.points[tri[2]]) != p0;
+    const bool crosses =
+        piece_of_point(planes, s.points[tri[1]]) != p0 || piece_of_point(planes, s.points[tri[2]]) != p0;
     if (crosses) {
       EXPECT_GE(by_parent[f].size(), 2u);  // at least a triangle on each side
       continue;
@@ -417,8 +418,7 @@ TEST(SplitAtPlanes, TriangleCrossingSeveralPlanes) {
   expect_valid_split(s, planes, split);
   // Edges 0-1, 0-2, 0-3 cross plane 0; edges 1-3, 2-3, 0-3 cross plane 1.
   EXPECT_EQ(split.cut_vertex_count(), 6);
-  std::set<std::array<std::int32_t, 3>> expected = {{0, 1, 0}, {0, 2, 0}, {0, 3, 0},
-                                                     {1, 3, 1}, {2, 3, 1}, {0, 3, 1}};
+  std::set<std::array<std::int32_t, 3>> expected = {{0, 1, 0}, {0, 2, 0}, {0, 3, 0}, {1, 3, 1}, {2, 3, 1}, {0, 3, 1}};
   std::set<std::array<std::int32_t, 3>> got;
   for (std::int32_t c = 0; c < split.cut_vertex_count(); ++c)
     got.insert({split.cut_vertex_edge[c][0], split.cut_vertex_edge[c][1], split.cut_vertex_plane[c]});

@@ -117,8 +117,8 @@ TEST(PieceRunner, CrashAndHookFailuresInAChild) {
   EXPECT_EQ(crashed.failure->piece, 1);
   EXPECT_NE(crashed.failure->text().find("crashed (signal 6"), std::string::npos) << crashed.failure->text();
 
-  const PieceOutcome injected = deserialize_outcome(isolated.mesh_to_reply(
-      pieces[2], [] { throw MeshingError(FailureKind::injected, 2, "injected"); }));
+  const PieceOutcome injected = deserialize_outcome(
+      isolated.mesh_to_reply(pieces[2], [] { throw MeshingError(FailureKind::injected, 2, "injected"); }));
   ASSERT_TRUE(injected.failure);
   EXPECT_EQ(injected.failure->kind, FailureKind::injected);
   EXPECT_EQ(injected.failure->piece, 2);

@@ -68,8 +68,7 @@ inline std::string closed_oriented_problem(const std::vector<Triangle>& tris) {
              std::to_string(n) + " times";
     auto it = count.find({edge.second, edge.first});
     if (it == count.end())
-      return "directed edge " + std::to_string(edge.first) + "->" + std::to_string(edge.second) +
-             " has no reverse";
+      return "directed edge " + std::to_string(edge.first) + "->" + std::to_string(edge.second) + " has no reverse";
   }
   return "";
 }
@@ -159,7 +158,8 @@ inline double cross_section_area(const std::vector<Point3>& points, const std::v
         have_in = true;
       }
     }
-    if (have_out && have_in) twice_area += static_cast<long double>(in[u]) * out[v] - static_cast<long double>(in[v]) * out[u];
+    if (have_out && have_in)
+      twice_area += static_cast<long double>(in[u]) * out[v] - static_cast<long double>(in[v]) * out[u];
   }
   return static_cast<double>(twice_area / 2);
 }
@@ -210,7 +210,8 @@ inline std::string neighbour_problem(const std::vector<Tet>& tets, const std::ve
       if (neighbours[u][back] != static_cast<std::int32_t>(t))
         return "tet " + std::to_string(u) + " does not point back at " + std::to_string(t);
       // The two tets lie on opposite sides of the face: opposite orientations.
-      if (canonical(outward_face(tets[t], j)) == canonical(outward_face(tets[u], back))) return "face oriented the same in both tets";
+      if (canonical(outward_face(tets[t], j)) == canonical(outward_face(tets[u], back)))
+        return "face oriented the same in both tets";
     }
   return "";
 }

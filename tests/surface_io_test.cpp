@@ -34,10 +34,8 @@ const char* const kTetrahedronOff =
     "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
 // A unit cube with quad faces, outward oriented.
-const char* const kCubeVertices =
-    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
-const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                              {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+const char* const kCubeVertices = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
+const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
 
 class SurfaceIoTest : public ::testing::Test {
  protected:
@@ -57,8 +55,7 @@ TEST_F(SurfaceIoTest, RoundTripIsBitIdentical) {
   ASSERT_EQ(back.points.size(), surface.points.size());
   ASSERT_EQ(back.triangles, surface.triangles);
   for (std::size_t v = 0; v < surface.points.size(); ++v)
-    ASSERT_EQ(std::memcmp(back.points[v].data(), surface.points[v].data(), sizeof(Point3)), 0)
-        << "vertex " << v;
+    ASSERT_EQ(std::memcmp(back.points[v].data(), surface.points[v].data(), sizeof(Point3)), 0) << "vertex " << v;
   std::ifstream tmp(file + ".tmp");
   EXPECT_FALSE(tmp.good()) << "the temporary file was left behind";
 }
@@ -79,8 +76,8 @@ TEST_F(SurfaceIoTest, ReadsTetrahedronOff) {
 TEST_F(SurfaceIoTest, QuadsAreTriangulated) {
   std::string off = std::string("OFF\n8 6 0\n") + kCubeVertices;
   for (const auto& q : kCubeQuads)
-    off += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) +
-           " " + std::to_string(q[3]) + "\n";
+    off += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+           std::to_string(q[3]) + "\n";
   write_text(path("cube.off"), off);
   SurfaceMesh surface = read_surface(path("cube.off"));
   EXPECT_EQ(surface.triangles.size(), 12u);
@@ -112,8 +109,7 @@ std::string prism_off(const std::vector<std::array<double, 2>>& outline, std::si
 TEST_F(SurfaceIoTest, NonConvexPolygonsAreTriangulated) {
   // An L-shaped prism. The top starts at (2, 0), which does not see the whole polygon, so a fan
   // from there would fold over.
-  write_text(path("l_prism.off"),
-             prism_off({{{0, 0}}, {{2, 0}}, {{2, 1}}, {{1, 1}}, {{1, 2}}, {{0, 2}}}, 1));
+  write_text(path("l_prism.off"), prism_off({{{0, 0}}, {{2, 0}}, {{2, 1}}, {{1, 1}}, {{1, 2}}, {{0, 2}}}, 1));
   SurfaceMesh surface = read_surface(path("l_prism.off"));
   EXPECT_EQ(surface.triangles.size(), 4u + 4u + 12u);
   EXPECT_NO_THROW(validate_surface(surface));
@@ -154,8 +150,8 @@ TEST_F(SurfaceIoTest, ReadsObjWithQuadsAndSlashes) {
   }
   obj += "vn 0 0 1\n";
   for (const auto& q : kCubeQuads)
-    obj += "f " + std::to_string(q[0] + 1) + "//1 " + std::to_string(q[1] + 1) + "//1 " +
-           std::to_string(q[2] + 1) + "//1 " + std::to_string(q[3] + 1) + "//1\n";
+    obj += "f " + std::to_string(q[0] + 1) + "//1 " + std::to_string(q[1] + 1) + "//1 " + std::to_string(q[2] + 1) +
+           "//1 " + std::to_string(q[3] + 1) + "//1\n";
   write_text(path("cube.obj"), obj);
   SurfaceMesh surface = read_surface(path("cube.obj"));
   EXPECT_EQ(surface.points.size(), 8u);
@@ -211,8 +207,8 @@ TEST_F(SurfaceIoTest, ReadsAsciiStlAndMergesCorners) {
   for (const auto& f : kTetFaces) {
     stl += "  facet normal 0 0 0\n    outer loop\n";
     for (int c : f)
-      stl += "      vertex " + std::to_string(kTetPoints[c][0]) + " " +
-             std::to_string(kTetPoints[c][1]) + " " + std::to_string(kTetPoints[c][2]) + "\n";
+      stl += "      vertex " + std::to_string(kTetPoints[c][0]) + " " + std::to_string(kTetPoints[c][1]) + " " +
+             std::to_string(kTetPoints[c][2]) + "\n";
     stl += "    endloop\n  endfacet\n";
   }
   stl += "endsolid tet\n";
@@ -263,8 +259,8 @@ TEST_F(SurfaceIoTest, TruncatedOff) {
 
 TEST_F(SurfaceIoTest, GarbageOff) {
   write_text(path("garbage.off"), "this is not a mesh\n");
-  EXPECT_TRUE(contains(input_error([&] { read_surface(path("garbage.off")); }),
-                       "cannot read '" + path("garbage.off") + "'"));
+  EXPECT_TRUE(
+      contains(input_error([&] { read_surface(path("garbage.off")); }), "cannot read '" + path("garbage.off") + "'"));
 }
 
 TEST_F(SurfaceIoTest, EmptyMesh) {
@@ -280,13 +276,11 @@ TEST_F(SurfaceIoTest, NanCoordinate) {
   std::string text = kTetrahedronOff;
   text.replace(text.find("0 1 0"), 5, "0 nan 0");
   write_text(path("nan.off"), text);
-  EXPECT_TRUE(contains(input_error([&] { read_surface(path("nan.off")); }),
-                       "vertex 2 has a non-finite coordinate"));
+  EXPECT_TRUE(contains(input_error([&] { read_surface(path("nan.off")); }), "vertex 2 has a non-finite coordinate"));
   text = kTetrahedronOff;
   text.replace(text.find("0 0 1"), 5, "0 0 1e999");
   write_text(path("inf.off"), text);
-  EXPECT_TRUE(contains(input_error([&] { read_surface(path("inf.off")); }),
-                       "vertex 3 has a non-finite coordinate"));
+  EXPECT_TRUE(contains(input_error([&] { read_surface(path("inf.off")); }), "vertex 3 has a non-finite coordinate"));
 }
 
 TEST_F(SurfaceIoTest, NanCoordinateInBinaryStl) {
@@ -298,8 +292,7 @@ TEST_F(SurfaceIoTest, NanCoordinateInBinaryStl) {
     for (float x : p) append_bytes(stl, x);
   append_bytes<std::uint16_t>(stl, 0);
   write_text(path("nan.stl"), stl);
-  EXPECT_TRUE(contains(input_error([&] { read_surface(path("nan.stl")); }),
-                       "has a non-finite coordinate"));
+  EXPECT_TRUE(contains(input_error([&] { read_surface(path("nan.stl")); }), "has a non-finite coordinate"));
 }
 
 TEST_F(SurfaceIoTest, IndexOutOfRange) {
@@ -327,8 +320,7 @@ TEST_F(SurfaceIoTest, IndexOutOfRange) {
 
 TEST_F(SurfaceIoTest, FaceWithTooFewCorners) {
   write_text(path("two_corners.off"), "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n");
-  EXPECT_TRUE(contains(input_error([&] { read_surface(path("two_corners.off")); }),
-                       "face 1 has only 2 corners"));
+  EXPECT_TRUE(contains(input_error([&] { read_surface(path("two_corners.off")); }), "face 1 has only 2 corners"));
 }
 
 TEST_F(SurfaceIoTest, PolygonThatCannotBeTriangulated) {

@@ -32,9 +32,7 @@ std::string read_text(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 std::string first_line(const std::string& path) {
   std::string text = read_text(path);
@@ -90,9 +88,7 @@ TEST(TetgenFiles, RoundTripIsBitIdentical) {
   EXPECT_EQ(first_line(dir + "/mesh.neigh"), "6 4");
   // Rows are 0-based, and coordinates are printed as %.17g would.
   std::string node = read_text(dir + "/mesh.node");
-  EXPECT_NE(node.find("\n0 0.10000000000000001 0.33333333333333331 1e-300\n1 -2.5e+17 "),
-            std::string::npos)
-      << node;
+  EXPECT_NE(node.find("\n0 0.10000000000000001 0.33333333333333331 1e-300\n1 -2.5e+17 "), std::string::npos) << node;
   EXPECT_NE(read_text(dir + "/mesh.ele").find("\n0 0 1 3 7\n"), std::string::npos);
   EXPECT_NE(read_text(dir + "/mesh.face").find("\n2 4 5 7 1\n"), std::string::npos);
   EXPECT_NE(read_text(dir + "/mesh.neigh").find("\n5 -1 -1 -1 -1\n"), std::string::npos);
@@ -211,8 +207,7 @@ TEST(TetgenFiles, MalformedContentNamesFileAndLine) {
   EXPECT_EQ(read_error(prefix), "");
   write_text(prefix + ".ele", "1 4 0\n0 0 1 2 4\n");
   message = read_error(prefix);
-  EXPECT_NE(message.find(prefix + ".ele line 2: vertex index 4 out of range"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find(prefix + ".ele line 2: vertex index 4 out of range"), std::string::npos) << message;
 
   message = read_error(dir + "/does_not_exist");
   EXPECT_NE(message.find("cannot open " + dir + "/does_not_exist.node"), std::string::npos) << message;

@@ -242,8 +242,8 @@ TEST(TetrahedralizePiece, RejectsOpenAndSelfIntersectingPieces) {
   // Two overlapping tetrahedra: closed and oriented, but self-intersecting.
   PieceSurface two;
   two.index = 4;
-  two.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}, {0.3, 0.3, 0.3}, {2.3, 0.3, 0.3}, {0.3, 2.3, 0.3},
-                {0.3, 0.3, 2.3}};
+  two.points = {{0, 0, 0},       {2, 0, 0},       {0, 2, 0},       {0, 0, 2},
+                {0.3, 0.3, 0.3}, {2.3, 0.3, 0.3}, {0.3, 2.3, 0.3}, {0.3, 0.3, 2.3}};
   two.global_ids = {0, 1, 2, 3, 4, 5, 6, 7};
   for (int base : {0, 4})
     for (const Triangle& t : {Triangle{1, 2, 3}, Triangle{0, 3, 2}, Triangle{0, 1, 3}, Triangle{0, 2, 1}})

@@ -72,13 +72,16 @@ TEST(LabelTetRegions, SplitsAtBlockedFaces) {
   // excluding tet 1 gives 2 and leaves it -1.
   const std::vector<Tet> neighbours = {{1, -1, -1, -1}, {0, 2, -1, -1}, {1, -1, -1, -1}};
   std::vector<std::int32_t> label;
-  EXPECT_EQ(label_tet_regions(neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label),
+  EXPECT_EQ(label_tet_regions(
+                neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label),
             1);
   EXPECT_EQ(label, (std::vector<std::int32_t>{0, 0, 0}));
   const auto not_a_face_of_tet_1 = [&](std::size_t t, int j) { return t != 1 && neighbours[t][j] != 1; };
-  EXPECT_EQ(label_tet_regions(neighbours, [](std::size_t) { return true; }, not_a_face_of_tet_1, label), 3);
-  EXPECT_EQ(label_tet_regions(neighbours, [](std::size_t t) { return t != 1; },
-                              [](std::size_t, int) { return true; }, label),
+  EXPECT_EQ(label_tet_regions(
+                neighbours, [](std::size_t) { return true; }, not_a_face_of_tet_1, label),
+            3);
+  EXPECT_EQ(label_tet_regions(
+                neighbours, [](std::size_t t) { return t != 1; }, [](std::size_t, int) { return true; }, label),
             2);
   EXPECT_EQ(label, (std::vector<std::int32_t>{0, -1, 1}));
 }

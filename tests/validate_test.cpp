@@ -138,8 +138,8 @@ TEST(Validate, DuplicateVertices) {
 TEST(Validate, RepeatedVertexInFace) {
   SurfaceMesh tet = tetrahedron();
   tet.triangles[3] = {1, 2, 1};
-  EXPECT_TRUE(contains(input_error([&] { validate_topology(tet); }),
-                       "input has a degenerate face: face 3 repeats vertex 1"));
+  EXPECT_TRUE(
+      contains(input_error([&] { validate_topology(tet); }), "input has a degenerate face: face 3 repeats vertex 1"));
 }
 
 TEST(Validate, CollinearFace) {
@@ -163,8 +163,8 @@ TEST(Validate, OverlappingSpheresSelfIntersect) {
   EXPECT_TRUE(contains(message, " intersecting pairs)"));
   // The same pair every time, whatever order the boxes are visited in.
   EXPECT_EQ(message, input_error([&] { check_no_self_intersections(both); }));
-  EXPECT_TRUE(contains(input_error([&] { check_no_self_intersections(both, "piece 3"); }),
-                       "piece 3 self-intersects: faces "));
+  EXPECT_TRUE(
+      contains(input_error([&] { check_no_self_intersections(both, "piece 3"); }), "piece 3 self-intersects: faces "));
 }
 
 TEST(Validate, NestedDisjointShellsDoNotIntersect) {
@@ -186,14 +186,12 @@ TEST(Validate, FoldedAndTouchingFaces) {
   SurfaceMesh pierced;
   pierced.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.5, -1}, {0.5, 1, 1}};
   pierced.triangles = {{0, 1, 2}, {0, 3, 4}};
-  EXPECT_TRUE(contains(input_error([&] { check_no_self_intersections(pierced); }),
-                       "faces 0 and 1 intersect"));
+  EXPECT_TRUE(contains(input_error([&] { check_no_self_intersections(pierced); }), "faces 0 and 1 intersect"));
   // A vertex of one face touching the inside of another face, without sharing an index.
   SurfaceMesh touching;
   touching.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, 0}, {0.5, 0.5, 1}, {1, 0, 1}};
   touching.triangles = {{0, 1, 2}, {3, 4, 5}};
-  EXPECT_TRUE(contains(input_error([&] { check_no_self_intersections(touching); }),
-                       "faces 0 and 1 intersect"));
+  EXPECT_TRUE(contains(input_error([&] { check_no_self_intersections(touching); }), "faces 0 and 1 intersect"));
 }
 
 TEST(Validate, InsideOut) {
@@ -220,8 +218,7 @@ TEST(Validate, EnclosedVolume) {
 class SharedMeshes : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!std::filesystem::is_directory(dir_ + "/invalid"))
-      GTEST_SKIP() << "no shared meshes at " << dir_;
+    if (!std::filesystem::is_directory(dir_ + "/invalid")) GTEST_SKIP() << "no shared meshes at " << dir_;
   }
   std::string dir_ = PARTET_MESHES_DIR;
 };
@@ -242,15 +239,12 @@ TEST_F(SharedMeshes, OpenBunny) {
 
 TEST_F(SharedMeshes, CowWithNonManifoldVertex) {
   SurfaceMesh surface = read_surface(dir_ + "/invalid/cow_nonmanifold_vertex.off");
-  EXPECT_TRUE(contains(input_error([&] { validate_surface(surface); }),
-                       "input is not manifold: vertex "));
-  EXPECT_TRUE(contains(input_error([&] { validate_surface(surface); }),
-                       " joins 2 separate fans of faces"));
+  EXPECT_TRUE(contains(input_error([&] { validate_surface(surface); }), "input is not manifold: vertex "));
+  EXPECT_TRUE(contains(input_error([&] { validate_surface(surface); }), " joins 2 separate fans of faces"));
 }
 
 TEST_F(SharedMeshes, ValidModelsPass) {
-  for (const char* name : {"tiny_torus", "spot_lowres", "three_holes", "two_cubes",
-                           "nested_blub_3", "lever"}) {
+  for (const char* name : {"tiny_torus", "spot_lowres", "three_holes", "two_cubes", "nested_blub_3", "lever"}) {
     SCOPED_TRACE(name);
     SurfaceMesh surface = read_surface(dir_ + "/" + name + ".off");
     EXPECT_NO_THROW(validate_surface(surface));

@@ -9,7 +9,7 @@
 namespace partet {
 
 struct MeshQuality {
-  double amips_avg = 0, amips_max = 0;           // conformal AMIPS energy, 3 = regular tet
+  double amips_avg = 0, amips_max = 0;  // conformal AMIPS energy, 3 = regular tet
   double min_dihedral_deg = 0, max_dihedral_deg = 0;
   std::int64_t below_5deg = 0, above_175deg = 0;  // tets with a dihedral angle < 5 or > 175 deg
 };

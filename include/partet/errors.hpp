@@ -34,23 +34,23 @@ struct InternalError : Error {
 
 // What went wrong while meshing a piece (or a region around cut vertices).
 enum class FailureKind : std::int32_t {
-  tetgen_error = 0,        // TetGen stopped with an error code
-  self_intersection = 1,   // the surface given to TetGen intersects itself
-  changed_boundary = 2,    // TetGen's result does not have exactly the given boundary
-  bad_surface = 3,         // the surface is not closed, manifold and oriented
-  crashed = 4,             // the meshing process died from a signal
-  timed_out = 5,           // the meshing process ran past its time limit
-  no_result = 6,           // the meshing process ended without a result
-  injected = 7,            // a test hook (PARTET_INJECT_FAILURE)
-  other = 8,               // any other error inside the meshing process
+  tetgen_error = 0,       // TetGen stopped with an error code
+  self_intersection = 1,  // the surface given to TetGen intersects itself
+  changed_boundary = 2,   // TetGen's result does not have exactly the given boundary
+  bad_surface = 3,        // the surface is not closed, manifold and oriented
+  crashed = 4,            // the meshing process died from a signal
+  timed_out = 5,          // the meshing process ran past its time limit
+  no_result = 6,          // the meshing process ended without a result
+  injected = 7,           // a test hook (PARTET_INJECT_FAILURE)
+  other = 8,              // any other error inside the meshing process
 };
 
 // A meshing failure as a value: it crosses process and rank boundaries serialized.
 struct Failure {
   FailureKind kind = FailureKind::other;
-  std::int32_t piece = -1;   // -1: not about one piece
-  std::vector<int> planes;   // cut planes involved, when known (moving them is the remedy)
-  std::string message;       // without the "piece N: " prefix
+  std::int32_t piece = -1;  // -1: not about one piece
+  std::vector<int> planes;  // cut planes involved, when known (moving them is the remedy)
+  std::string message;      // without the "piece N: " prefix
 
   // "piece N: message" (or the message alone).
   std::string text() const { return piece >= 0 ? "piece " + std::to_string(piece) + ": " + message : message; }

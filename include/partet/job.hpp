@@ -17,8 +17,8 @@ struct MeshJob {
   std::string output_prefix;
   std::string report_path;  // empty: no JSON report
   MeshOptions options;
-  bool check_output = false;     // run check_mesh on the result before writing
-  std::string dump_pieces_dir;   // non-empty: write each piece's surface there before meshing it
+  bool check_output = false;    // run check_mesh on the result before writing
+  std::string dump_pieces_dir;  // non-empty: write each piece's surface there before meshing it
 };
 
 // What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.

@@ -30,8 +30,7 @@ Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode);
 // axis, fewer planes are returned (one per usable gap). Throws OptionError if k < 1.
 // shifts[j] > 0 moves plane j to its (shifts[j]+1)-th widest nearby gap (used to retry a cut
 // that caused trouble).
-std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k,
-                                        CutAxis mode = CutAxis::coordinate_near_pca,
+std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode = CutAxis::coordinate_near_pca,
                                         const std::vector<int>& shifts = {});
 
 // Piece (slab) of a point: the number of planes it lies above, decided exactly.
@@ -40,11 +39,11 @@ int piece_of_point(const std::vector<CutPlane>& planes, const Point3& p);
 
 // The input surface with every triangle that crosses a plane split at the crossings.
 struct SplitSurface {
-  std::vector<Point3> points;             // input vertices, then cut vertices
+  std::vector<Point3> points;  // input vertices, then cut vertices
   std::int32_t input_vertex_count = 0;
-  std::vector<Triangle> triangles;        // oriented like the input
-  std::vector<std::int32_t> piece;        // piece of each triangle (0..k-1)
-  std::vector<std::int32_t> parent;       // input triangle each triangle comes from
+  std::vector<Triangle> triangles;                           // oriented like the input
+  std::vector<std::int32_t> piece;                           // piece of each triangle (0..k-1)
+  std::vector<std::int32_t> parent;                          // input triangle each triangle comes from
   std::vector<std::array<std::int32_t, 2>> cut_vertex_edge;  // input edge a cut vertex splits
   std::vector<std::int32_t> cut_vertex_plane;                // plane a cut vertex lies on
   int piece_count = 1;

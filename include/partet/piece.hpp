@@ -16,7 +16,7 @@ struct PieceSurface {
   int index = 0;
   std::vector<std::int32_t> global_ids;  // local point -> global point, ascending
   std::vector<Point3> points;
-  std::vector<Triangle> triangles;       // local ids, outward
+  std::vector<Triangle> triangles;  // local ids, outward
 };
 
 // What meshing one piece gave: its result, or why it failed.

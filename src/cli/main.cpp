@@ -49,23 +49,22 @@ void print_check(const partet::CheckReport& report) {
 
 void print_check_json(const partet::CheckReport& report) {
   const auto& q = report.quality;
-  const nlohmann::json json = {
-      {"ok", report.ok()},
-      {"violations", report.violations},
-      {"vertices", report.vertices},
-      {"tets", report.tets},
-      {"boundary_faces", report.boundary_faces},
-      {"tet_volume", report.tet_volume},
-      {"surface_volume", report.surface_volume},
-      {"euler_mesh", report.euler_mesh},
-      {"euler_expected", report.euler_expected},
-      {"quality",
-       {{"amips_avg", q.amips_avg},
-        {"amips_max", q.amips_max},
-        {"min_dihedral_deg", q.min_dihedral_deg},
-        {"max_dihedral_deg", q.max_dihedral_deg},
-        {"tets_below_5deg", q.below_5deg},
-        {"tets_above_175deg", q.above_175deg}}}};
+  const nlohmann::json json = {{"ok", report.ok()},
+                               {"violations", report.violations},
+                               {"vertices", report.vertices},
+                               {"tets", report.tets},
+                               {"boundary_faces", report.boundary_faces},
+                               {"tet_volume", report.tet_volume},
+                               {"surface_volume", report.surface_volume},
+                               {"euler_mesh", report.euler_mesh},
+                               {"euler_expected", report.euler_expected},
+                               {"quality",
+                                {{"amips_avg", q.amips_avg},
+                                 {"amips_max", q.amips_max},
+                                 {"min_dihedral_deg", q.min_dihedral_deg},
+                                 {"max_dihedral_deg", q.max_dihedral_deg},
+                                 {"tets_below_5deg", q.below_5deg},
+                                 {"tets_above_175deg", q.above_175deg}}}};
   std::printf("%s\n", json.dump(2).c_str());
 }
 
@@ -95,16 +94,20 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
   return code;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"partet: distributed boundary-preserving tetrahedral meshing around TetGen"};
-  app.require_subcommand(1);
-
+// What the command line asked for.
+struct CommandLine {
   partet::MeshJob job;
-  std::string quality;
+  std::string quality, axis = "auto";
   bool quiet = false, verbose = false;
+  std::string check_input, check_prefix;
+  bool check_json = false;
+  std::string shape, generate_output;
+  int faces = 2000;
+};
+
+CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   auto* mesh = app.add_subcommand("mesh", "tetrahedralize a closed surface (run under mpirun for several ranks)");
+  auto& job = c.job;
   mesh->add_option("input", job.input, "closed triangle surface (.off .obj .ply .stl)")->required();
   mesh->add_option("-o,--output", job.output_prefix, "output prefix: writes PREFIX.node .ele .face .neigh")->required();
   mesh->add_option("-k,--pieces", job.options.pieces, "number of pieces (cut planes + 1)")
@@ -114,54 +117,72 @@ int main(int argc, char** argv) {
                    "cap refinement: target cap edge length = mean cut-loop edge length / D; 0 = no interior cap points")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  mesh->add_option("-q,--quality", quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
-  std::string axis = "auto";
-  mesh->add_option("--axis", axis,
-                   "cut direction: auto = coordinate axis nearest the PCA axis (exactly planar caps), pca = the PCA axis")
+  mesh->add_option("-q,--quality", c.quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
+  mesh->add_option(
+          "--axis", c.axis,
+          "cut direction: auto = coordinate axis nearest the PCA axis (exactly planar caps), pca = the PCA axis")
       ->check(CLI::IsMember({"auto", "pca"}))
       ->capture_default_str();
   mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
-  mesh->add_flag("--quiet", quiet, "print errors only");
-  mesh->add_flag("--verbose", verbose, "print more detail");
-  mesh->add_option("--dump-pieces", job.dump_pieces_dir, "write each piece's closed surface to DIR/piece_<i>.off (debugging)");
+  mesh->add_flag("--quiet", c.quiet, "print errors only");
+  mesh->add_flag("--verbose", c.verbose, "print more detail");
+  mesh->add_option("--dump-pieces", job.dump_pieces_dir,
+                   "write each piece's closed surface to DIR/piece_<i>.off (debugging)");
+  return mesh;
+}
 
-  std::string check_input, check_prefix;
-  bool check_json = false;
+CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   auto* check = app.add_subcommand("check", "verify a tet mesh against its input surface and print its quality");
-  check->add_option("input", check_input, "the surface that was meshed")->required();
-  check->add_option("prefix", check_prefix, "prefix of the .node/.ele files")->required();
-  check->add_flag("--json", check_json, "print the result as JSON");
+  check->add_option("input", c.check_input, "the surface that was meshed")->required();
+  check->add_option("prefix", c.check_prefix, "prefix of the .node/.ele files")->required();
+  check->add_flag("--json", c.check_json, "print the result as JSON");
+  return check;
+}
 
-  std::string shape, generate_output;
-  int faces = 2000;
+CLI::App* add_generate_command(CLI::App& app, CommandLine& c) {
   auto* generate = app.add_subcommand("generate", "write a generated closed test surface");
-  generate->add_option("shape", shape, "sphere, torus, genus3, nested, two_spheres")->required();
-  generate->add_option("--faces", faces, "about this many triangles")->check(CLI::Range(1, 1 << 28))->capture_default_str();
-  generate->add_option("-o,--output", generate_output, "output .off file")->required();
+  generate->add_option("shape", c.shape, "sphere, torus, genus3, nested, two_spheres")->required();
+  generate->add_option("--faces", c.faces, "about this many triangles")
+      ->check(CLI::Range(1, 1 << 28))
+      ->capture_default_str();
+  generate->add_option("-o,--output", c.generate_output, "output .off file")->required();
+  return generate;
+}
 
+int run_generate(const CommandLine& c) {
+  const partet::SurfaceMesh s = partet::generate_surface(c.shape, c.faces);
+  partet::write_off(s, c.generate_output);
+  std::printf("wrote %s: %zu vertices, %zu faces\n", c.generate_output.c_str(), s.points.size(), s.triangles.size());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"partet: distributed boundary-preserving tetrahedral meshing around TetGen"};
+  app.require_subcommand(1);
+  CommandLine c;
+  add_mesh_command(app, c);
+  auto* check = add_check_command(app, c);
+  auto* generate = add_generate_command(app, c);
   CLI11_PARSE(app, argc, argv);
 
   try {
-    if (*check) return run_check(check_input, check_prefix, check_json);
-    if (*generate) {
-      const partet::SurfaceMesh s = partet::generate_surface(shape, faces);
-      partet::write_off(s, generate_output);
-      std::printf("wrote %s: %zu vertices, %zu faces\n", generate_output.c_str(), s.points.size(), s.triangles.size());
-      return 0;
-    }
+    if (*check) return run_check(c.check_input, c.check_prefix, c.check_json);
+    if (*generate) return run_generate(c);
   } catch (const std::exception& e) {
     partet::log::error(e.what());
     return 1;
   }
-
-  if (!valid_quality(quality)) {
-    partet::log::error("--quality must be R or R/ANGLE with positive numbers (got '" + quality + "')");
+  if (!valid_quality(c.quality)) {
+    partet::log::error("--quality must be R or R/ANGLE with positive numbers (got '" + c.quality + "')");
     return 1;
   }
-  job.options.tetgen.quality = quality;
-  job.options.axis = axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
-  partet::log::set_level(quiet ? partet::log::Level::quiet
-                               : verbose ? partet::log::Level::verbose : partet::log::Level::normal);
-  return run_mesh(argc, argv, job);
+  c.job.options.tetgen.quality = c.quality;
+  c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
+  partet::log::set_level(c.quiet     ? partet::log::Level::quiet
+                         : c.verbose ? partet::log::Level::verbose
+                                     : partet::log::Level::normal);
+  return run_mesh(argc, argv, c.job);
 }

@@ -36,8 +36,8 @@ std::string check_path(const std::string& path) {
   const std::string ext = lowercase_extension(path);
   if (ext != "off" && ext != "obj" && ext != "ply" && ext != "stl")
     throw InputError("cannot read '" + path + "': unknown format '" +
-                     (ext.empty() ? std::string("(no extension)") : "." + ext) + "' (supported: " +
-                     kSupportedFormats + ")");
+                     (ext.empty() ? std::string("(no extension)") : "." + ext) + "' (supported: " + kSupportedFormats +
+                     ")");
   std::ifstream probe(path, std::ios::binary);
   if (!probe) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
   return ext;

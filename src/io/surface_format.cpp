@@ -64,6 +64,39 @@ std::optional<long long> parse_integer(const std::string& token) {
   return value;
 }
 
+// What is wrong with vertex v's line of an OFF file, or "".
+std::string off_vertex_problem(const TextLine& line, long long v, bool homogeneous) {
+  const std::vector<std::string> tokens = tokens_of(line.text);
+  const std::size_t needed = homogeneous ? 4 : 3;
+  const std::string where = "vertex " + std::to_string(v) + " (line " + std::to_string(line.number) + ")";
+  if (tokens.size() < needed) return where + " has fewer than " + std::to_string(needed) + " coordinates";
+  for (std::size_t c = 0; c < needed; ++c) {
+    std::optional<double> value = parse_double(tokens[c]);
+    if (!value) return where + " has a coordinate that is not a number: '" + tokens[c] + "'";
+    if (!std::isfinite(*value))
+      return "vertex " + std::to_string(v) + " has a non-finite coordinate (" + tokens[c] + ")";
+  }
+  return "";
+}
+
+// What is wrong with face f's line of an OFF file, or "".
+std::string off_face_problem(const TextLine& line, long long f, long long vertex_count) {
+  const std::vector<std::string> tokens = tokens_of(line.text);
+  const std::string where = "face " + std::to_string(f) + " (line " + std::to_string(line.number) + ")";
+  std::optional<long long> corners = parse_integer(tokens[0]);
+  if (!corners || *corners < 1) return where + " does not start with a valid corner count";
+  if (static_cast<long long>(tokens.size()) - 1 < *corners)
+    return where + " lists " + std::to_string(*corners) + " corners but gives only " +
+           std::to_string(tokens.size() - 1) + " indices";
+  for (long long c = 1; c <= *corners; ++c) {
+    std::optional<long long> index = parse_integer(tokens[c]);
+    if (!index) return where + " has an index that is not an integer: '" + tokens[c] + "'";
+    if (*index < 0 || *index >= vertex_count)
+      return "face " + std::to_string(f) + " refers to vertex " + std::to_string(*index) + ", but there are only " +
+             std::to_string(vertex_count) + " vertices";
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -104,55 +137,23 @@ std::string diagnose_off(const std::string& path) {
   }
   // CGAL reads three counts even when the line has two, taking the third from the next line.
   if (counts.size() < 3)
-    return "the header must give three counts (vertices, faces, edges), found " +
-           std::to_string(counts.size());
+    return "the header must give three counts (vertices, faces, edges), found " + std::to_string(counts.size());
   std::optional<long long> vertex_count = parse_integer(counts[0]);
-  std::optional<long long> face_count =
-      counts.size() >= 2 ? parse_integer(counts[1]) : std::optional<long long>();
+  std::optional<long long> face_count = counts.size() >= 2 ? parse_integer(counts[1]) : std::optional<long long>();
   if (!vertex_count || !face_count || *vertex_count < 0 || *face_count < 0)
     return "the header does not give valid vertex and face counts";
 
   for (long long v = 0; v < *vertex_count; ++v, ++next) {
     if (next >= lines.size())
-      return "the file ends after " + std::to_string(v) + " of " +
-             std::to_string(*vertex_count) + " vertices (truncated?)";
-    std::vector<std::string> tokens = tokens_of(lines[next].text);
-    std::size_t needed = homogeneous ? 4 : 3;
-    if (tokens.size() < needed)
-      return "vertex " + std::to_string(v) + " (line " + std::to_string(lines[next].number) +
-             ") has fewer than " + std::to_string(needed) + " coordinates";
-    for (std::size_t c = 0; c < needed; ++c) {
-      std::optional<double> value = parse_double(tokens[c]);
-      if (!value)
-        return "vertex " + std::to_string(v) + " (line " + std::to_string(lines[next].number) +
-               ") has a coordinate that is not a number: '" + tokens[c] + "'";
-      if (!std::isfinite(*value))
-        return "vertex " + std::to_string(v) + " has a non-finite coordinate (" + tokens[c] + ")";
-    }
+      return "the file ends after " + std::to_string(v) + " of " + std::to_string(*vertex_count) +
+             " vertices (truncated?)";
+    if (std::string problem = off_vertex_problem(lines[next], v, homogeneous); !problem.empty()) return problem;
   }
   if (*face_count == 0) return "the file contains no faces";
   for (long long f = 0; f < *face_count; ++f, ++next) {
     if (next >= lines.size())
-      return "the file ends after " + std::to_string(f) + " of " + std::to_string(*face_count) +
-             " faces (truncated?)";
-    std::vector<std::string> tokens = tokens_of(lines[next].text);
-    std::optional<long long> corners = parse_integer(tokens[0]);
-    if (!corners || *corners < 1)
-      return "face " + std::to_string(f) + " (line " + std::to_string(lines[next].number) +
-             ") does not start with a valid corner count";
-    if (static_cast<long long>(tokens.size()) - 1 < *corners)
-      return "face " + std::to_string(f) + " (line " + std::to_string(lines[next].number) +
-             ") lists " + std::to_string(*corners) + " corners but gives only " +
-             std::to_string(tokens.size() - 1) + " indices";
-    for (long long c = 1; c <= *corners; ++c) {
-      std::optional<long long> index = parse_integer(tokens[c]);
-      if (!index)
-        return "face " + std::to_string(f) + " (line " + std::to_string(lines[next].number) +
-               ") has an index that is not an integer: '" + tokens[c] + "'";
-      if (*index < 0 || *index >= *vertex_count)
-        return "face " + std::to_string(f) + " refers to vertex " + std::to_string(*index) +
-               ", but there are only " + std::to_string(*vertex_count) + " vertices";
-    }
+      return "the file ends after " + std::to_string(f) + " of " + std::to_string(*face_count) + " faces (truncated?)";
+    if (std::string problem = off_face_problem(lines[next], f, *vertex_count); !problem.empty()) return problem;
   }
   return "";
 }
@@ -165,17 +166,15 @@ std::string diagnose_obj(const std::string& path) {
     std::vector<std::string> tokens = tokens_of(line.text);
     if (tokens[0] == "v") {
       if (tokens.size() < 4)
-        return "vertex " + std::to_string(vertex_count) + " (line " +
-               std::to_string(line.number) + ") has fewer than 3 coordinates";
+        return "vertex " + std::to_string(vertex_count) + " (line " + std::to_string(line.number) +
+               ") has fewer than 3 coordinates";
       for (std::size_t c = 1; c <= 3; ++c) {
         std::optional<double> value = parse_double(tokens[c]);
         if (!value)
-          return "vertex " + std::to_string(vertex_count) + " (line " +
-                 std::to_string(line.number) + ") has a coordinate that is not a number: '" +
-                 tokens[c] + "'";
+          return "vertex " + std::to_string(vertex_count) + " (line " + std::to_string(line.number) +
+                 ") has a coordinate that is not a number: '" + tokens[c] + "'";
         if (!std::isfinite(*value))
-          return "vertex " + std::to_string(vertex_count) + " has a non-finite coordinate (" +
-                 tokens[c] + ")";
+          return "vertex " + std::to_string(vertex_count) + " has a non-finite coordinate (" + tokens[c] + ")";
       }
       ++vertex_count;
     } else if (tokens[0] == "f") {
@@ -189,8 +188,8 @@ std::string diagnose_obj(const std::string& path) {
         long long resolved = *index > 0 ? *index - 1 : vertex_count + *index;
         if (*index == 0 || resolved < 0 || resolved >= vertex_count)
           return "face " + std::to_string(face_count) + " (line " + std::to_string(line.number) +
-                 ") refers to vertex " + index_text + ", but only " +
-                 std::to_string(vertex_count) + " vertices precede it";
+                 ") refers to vertex " + index_text + ", but only " + std::to_string(vertex_count) +
+                 " vertices precede it";
       }
       ++face_count;
     } else if (!std::isalpha(static_cast<unsigned char>(tokens[0][0]))) {
@@ -201,97 +200,114 @@ std::string diagnose_obj(const std::string& path) {
   return "";
 }
 
-
 // Counts an OFF or PLY header declares, checked against the file size before CGAL reads it:
 // CGAL reserves memory for the declared counts, so a corrupt header asking for a billion
 // vertices would otherwise exhaust memory instead of failing (found by fuzzing).
+namespace {
+
+struct DeclaredCounts {
+  long double vertices = 0, faces = 0;
+};
+
+// CGAL reads a count from the leading digits of a token ("12+3" counts as 12): so do we.
+std::optional<long long> leading_integer(const std::string& token) {
+  errno = 0;
+  char* end = nullptr;
+  const long long value = std::strtoll(token.c_str(), &end, 10);
+  if (end == token.c_str()) return std::nullopt;
+  if (errno == ERANGE) return std::numeric_limits<long long>::max();  // absurd: rejected by the caller
+  return value;
+}
+
+// The counts in an OFF header (none when it is malformed: CGAL or the diagnosis reports that).
+DeclaredCounts off_counts(std::istringstream& lines) {
+  std::string line;
+  std::vector<std::string> tokens;
+  while (tokens.size() < 3 && std::getline(lines, line)) {
+    const auto hash = line.find('#');
+    for (const auto& t : tokens_of(hash == std::string::npos ? line : line.substr(0, hash))) tokens.push_back(t);
+  }
+  if (tokens.empty()) return {};
+  const std::size_t first = tokens[0].find("OFF") == std::string::npos ? 0 : 1;  // counts may follow the keyword
+  if (tokens.size() < first + 2) return {};
+  const auto v = leading_integer(tokens[first]), f = leading_integer(tokens[first + 1]);
+  if (!v || !f) return {};
+  return {static_cast<long double>(*v), static_cast<long double>(*f)};
+}
+
+// CGAL's PLY reader crashes on a "property" line before any "element" line (found by fuzzing),
+// so the header's structure is checked first.
+void check_ply_header(std::istringstream& lines, const std::string& path, bool complete) {
+  const std::string prefix = "cannot read '" + path + "': ";
+  bool in_element = false;
+  int line_number = 0;
+  std::string line;
+  while (std::getline(lines, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto tokens = tokens_of(line);
+    const std::string at = prefix + "malformed PLY header at line " + std::to_string(line_number);
+    if (line_number == 1) {
+      if (line != "ply") throw InputError(prefix + "not a PLY file (no 'ply' line)");
+      continue;
+    }
+    if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info" || tokens[0] == "format") continue;
+    if (tokens[0] == "end_header") return;
+    if (tokens[0] == "element") {
+      if (tokens.size() != 3 || !parse_integer(tokens[2]) || *parse_integer(tokens[2]) < 0)
+        throw InputError(at + " (element NAME COUNT expected)");
+      in_element = true;
+    } else if (tokens[0] == "property") {
+      if (!in_element) throw InputError(at + " (a property before any element)");
+    } else {
+      throw InputError(at + " (unknown keyword '" + tokens[0] + "')");
+    }
+  }
+  if (complete) throw InputError(prefix + "the PLY header has no end_header line");
+}
+
+DeclaredCounts ply_counts(std::istringstream& lines) {
+  DeclaredCounts counts;
+  std::string line;
+  while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
+    const auto tokens = tokens_of(line);
+    if (tokens.size() != 3 || tokens[0] != "element") continue;
+    const auto n = parse_integer(tokens[2]);
+    if (!n) continue;
+    if (tokens[1] == "vertex") counts.vertices = static_cast<long double>(*n);
+    if (tokens[1] == "face") counts.faces = static_cast<long double>(*n);
+  }
+  return counts;
+}
+
+}  // namespace
+
 void check_declared_counts(const std::string& path, const std::string& ext, std::uintmax_t file_size) {
+  constexpr std::size_t kHead = 65536;
   std::ifstream in(path, std::ios::binary);
-  std::string head(65536, '\0');
+  std::string head(kHead, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
   std::istringstream lines(head);
-  std::string line;
-  long double vertices = 0, faces = 0;
+  DeclaredCounts counts;
   if (ext == "off") {
-    std::vector<std::string> tokens;
-    while (tokens.size() < 3 && std::getline(lines, line)) {
-      const auto hash = line.find('#');
-      for (const auto& t : tokens_of(hash == std::string::npos ? line : line.substr(0, hash))) tokens.push_back(t);
-    }
-    if (tokens.empty()) return;
-    std::size_t first = 1;  // after the keyword (counts may follow it on the same line)
-    if (tokens[0].find("OFF") == std::string::npos) first = 0;
-    if (tokens.size() < first + 2) return;
-    // CGAL reads a count from the leading digits of a token ("12+3" counts as 12): so do we.
-    auto leading_integer = [](const std::string& token) -> std::optional<long long> {
-      errno = 0;
-      char* end = nullptr;
-      const long long value = std::strtoll(token.c_str(), &end, 10);
-      if (end == token.c_str()) return std::nullopt;
-      if (errno == ERANGE) return std::numeric_limits<long long>::max();  // absurd: rejected below
-      return value;
-    };
-    const auto v = leading_integer(tokens[first]), f = leading_integer(tokens[first + 1]);
-    if (!v || !f) return;  // CGAL or the diagnosis reports a malformed header
-    vertices = static_cast<long double>(*v);
-    faces = static_cast<long double>(*f);
+    counts = off_counts(lines);
   } else if (ext == "ply") {
-    // CGAL's PLY reader crashes on a "property" line before any "element" line (found by
-    // fuzzing), so the header's structure is checked here first.
-    bool in_element = false, ended = false;
-    int line_number = 0;
-    while (std::getline(lines, line)) {
-      ++line_number;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      const auto tokens = tokens_of(line);
-      if (line_number == 1) {
-        if (line != "ply") throw InputError("cannot read '" + path + "': not a PLY file (no 'ply' line)");
-        continue;
-      }
-      if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info" || tokens[0] == "format") continue;
-      if (tokens[0] == "end_header") {
-        ended = true;
-        break;
-      }
-      if (tokens[0] == "element") {
-        if (tokens.size() != 3 || !parse_integer(tokens[2]) || *parse_integer(tokens[2]) < 0)
-          throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
-                           " (element NAME COUNT expected)");
-        in_element = true;
-      } else if (tokens[0] == "property") {
-        if (!in_element)
-          throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
-                           " (a property before any element)");
-      } else {
-        throw InputError("cannot read '" + path + "': malformed PLY header at line " + std::to_string(line_number) +
-                         " (unknown keyword '" + tokens[0] + "')");
-      }
-    }
-    if (!ended && head.size() < 65536)
-      throw InputError("cannot read '" + path + "': the PLY header has no end_header line");
+    check_ply_header(lines, path, head.size() < kHead);
     lines.clear();
     lines.seekg(0);
-    while (std::getline(lines, line) && line.rfind("end_header", 0) != 0) {
-      const auto tokens = tokens_of(line);
-      if (tokens.size() == 3 && tokens[0] == "element") {
-        const auto n = parse_integer(tokens[2]);
-        if (!n) continue;
-        if (tokens[1] == "vertex") vertices = static_cast<long double>(*n);
-        if (tokens[1] == "face") faces = static_cast<long double>(*n);
-      }
-    }
+    counts = ply_counts(lines);
   } else {
     return;
   }
   // The smallest possible records: "0 0 0\n" per vertex and "3 0 1 2\n" per face (binary
-  // variants are larger).
-  // Small files are left to CGAL and the diagnosis, which says more precisely where they end.
-  const long double smallest = vertices * 6 + faces * 8;
+  // variants are larger). Small files are left to CGAL and the diagnosis, which says more
+  // precisely where they end.
+  const long double smallest = counts.vertices * 6 + counts.faces * 8;
   if (smallest > static_cast<long double>(file_size) && smallest > 16.0L * 1024 * 1024)
     throw InputError("cannot read '" + path + "': the header declares " +
-                     std::to_string(static_cast<long long>(vertices)) + " vertices and " +
-                     std::to_string(static_cast<long long>(faces)) + " faces, more than a file of " +
+                     std::to_string(static_cast<long long>(counts.vertices)) + " vertices and " +
+                     std::to_string(static_cast<long long>(counts.faces)) + " faces, more than a file of " +
                      std::to_string(file_size) + " bytes can hold (truncated or corrupt?)");
 }
 

@@ -42,10 +42,7 @@ class BufferedFile {
   // Same text as printf("%.17g"): 17 significant digits always read back to the same double.
   void real(double value) {
     reserve();
-    used_ = std::to_chars(data() + used_, data() + buffer_.size(), value,
-                          std::chars_format::general, 17)
-                .ptr -
-            data();
+    used_ = std::to_chars(data() + used_, data() + buffer_.size(), value, std::chars_format::general, 17).ptr - data();
   }
   void text(std::string_view s) {
     reserve();
@@ -78,9 +75,7 @@ class BufferedFile {
     if (used_ > 0 && std::fwrite(data(), 1, used_, file_) != used_) fail();
     used_ = 0;
   }
-  [[noreturn]] void fail() {
-    throw OutputError("cannot write " + path_ + ": " + std::strerror(errno));
-  }
+  [[noreturn]] void fail() { throw OutputError("cannot write " + path_ + ": " + std::strerror(errno)); }
 
   std::string path_;
   std::vector<char> buffer_;
@@ -186,9 +181,7 @@ class LineReader {
     return value;
   }
 
-  std::int64_t integer_or(std::int64_t fallback, const char* what) {
-    return has_token() ? integer(what) : fallback;
-  }
+  std::int64_t integer_or(std::int64_t fallback, const char* what) { return has_token() ? integer(what) : fallback; }
 
   double real(const char* what) {
     double value = 0;
@@ -291,8 +284,7 @@ std::vector<Tet> read_ele(const std::string& path, std::int64_t vertex_base, std
   return tets;
 }
 
-std::vector<Triangle> read_face(const std::string& path, std::int64_t vertex_base,
-                                std::size_t vertex_count) {
+std::vector<Triangle> read_face(const std::string& path, std::int64_t vertex_base, std::size_t vertex_count) {
   LineReader in(path);
   in.expect_line("the header");
   std::int64_t count = read_count(in, "number of faces");
@@ -315,10 +307,8 @@ bool file_exists(const std::string& path) {
 
 }  // namespace
 
-void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                        const std::string& prefix) {
-  const std::string names[4] = {prefix + ".node", prefix + ".ele", prefix + ".face",
-                                prefix + ".neigh"};
+void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces, const std::string& prefix) {
+  const std::string names[4] = {prefix + ".node", prefix + ".ele", prefix + ".face", prefix + ".neigh"};
   auto tmp = [](const std::string& name) { return name + ".tmp"; };
   auto remove_temporaries = [&] {
     for (const std::string& name : names) std::remove(tmp(name).c_str());

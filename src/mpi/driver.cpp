@@ -78,8 +78,15 @@ class RootRound {
  public:
   RootRound(const MeshJob& job, const PieceRunner& runner, const std::vector<PieceSurface>& pieces, int size,
             RankStats& stats, std::map<int, int>& owner)
-      : job_(job), runner_(runner), pieces_(pieces), size_(size), stats_(stats), owner_(owner),
-        order_(pieces.size()), outcomes_(pieces.size()), remaining_(pieces.size()) {
+      : job_(job),
+        runner_(runner),
+        pieces_(pieces),
+        size_(size),
+        stats_(stats),
+        owner_(owner),
+        order_(pieces.size()),
+        outcomes_(pieces.size()),
+        remaining_(pieces.size()) {
     std::iota(order_.begin(), order_.end(), 0);
     std::stable_sort(order_.begin(), order_.end(),
                      [&](int a, int b) { return pieces[a].triangles.size() > pieces[b].triangles.size(); });
@@ -162,8 +169,8 @@ class RootRound {
   const std::vector<PieceSurface>& pieces_;
   int size_;
   RankStats& stats_;
-  std::map<int, int>& owner_;  // piece index -> rank that meshed it last
-  std::vector<int> order_;     // positions in pieces_, largest first
+  std::map<int, int>& owner_;    // piece index -> rank that meshed it last
+  std::vector<int> order_;       // positions in pieces_, largest first
   std::map<int, int> position_;  // piece index -> position in pieces_ (a retry may send a subset)
   std::vector<PieceOutcome> outcomes_;
   std::size_t next_ = 0, remaining_;
@@ -198,79 +205,87 @@ void worker_loop(const MeshJob& job, const PieceRunner& runner, int rank, RankSt
   }
 }
 
-}  // namespace
-
-JobStatus run_mesh_job(const MeshJob& job) {
+// What one rank knows about the job as it runs.
+struct RankState {
   int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  log::set_rank(rank);
-  const double job_start = now_seconds();
-  const PieceRunner runner(job.options.tetgen, job.options.run);
+  double start = now_seconds();
   StageTimes times;
   RankStats stats;
   JobStatus status;
-  std::map<int, int> owner;
-
-  // 1. Rank 0 reads and validates.
+  std::map<int, int> owner;  // piece index -> rank that meshed it last (rank 0 only)
   SurfaceMesh input;
-  if (rank == 0) {
-    try {
-      input = read_valid_input(job.input, times);
-    } catch (const std::exception& e) {
-      status.error = e.what();
-    }
-  }
-  if (!agree(status.error.empty())) {
-    status.exit_code = 1;
-    return status;
-  }
-
-  // 2-5. Partition, close, mesh everywhere, merge; then check and write on rank 0.
   MeshResult result;
   CheckReport check;
-  if (rank == 0) {
-    try {
-      result = mesh_with_retries(
-          input, job.options,
-          [&](const std::vector<PieceSurface>& pieces) {
-            return RootRound(job, runner, pieces, size, stats, owner).run();
-          },
-          &times);
-    } catch (const MeshingError& e) {
-      status.error = e.what();
-      status.meshing_failed = true;
-    } catch (const std::exception& e) {
-      status.error = e.what();
-    }
-    broadcast(kDone);
-    if (status.error.empty()) {
-      try {
-        check = check_and_write(job, input, result, times);
-      } catch (const std::exception& e) {
-        status.error = e.what();
-      }
-    }
-  } else {
-    worker_loop(job, runner, rank, stats);
+};
+
+// Runs a rank-0 step, turning its exception into the job's error.
+template <class Step>
+void on_root(RankState& state, Step step) {
+  try {
+    step();
+  } catch (const MeshingError& e) {
+    state.status.error = e.what();
+    state.status.meshing_failed = true;
+  } catch (const std::exception& e) {
+    state.status.error = e.what();
   }
+}
 
-  // Per-rank figures to rank 0, then the final agreement.
-  stats.peak_rss_mb = own_peak_rss_mb();
-  stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
-  std::vector<RankStats> all(rank == 0 ? size : 0);
-  MPI_Gather(&stats, kRankStatsDoubles, MPI_DOUBLE, all.data(), kRankStatsDoubles, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-  const bool ok = agree(status.error.empty());
-  if (!ok) status.exit_code = 1;
-  if (rank != 0 || !ok) return status;
+// Rank 0: partition, close, mesh (on all ranks), merge, then check and write.
+void mesh_on_root(const MeshJob& job, const PieceRunner& runner, RankState& state) {
+  on_root(state, [&] {
+    state.result = mesh_with_retries(
+        state.input, job.options,
+        [&](const std::vector<PieceSurface>& pieces) {
+          return RootRound(job, runner, pieces, state.size, state.stats, state.owner).run();
+        },
+        &state.times);
+  });
+  broadcast(kDone);
+  if (state.status.error.empty())
+    on_root(state, [&] { state.check = check_and_write(job, state.input, state.result, state.times); });
+}
 
-  std::vector<std::vector<int>> pieces_of_rank(size);
-  for (const auto& [piece, rank_of_piece] : owner)
-    if (piece < result.pieces) pieces_of_rank[rank_of_piece].push_back(piece);
-  const JobSummary summary{job, input, result, check, times, all, pieces_of_rank, now_seconds() - job_start};
+// Per-rank figures to rank 0, then the final agreement; rank 0 reports a success.
+void finish(const MeshJob& job, RankState& state) {
+  state.stats.peak_rss_mb = own_peak_rss_mb();
+  state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
+  std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
+  MPI_Gather(&state.stats, kRankStatsDoubles, MPI_DOUBLE, all.data(), kRankStatsDoubles, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  const bool ok = agree(state.status.error.empty());
+  if (!ok) state.status.exit_code = 1;
+  if (state.rank != 0 || !ok) return;
+  std::vector<std::vector<int>> pieces_of_rank(state.size);
+  for (const auto& [piece, rank_of_piece] : state.owner)
+    if (piece < state.result.pieces) pieces_of_rank[rank_of_piece].push_back(piece);
+  const JobSummary summary{job,         state.input, state.result,   state.check,
+                           state.times, all,         pieces_of_rank, now_seconds() - state.start};
   write_report(summary);
   print_summary(summary);
-  return status;
+}
+
+}  // namespace
+
+JobStatus run_mesh_job(const MeshJob& job) {
+  RankState state;
+  MPI_Comm_rank(MPI_COMM_WORLD, &state.rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &state.size);
+  log::set_rank(state.rank);
+  const PieceRunner runner(job.options.tetgen, job.options.run);
+
+  // 1. Rank 0 reads and validates.
+  if (state.rank == 0) on_root(state, [&] { state.input = read_valid_input(job.input, state.times); });
+  if (!agree(state.status.error.empty())) {
+    state.status.exit_code = 1;
+    return state.status;
+  }
+  // 2-5. Partition, close, mesh everywhere, merge; check and write on rank 0.
+  if (state.rank == 0)
+    mesh_on_root(job, runner, state);
+  else
+    worker_loop(job, runner, state.rank, state.stats);
+  finish(job, state);
+  return state.status;
 }
 
 }  // namespace partet::mpi

@@ -12,8 +12,7 @@ namespace partet::mpi {
 constexpr std::size_t kMaxChunk = std::size_t{1} << 30;
 
 // Sends a size header, then the bytes in chunks of at most max_chunk. Returns bytes sent.
-std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm,
-                         std::size_t max_chunk = kMaxChunk);
+std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk);
 std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk);
 
 }  // namespace partet::mpi

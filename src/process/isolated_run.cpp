@@ -32,7 +32,7 @@ bool write_all(int fd, const char* data, std::size_t size) {
 IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeout_seconds)
     : timeout_seconds_(timeout_seconds),
       deadline_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                        std::chrono::duration<double>(timeout_seconds))) {
+                                                       std::chrono::duration<double>(timeout_seconds))) {
   int fds[2];
   if (::pipe(fds) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
   std::fflush(nullptr);

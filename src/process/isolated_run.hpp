@@ -35,7 +35,7 @@ class IsolatedRun {
   void wait();
 
   ProcessEnd end() const { return end_; }
-  int signal() const { return signal_; }                  // when crashed
+  int signal() const { return signal_; }  // when crashed
   double timeout_seconds() const { return timeout_seconds_; }
   // When finished: the bytes work() returned (moved out).
   std::string take_bytes() { return std::move(received_); }
