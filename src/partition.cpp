@@ -25,7 +25,7 @@ K::Plane_3 to_cgal(const CutPlane& plane) {
 K::Point_3 to_cgal(const Point3& p) { return K::Point_3(p[0], p[1], p[2]); }
 
 std::vector<char> used_vertices(const SurfaceMesh& surface) {
-  return used_vertices(surface.points.size(), surface.triangles);
+  return partet::used_vertices(surface.points.size(), surface.triangles);
 }
 
 Point3 main_axis(const SurfaceMesh& surface, const std::vector<char>& used) {
