@@ -159,7 +159,6 @@ PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, Sta
   const auto caps = build_caps(prepared.split, prepared.planes, options.density);
   for (const auto& c : caps) prepared.cap_triangles += static_cast<std::int64_t>(c.triangles.size());
   prepared.pieces = assemble_pieces(prepared.split, caps);
-  for (const auto& piece : prepared.pieces) check_piece_topology(piece);
   timer.lap("closure");
   return prepared;
 }
@@ -232,9 +231,10 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     } catch (const Error& e) {
       failure = Failure{FailureKind::other, -1, {}, e.what()};
     }
-    // A self-intersection is usually the input's own: check the whole input once (throws
-    // InputError naming input faces) before blaming the cuts.
-    if (failure->kind == FailureKind::self_intersection && !input_checked) {
+    // TetGen failing is often the input's fault (pieces are not checked for self-intersections
+    // before TetGen): check the whole input once (throws InputError naming input faces) before
+    // blaming the cuts.
+    if (failure->kind != FailureKind::injected && !input_checked) {
       check_no_self_intersections(input);
       input_checked = true;
     }

@@ -2,12 +2,12 @@
 
 #include <tetgen.h>
 
+#include <algorithm>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/validate.hpp"
 #include "topology.hpp"
 
 namespace partet {
@@ -123,6 +123,35 @@ void orient_positively(RawMesh& raw) {
     }
 }
 
+// Connected components of the surface, triangles joined across shared edges.
+std::size_t shell_count(const std::vector<Triangle>& triangles) {
+  std::vector<std::int32_t> parent(triangles.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<std::int32_t>(i);
+  auto find = [&](std::int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  // Each undirected edge, with the triangle that used it first.
+  std::vector<std::pair<std::uint64_t, std::int32_t>> edges;
+  edges.reserve(triangles.size() * 3);
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const auto a = static_cast<std::uint32_t>(std::min(triangles[f][e], triangles[f][(e + 1) % 3]));
+      const auto b = static_cast<std::uint32_t>(std::max(triangles[f][e], triangles[f][(e + 1) % 3]));
+      edges.push_back({std::uint64_t{a} << 32 | b, static_cast<std::int32_t>(f)});
+    }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 1; i < edges.size(); ++i)
+    if (edges[i].first == edges[i - 1].first) {
+      const std::int32_t a = find(edges[i].second), b = find(edges[i - 1].second);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::size_t components = 0;
+  for (std::size_t f = 0; f < parent.size(); ++f)
+    if (parent[f] == static_cast<std::int32_t>(f)) ++components;
+  return components;
+}
+
 using InputFaces = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
 
 InputFaces index_input_faces(const std::vector<Triangle>& triangles, int piece) {
@@ -219,29 +248,33 @@ void keep_used_steiner_points(LocalTetMesh& mesh, const std::vector<Point3>& all
 }  // namespace
 
 LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
-                                 const TetgenOptions& options, int piece) {
+                                 const TetgenOptions& options, int piece, SurfaceRegions regions) {
   if (triangles.empty()) throw MeshingError(FailureKind::bad_surface, piece, "empty surface");
   RawMesh raw = run_tetgen(points, triangles, options, piece);
   orient_positively(raw);
   const InputFaces input_face = index_input_faces(triangles, piece);
-  const std::vector<char> solid = solid_tets(raw, triangles, input_face, piece);
+  // TetGen removes the tets outside the outermost surface itself, so inside a single manifold
+  // shell every tet is solid; otherwise regions are told apart by orientation.
+  const std::vector<char> solid = regions == SurfaceRegions::one_shell ? std::vector<char>(raw.tets.size(), 1)
+                                                                       : solid_tets(raw, triangles, input_face, piece);
   LocalTetMesh result = keep_solid_tets(raw, solid, triangles, input_face, piece);
   keep_used_steiner_points(result, raw.points, static_cast<std::int32_t>(points.size()));
   return result;
 }
 
 PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options) {
+  // Self-intersections are left to TetGen: a tet mesh that has every triangle of the piece as a
+  // face proves they do not intersect, and when TetGen fails the pipeline checks the whole
+  // input before blaming the cuts. The topology check is cheap and catches a partition bug
+  // before TetGen sees it.
   check_piece_topology(piece);
-  try {
-    check_no_self_intersections(SurfaceMesh{piece.points, piece.triangles}, "its surface");
-  } catch (const InputError& e) {
-    throw MeshingError(FailureKind::self_intersection, piece.index,
-                       std::string(e.what()) + " (the input self-intersects, or a cut is too close to a feature)");
-  }
   PieceTetMesh result;
   result.index = piece.index;
   result.surface_point_count = static_cast<std::int32_t>(piece.points.size());
-  result.mesh = mesh_closed_surface(piece.points, piece.triangles, options, piece.index);
+  // A piece is manifold (the input was validated, the caps close it); with one shell it
+  // encloses one region.
+  const SurfaceRegions regions = shell_count(piece.triangles) == 1 ? SurfaceRegions::one_shell : SurfaceRegions::any;
+  result.mesh = mesh_closed_surface(piece.points, piece.triangles, options, piece.index, regions);
   return result;
 }
 

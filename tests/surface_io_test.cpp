@@ -15,6 +15,7 @@
 #include "partet/generate.hpp"
 #include "partet/surface_io.hpp"
 #include "partet/validate.hpp"
+#include "io/plain_off.hpp"
 #include "test_support.hpp"
 
 namespace partet {
@@ -332,6 +333,63 @@ TEST_F(SurfaceIoTest, PolygonThatCannotBeTriangulated) {
   write_text(path("repeat.off"), "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n5 0 1 2 3 1\n");
   EXPECT_TRUE(contains(input_error([&] { read_surface(path("repeat.off")); }),
                        "face 0 has 5 corners and cannot be triangulated"));
+}
+
+// The fast plain-OFF path gives exactly what CGAL's general reader gives.
+void expect_same_surface(const SurfaceMesh& a, const SurfaceMesh& b) {
+  ASSERT_EQ(a.points.size(), b.points.size());
+  ASSERT_EQ(a.triangles, b.triangles);
+  if (!a.points.empty()) EXPECT_EQ(std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(Point3)), 0);
+}
+
+TEST_F(SurfaceIoTest, PlainOffFastPathMatchesTheGeneralReader) {
+  SurfaceMesh surface = generate_surface("torus", 3000);
+  surface.points.push_back({0.1, 1.0 / 3.0, -0.0});
+  surface.points.push_back({1e-300, -1.7976931348623157e308, 2.2250738585072014e-308});
+  surface.points.push_back({4.9406564584124654e-324, 123456789.123456789, -1e22});
+  const std::string file = path("fast.off");
+  write_off(surface, file);
+  const auto fast = read_plain_off(file);
+  ASSERT_TRUE(fast);
+  expect_same_surface(*fast, read_surface_general(file));
+  expect_same_surface(*fast, surface);
+  // CRLF line ends, comments, blank lines and tabs are still plain.
+  write_text(path("crlf.off"), "# comment\r\nOFF\r\n\r\n4 4 0 # counts\r\n0 0 0\r\n1\t0 0\r\n0 1 0\r\n0 0 1\r\n"
+                               "3 0 2 1\r\n3 0 1 3\r\n# a comment\r\n3 0 3 2\r\n3 1 2 3\r\n");
+  ASSERT_TRUE(read_plain_off(path("crlf.off")));
+  expect_same_surface(*read_plain_off(path("crlf.off")), read_surface_general(path("crlf.off")));
+}
+
+TEST_F(SurfaceIoTest, PlainOffFastPathDeclinesAnythingElse) {
+  const std::vector<std::string> not_plain = {
+      "OFF 4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",      // counts on the keyword line
+      "COFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",     // another keyword
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3 255\n",  // a colour
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 nan 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",    // non-finite
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 7\n",      // index range
+      "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n",                               // a quad
+      "OFF\n4 4 0\n0 0\n0 1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",      // numbers across lines
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\nextra\n",  // trailing content
+      "OFF\n4 4 0\n+0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",     // explicit +
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n",               // truncated
+  };
+  for (std::size_t i = 0; i < not_plain.size(); ++i) {
+    SCOPED_TRACE("case " + std::to_string(i));
+    write_text(path("odd.off"), not_plain[i]);
+    EXPECT_FALSE(read_plain_off(path("odd.off")));
+  }
+}
+
+TEST_F(SurfaceIoTest, PlainOffFastPathMatchesTheGeneralReaderOnSharedModels) {
+  const std::string dir = PARTET_MESHES_DIR;
+  if (!std::ifstream(dir + "/spot.off").good()) GTEST_SKIP() << "no shared meshes at " << dir;
+  for (const char* name : {"spot", "bob", "fandisk", "adis16480", "nested_blub_3", "two_cubes", "armadillo"}) {
+    SCOPED_TRACE(name);
+    const std::string file = dir + "/" + name + ".off";
+    const auto fast = read_plain_off(file);
+    ASSERT_TRUE(fast);
+    expect_same_surface(*fast, read_surface_general(file));
+  }
 }
 
 TEST_F(SurfaceIoTest, ReadsSharedModel) {

@@ -34,7 +34,7 @@ struct PreparedPieces {
   std::int64_t cap_triangles = 0;
 };
 
-// 1-2. Partition, surface closure, piece assembly and the pieces' combinatorial checks.
+// 1-2. Partition, surface closure and piece assembly.
 // The input must already be validated.
 PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, StageTimes* times = nullptr);
 

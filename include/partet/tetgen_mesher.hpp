@@ -13,14 +13,22 @@ struct TetgenOptions {
   std::string quality;  // "" = none; "R" or "R/ANGLE": TetGen's -q (radius-edge ratio / min dihedral)
 };
 
+// What the caller knows about the regions a surface encloses.
+enum class SurfaceRegions {
+  any,        // cavities, pockets: classify every region TetGen fills by orientation
+  one_shell,  // one manifold shell: everything TetGen keeps is solid
+};
+
 // Meshes the solid bounded by `triangles` (TetGen -pY, plus -q when asked). Regions the surface
 // encloses with winding number 0 (cavities) get no tets. Verifies that the boundary of the
 // result is exactly the input triangles. Throws MeshingError naming `piece` on any failure.
 // Not thread safe: TetGen keeps global state.
 LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
-                                 const TetgenOptions& options, int piece = -1);
+                                 const TetgenOptions& options, int piece = -1,
+                                 SurfaceRegions regions = SurfaceRegions::any);
 
-// Checks the piece (closed, manifold, no self-intersections) and meshes it.
+// Checks the piece's topology (closed, manifold, oriented) and meshes it. Self-intersections
+// make TetGen fail (or the result's boundary differ from the piece), never pass silently.
 PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions& options);
 
 }  // namespace partet

@@ -11,10 +11,12 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "geometry.hpp"
+#include "io/plain_off.hpp"
 #include "io/surface_format.hpp"
 #include "partet/errors.hpp"
 #include "partet/surface_io.hpp"
@@ -108,7 +110,7 @@ std::vector<Triangle> triangles_of(const std::string& path, const std::string& e
 
 }  // namespace
 
-SurfaceMesh read_surface(const std::string& path) {
+SurfaceMesh read_surface_general(const std::string& path) {
   const std::string ext = check_path(path);
   std::error_code ec;
   check_declared_counts(path, ext, fs::file_size(path, ec));
@@ -123,6 +125,12 @@ SurfaceMesh read_surface(const std::string& path) {
   }
   surface.triangles = triangles_of(path, ext, surface.points, polygons);
   return surface;
+}
+
+SurfaceMesh read_surface(const std::string& path) {
+  if (check_path(path) == "off")
+    if (std::optional<SurfaceMesh> plain = read_plain_off(path)) return std::move(*plain);
+  return read_surface_general(path);
 }
 
 }  // namespace partet

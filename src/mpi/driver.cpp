@@ -20,25 +20,15 @@ namespace {
 
 constexpr int kTagPiece = 1;
 constexpr int kTagReply = 2;
+constexpr int kIdleMilliseconds = 5;  // how long rank 0 sleeps between looks at MPI when idle
 enum Command : int { kDone = 0, kMeshPieces = 1 };
 
 // Every rank learns whether all ranks succeeded.
-bool agree(bool ok_here) {
-  int ok = ok_here ? 1 : 0, all = 0;
-  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  return all == 1;
-}
+bool agree(bool ok_here) { return all_true(ok_here, MPI_COMM_WORLD); }
 
-void broadcast(Command command) {
-  int value = command;
-  MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
-}
+void broadcast(Command command) { broadcast_int(command, 0, MPI_COMM_WORLD); }
 
-Command receive_command() {
-  int value = kDone;
-  MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  return static_cast<Command>(value);
-}
+Command receive_command() { return static_cast<Command>(broadcast_int(kDone, 0, MPI_COMM_WORLD)); }
 
 // Adds the seconds an object lives to a total.
 struct AddSeconds {
@@ -102,11 +92,13 @@ class RootRound {
       if (root_meshes && !own_ && next_ < order_.size()) progress = start_own_piece();
       if (own_ && own_->poll(0)) progress = finish_own_piece();
       if (receive_reply()) progress = true;
+      // Idle: sleep in the kernel (on the child's pipe when there is one) between looks at
+      // MPI, so this process leaves its core to the TetGen processes.
       if (!progress) {
         if (own_)
-          own_->poll(2);
+          own_->poll(kIdleMilliseconds);
         else
-          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+          std::this_thread::sleep_for(std::chrono::milliseconds(kIdleMilliseconds));
       }
     }
     return std::move(outcomes_);
@@ -251,7 +243,8 @@ void finish(const MeshJob& job, RankState& state) {
   state.stats.peak_rss_mb = own_peak_rss_mb();
   state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
-  MPI_Gather(&state.stats, kRankStatsDoubles, MPI_DOUBLE, all.data(), kRankStatsDoubles, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  gather_doubles(reinterpret_cast<const double*>(&state.stats), kRankStatsDoubles,
+                 reinterpret_cast<double*>(all.data()), 0, MPI_COMM_WORLD);
   const bool ok = agree(state.status.error.empty());
   if (!ok) state.status.exit_code = 1;
   if (state.rank != 0 || !ok) return;

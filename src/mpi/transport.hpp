@@ -1,18 +1,29 @@
-// Moving byte buffers between ranks (internal header). MPI 3.1 counts are int, so buffers go
-// in chunks.
+// Moving bytes and small agreements between ranks (internal header), without busy waiting:
+// OpenMPI's blocking calls poll at 100% CPU, which on a machine with as many cores as ranks
+// steals the core of a TetGen process. Every wait here tests its request and sleeps in the
+// kernel between tests. MPI 3.1 counts are int, so buffers go in chunks.
 #pragma once
 #include <mpi.h>
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace partet::mpi {
 
 // Largest chunk sent in one MPI call (1 GiB).
 constexpr std::size_t kMaxChunk = std::size_t{1} << 30;
 
+// Waits for a request to complete: a short spin, then tests with sleeps growing to 1 ms.
+void wait_sleeping(MPI_Request& request, MPI_Status* status = MPI_STATUS_IGNORE);
+
 // Sends a size header, then the bytes in chunks of at most max_chunk. Returns bytes sent.
 std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk);
 std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk);
+
+// Collectives that sleep while they wait.
+int broadcast_int(int value, int root, MPI_Comm comm);
+bool all_true(bool mine, MPI_Comm comm);  // every rank learns whether all ranks said true
+void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm);
 
 }  // namespace partet::mpi

@@ -3,10 +3,13 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -36,6 +39,7 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
   int fds[2];
   if (::pipe(fds) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
   std::fflush(nullptr);
+  const pid_t parent = ::getpid();
   child_ = ::fork();
   if (child_ < 0) {
     ::close(fds[0]);
@@ -43,6 +47,9 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     throw Error(std::string("cannot fork: ") + std::strerror(errno));
   }
   if (child_ == 0) {
+    // The child dies with its parent: a killed rank must not leave TetGen running.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(4);
     // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
     ::close(fds[0]);
     ::signal(SIGABRT, SIG_DFL);
@@ -51,8 +58,11 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) ::dup2(devnull, STDERR_FILENO);
     bool ok = false;
     try {
+      // The size first, so the parent can reserve the whole result at once.
       const std::string bytes = work();
-      ok = write_all(fds[1], bytes.data(), bytes.size());
+      const std::uint64_t size = bytes.size();
+      ok = write_all(fds[1], reinterpret_cast<const char*>(&size), sizeof size) &&
+           write_all(fds[1], bytes.data(), bytes.size());
     } catch (...) {
     }
     ::close(fds[1]);
@@ -60,6 +70,7 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
   }
   ::close(fds[1]);
   fd_ = fds[0];
+  ::fcntl(fd_, F_SETPIPE_SZ, 1 << 20);  // fewer wake-ups for large results (best effort)
 }
 
 IsolatedRun::~IsolatedRun() {
@@ -74,7 +85,6 @@ IsolatedRun::~IsolatedRun() {
 
 bool IsolatedRun::poll(int wait_ms) {
   if (end_ != ProcessEnd::running) return true;
-  char buffer[1 << 16];
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
   for (;;) {
     const auto now = std::chrono::steady_clock::now();
@@ -82,7 +92,8 @@ bool IsolatedRun::poll(int wait_ms) {
       finish(true);
       return true;
     }
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(std::min(until, deadline_) - now);
+    // Rounded up: a timeout rounded down to 0 ms would make this loop spin until `until`.
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(std::min(until, deadline_) - now);
     pollfd pfd{fd_, POLLIN, 0};
     const int r = ::poll(&pfd, 1, static_cast<int>(std::max<long long>(0, left.count())));
     if (r < 0 && errno == EINTR) continue;
@@ -90,14 +101,44 @@ bool IsolatedRun::poll(int wait_ms) {
       if (std::chrono::steady_clock::now() >= until) return false;
       continue;
     }
-    const ssize_t n = ::read(fd_, buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {  // end of file: the child has finished
+    if (!read_available()) {  // end of file: the child has ended
       finish(false);
       return true;
     }
-    received_.append(buffer, static_cast<std::size_t>(n));
   }
+}
+
+bool IsolatedRun::read_available() {
+  constexpr std::size_t kHeader = sizeof(std::uint64_t);
+  char spare[4096];
+  char* target;
+  std::size_t room;
+  if (header_.size() < kHeader) {
+    target = spare;
+    room = kHeader - header_.size();
+  } else if (filled_ < received_.size()) {
+    target = received_.data() + filled_;
+    room = std::min<std::size_t>(received_.size() - filled_, std::size_t{1} << 20);
+  } else {
+    target = spare;  // everything announced has arrived: only the end of the pipe should follow
+    room = sizeof spare;
+  }
+  const ssize_t n = ::read(fd_, target, room);
+  if (n < 0 && errno == EINTR) return true;
+  if (n <= 0) return false;
+  if (header_.size() < kHeader) {
+    header_.append(spare, static_cast<std::size_t>(n));
+    if (header_.size() == kHeader) {
+      std::uint64_t size = 0;
+      std::memcpy(&size, header_.data(), kHeader);
+      received_.resize(size);
+    }
+  } else if (target == spare) {
+    overflow_ = true;  // more than announced: not a valid result
+  } else {
+    filled_ += static_cast<std::size_t>(n);
+  }
+  return true;
 }
 
 void IsolatedRun::wait() {
@@ -117,7 +158,8 @@ void IsolatedRun::finish(bool timed_out) {
   } else if (WIFSIGNALED(status)) {
     end_ = ProcessEnd::crashed;
     signal_ = WTERMSIG(status);
-  } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+  } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || header_.size() != sizeof(std::uint64_t) ||
+             filled_ != received_.size() || overflow_) {
     end_ = ProcessEnd::no_result;
   } else {
     end_ = ProcessEnd::finished;

@@ -5,6 +5,7 @@
 #include <sys/types.h>
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -42,12 +43,16 @@ class IsolatedRun {
 
  private:
   void finish(bool timed_out);
+  bool read_available();  // false at the end of the pipe
 
   pid_t child_ = -1;
   int fd_ = -1;
   double timeout_seconds_;
   std::chrono::steady_clock::time_point deadline_;
-  std::string received_;
+  std::string header_;    // the result's size, as it arrives
+  std::string received_;  // sized once the header is complete
+  std::size_t filled_ = 0;
+  bool overflow_ = false;
   ProcessEnd end_ = ProcessEnd::running;
   int signal_ = 0;
 };
