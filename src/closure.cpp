@@ -244,24 +244,34 @@ void check_cap_closes_loops(const std::vector<Triangle>& cap, const std::vector<
 
 }  // namespace
 
-std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
+CapBuilder::CapBuilder(SplitSurface& split, const std::vector<CutPlane>& planes, double density)
+    : split_(split), planes_(planes), density_(density) {
   if (!(density >= 0) || !std::isfinite(density)) throw OptionError("the cap density must be a finite number >= 0");
-  const auto chords = border_chords(split, planes.size());
-  std::vector<Cap> caps(planes.size());
-  for (std::size_t j = 0; j < planes.size(); ++j) {
-    Cap& cap = caps[j];
-    cap.plane = static_cast<int>(j);
-    if (chords[j].empty()) continue;  // the plane passes between shells: both sides are closed already
-    const PlaneFrame frame = frame_of(planes[j]);
-    CDT cdt;
-    const double border_length = insert_border(cdt, chords[j], split.points, frame, j);
-    mark_nesting(cdt);
-    const auto first_interior = static_cast<std::int32_t>(split.points.size());
-    if (density > 0) refine_cap(cdt, chords[j].size(), border_length, density, frame, split.points);
-    cap.interior_point_count = static_cast<std::int32_t>(split.points.size()) - first_interior;
-    cap.triangles = domain_triangles(cdt);
-    check_cap_closes_loops(cap.triangles, chords[j], j);
-  }
+  chords_ = border_chords(split, planes.size());
+}
+
+Cap CapBuilder::build(int plane) {
+  const auto j = static_cast<std::size_t>(plane);
+  const std::vector<Chord>& chords = chords_[j];
+  Cap cap;
+  cap.plane = plane;
+  if (chords.empty()) return cap;  // the plane passes between shells: both sides are closed already
+  const PlaneFrame frame = frame_of(planes_[j]);
+  CDT cdt;
+  const double border_length = insert_border(cdt, chords, split_.points, frame, j);
+  mark_nesting(cdt);
+  const auto first_interior = static_cast<std::int32_t>(split_.points.size());
+  if (density_ > 0) refine_cap(cdt, chords.size(), border_length, density_, frame, split_.points);
+  cap.interior_point_count = static_cast<std::int32_t>(split_.points.size()) - first_interior;
+  cap.triangles = domain_triangles(cdt);
+  check_cap_closes_loops(cap.triangles, chords, j);
+  return cap;
+}
+
+std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
+  CapBuilder builder(split, planes, density);
+  std::vector<Cap> caps;
+  for (std::size_t j = 0; j < planes.size(); ++j) caps.push_back(builder.build(static_cast<int>(j)));
   return caps;
 }
 

@@ -86,10 +86,17 @@ std::string report_json(const JobSummary& s) {
   report["retries"] = nlohmann::json::array();
   for (const auto& r : s.result.retries)
     report["retries"].push_back({{"attempt", r.attempt}, {"reason", r.reason}, {"planes_moved", r.planes}});
+  report["piece"] = nlohmann::json::array();
+  for (const PieceRecord& p : s.pieces)
+    report["piece"].push_back(
+        {{"index", p.index}, {"rank", p.rank}, {"triangles", p.triangles}, {"tetgen_seconds", p.seconds}});
   for (std::size_t r = 0; r < s.ranks.size(); ++r) {
     const RankStats& stats = s.ranks[r];
+    std::vector<int> pieces;
+    for (const PieceRecord& p : s.pieces)
+      if (p.rank == static_cast<int>(r)) pieces.push_back(p.index);
     report["rank"].push_back({{"rank", r},
-                              {"pieces", s.pieces_of_rank[r]},
+                              {"pieces", pieces},
                               {"tetgen_seconds", stats.tetgen_seconds},
                               {"peak_rss_mb", stats.peak_rss_mb},
                               {"tetgen_process_peak_rss_mb", stats.tetgen_child_peak_rss_mb},

@@ -8,28 +8,31 @@
 
 namespace partet {
 
-std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps) {
-  const int k = split.piece_count;
-  std::vector<std::vector<Triangle>> global_triangles(k);
-  for (std::size_t t = 0; t < split.triangles.size(); ++t)
-    global_triangles[split.piece[t]].push_back(split.triangles[t]);
-  for (const Cap& cap : caps) {
-    auto& below = global_triangles[cap.plane];
-    auto& above = global_triangles[cap.plane + 1];
-    below.insert(below.end(), cap.triangles.begin(), cap.triangles.end());
-    for (const auto& t : cap.triangles) above.push_back({t[0], t[2], t[1]});
-  }
+PieceAssembler::PieceAssembler(const SplitSurface& split) : split_(split), input_part_(split.piece_count) {
+  for (std::size_t t = 0; t < split.triangles.size(); ++t) input_part_[split.piece[t]].push_back(split.triangles[t]);
+}
 
-  std::vector<PieceSurface> pieces(k);
-  std::vector<std::int32_t> scratch(split.points.size(), -1);
-  for (int p = 0; p < k; ++p) {
-    PieceSurface& piece = pieces[p];
-    piece.index = p;
-    piece.triangles = std::move(global_triangles[p]);
-    piece.global_ids = renumber_locally(piece.triangles, scratch);
-    piece.points.reserve(piece.global_ids.size());
-    for (auto g : piece.global_ids) piece.points.push_back(split.points[g]);
-  }
+// Piece p's triangles: its part of the input, the cap below it (reversed), the cap above it.
+PieceSurface PieceAssembler::assemble(int p, const Cap* below, const Cap* above) {
+  PieceSurface piece;
+  piece.index = p;
+  piece.triangles = std::move(input_part_[p]);
+  if (below)
+    for (const auto& t : below->triangles) piece.triangles.push_back({t[0], t[2], t[1]});
+  if (above) piece.triangles.insert(piece.triangles.end(), above->triangles.begin(), above->triangles.end());
+  scratch_.resize(split_.points.size(), -1);  // caps built since the last piece added points
+  piece.global_ids = renumber_locally(piece.triangles, scratch_);
+  piece.points.reserve(piece.global_ids.size());
+  for (auto g : piece.global_ids) piece.points.push_back(split_.points[g]);
+  return piece;
+}
+
+std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps) {
+  PieceAssembler assembler(split);
+  std::vector<PieceSurface> pieces;
+  const int k = split.piece_count;
+  for (int p = 0; p < k; ++p)
+    pieces.push_back(assembler.assemble(p, p > 0 ? &caps[p - 1] : nullptr, p + 1 < k ? &caps[p] : nullptr));
   return pieces;
 }
 

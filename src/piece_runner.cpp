@@ -4,6 +4,7 @@
 
 #include "partet/errors.hpp"
 #include "partet/serialize.hpp"
+#include "partet/stage_timer.hpp"
 #include "process/isolated_run.hpp"
 
 namespace partet {
@@ -12,6 +13,7 @@ namespace {
 // Runs in the process that meshes: never throws, every failure becomes a reply.
 std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, const std::function<void()>& before) {
   PieceOutcome outcome;
+  const double start = now_seconds();
   try {
     if (before) before();
     outcome.result = tetrahedralize_piece(piece, tetgen);
@@ -20,6 +22,7 @@ std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, 
   } catch (const std::exception& e) {
     outcome.failure = Failure{FailureKind::other, piece.index, {}, e.what()};
   }
+  outcome.seconds = now_seconds() - start;
   return serialize_outcome(outcome);
 }
 

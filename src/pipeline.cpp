@@ -115,22 +115,81 @@ void add_planes_around(int p, std::size_t piece_count, std::vector<int>& planes)
   if (static_cast<std::size_t>(p) + 1 < piece_count) planes.push_back(p);
 }
 
-// Meshes the pieces not in the cache; outcomes in piece order.
-std::vector<PieceOutcome> mesh_uncached(const std::vector<PieceSurface>& pieces, const ResultCache& cache,
-                                        const PieceMesher& mesher) {
-  std::vector<PieceOutcome> outcomes(pieces.size());
-  std::vector<PieceSurface> to_mesh;
-  std::vector<std::size_t> to_mesh_index;
-  for (std::size_t p = 0; p < pieces.size(); ++p) {
-    if (auto cached = cache.find(pieces[p])) {
-      outcomes[p].result = std::move(*cached);
-    } else {
-      to_mesh.push_back(pieces[p]);
-      to_mesh_index.push_back(p);
+// Partition and closure of one attempt, streamed: each piece is submitted as soon as the caps on
+// both its sides exist (unless an earlier attempt meshed the same piece). Returns the outcomes in
+// piece order once all are in.
+class ClosureStream {
+ public:
+  ClosureStream(const SurfaceMesh& input, const MeshOptions& options, PreparedPieces& prepared)
+      : input_(input), options_(options), prepared_(prepared) {}
+
+  // 1. Partition.
+  void partition() {
+    prepared_.planes = choose_cut_planes(input_, options_.pieces, options_.axis, options_.plane_shifts);
+    if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
+      log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
+                   " distinct cut positions along the cut axis; using " +
+                   std::to_string(prepared_.planes.size() + 1) + " pieces instead of " +
+                   std::to_string(options_.pieces));
+    prepared_.split = split_at_planes(input_, prepared_.planes);
+  }
+
+  // 2. Closure, piece by piece; `ready` gets each piece as soon as it is closed.
+  template <class Ready>
+  void close(Ready ready) {
+    const int k = prepared_.split.piece_count;
+    CapBuilder builder(prepared_.split, prepared_.planes, options_.density);
+    PieceAssembler assembler(prepared_.split);
+    std::vector<Cap> caps(static_cast<std::size_t>(std::max(k - 1, 0)));
+    prepared_.pieces.clear();
+    prepared_.pieces.reserve(static_cast<std::size_t>(k));  // submitted pieces must not move
+    for (int p = 0; p < k; ++p) {
+      if (p + 1 < k) {
+        caps[p] = builder.build(p);
+        prepared_.cap_triangles += static_cast<std::int64_t>(caps[p].triangles.size());
+      }
+      prepared_.pieces.push_back(assembler.assemble(p, p > 0 ? &caps[p - 1] : nullptr, p + 1 < k ? &caps[p] : nullptr));
+      if (p > 0) std::vector<Triangle>().swap(caps[p - 1].triangles);  // both its pieces have it now
+      ready(prepared_.pieces.back());
     }
   }
-  std::vector<PieceOutcome> fresh = mesher(to_mesh);
-  for (std::size_t i = 0; i < fresh.size(); ++i) outcomes[to_mesh_index[i]] = std::move(fresh[i]);
+
+ private:
+  const SurfaceMesh& input_;
+  const MeshOptions& options_;
+  PreparedPieces& prepared_;
+};
+
+// Meshes one attempt's pieces as they are closed; outcomes in piece order. A closure failure
+// still ends the scheduler's round (other ranks are waiting in it) before it propagates.
+std::vector<PieceOutcome> close_and_mesh(const SurfaceMesh& input, const MeshOptions& options, PreparedPieces& prepared,
+                                         const ResultCache& cache, PieceScheduler& scheduler, StageTimes* times) {
+  StageTimer timer(times);
+  ClosureStream stream(input, options, prepared);
+  stream.partition();
+  timer.lap("partition");
+  std::vector<PieceOutcome> outcomes;
+  std::vector<std::size_t> submitted;
+  scheduler.begin_round();
+  try {
+    stream.close([&](const PieceSurface& piece) {
+      outcomes.emplace_back();
+      if (auto cached = cache.find(piece)) {
+        outcomes.back().result = std::move(*cached);
+      } else {
+        scheduler.submit(piece);
+        submitted.push_back(outcomes.size() - 1);
+      }
+      scheduler.progress();
+    });
+  } catch (...) {
+    scheduler.end_round();
+    throw;
+  }
+  timer.lap("closure");
+  std::vector<PieceOutcome> fresh = scheduler.end_round();
+  timer.lap("tetgen");
+  for (std::size_t i = 0; i < fresh.size(); ++i) outcomes[submitted[i]] = std::move(fresh[i]);
   return outcomes;
 }
 
@@ -145,37 +204,30 @@ std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input) {
 
 }  // namespace
 
-PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, StageTimes* times) {
+PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
   StageTimer timer(times);
   PreparedPieces prepared;
-  prepared.input = std::move(input);
-  prepared.planes = choose_cut_planes(prepared.input, options.pieces, options.axis, options.plane_shifts);
-  if (options.pieces > 1 && static_cast<int>(prepared.planes.size()) + 1 < options.pieces)
-    log::warning("the model has only " + std::to_string(prepared.planes.size()) +
-                 " distinct cut positions along the cut axis; using " + std::to_string(prepared.planes.size() + 1) +
-                 " pieces instead of " + std::to_string(options.pieces));
-  prepared.split = split_at_planes(prepared.input, prepared.planes);
+  ClosureStream stream(input, options, prepared);
+  stream.partition();
   timer.lap("partition");
-  const auto caps = build_caps(prepared.split, prepared.planes, options.density);
-  for (const auto& c : caps) prepared.cap_triangles += static_cast<std::int64_t>(c.triangles.size());
-  prepared.pieces = assemble_pieces(prepared.split, caps);
+  stream.close([](const PieceSurface&) {});
   timer.lap("closure");
   return prepared;
 }
 
-MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results, const MeshOptions& options,
-                       StageTimes* times) {
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+                       const MeshOptions& options, StageTimes* times) {
   StageTimer timer(times);
   MeshResult result;
   result.mesh = weld(prepared.split.points, prepared.pieces, std::move(results));
   timer.lap("merge");
   const PieceRunner runner(options.tetgen, options.run);
-  result.removal = remove_cut_vertices(result.mesh, prepared.input, prepared.split,
+  result.removal = remove_cut_vertices(result.mesh, input, prepared.split,
                                        [&](const std::vector<Point3>& points, const std::vector<Triangle>& triangles) {
                                          return runner.mesh_surface(points, triangles);
                                        });
   timer.lap("cut_vertex_removal");
-  result.boundary_faces = input_in_output_numbering(prepared.input);
+  result.boundary_faces = input_in_output_numbering(input);
   result.cut_vertices_inserted = prepared.split.cut_vertex_count();
   result.cap_triangles = prepared.cap_triangles;
   result.pieces = static_cast<int>(prepared.pieces.size());
@@ -189,7 +241,7 @@ std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& piec
   return outcomes;
 }
 
-MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
                              StageTimes* times) {
   RetryPlan plan(options);
   ResultCache cache;
@@ -198,10 +250,8 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     std::optional<Failure> failure;
     std::vector<int> planes_to_move;
     try {
-      PreparedPieces prepared = prepare_pieces(input, plan.options(), times);
-      StageTimer timer(times);
-      std::vector<PieceOutcome> outcomes = mesh_uncached(prepared.pieces, cache, mesher);
-      timer.lap("tetgen");
+      PreparedPieces prepared;
+      std::vector<PieceOutcome> outcomes = close_and_mesh(input, plan.options(), prepared, cache, scheduler, times);
       for (std::size_t p = 0; p < outcomes.size(); ++p) {
         if (!outcomes[p].failure) continue;
         if (!failure) failure = outcomes[p].failure;
@@ -213,7 +263,7 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
         results.reserve(outcomes.size());
         for (auto& o : outcomes) results.push_back(std::move(o.result));
         std::vector<PieceOutcome>().swap(outcomes);
-        MeshResult result = finish_mesh(prepared, std::move(results), plan.options(), times);
+        MeshResult result = finish_mesh(input, prepared, std::move(results), plan.options(), times);
         result.retries = plan.take_records();
         return result;
       }
@@ -241,6 +291,12 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     if (planes_to_move.empty()) planes_to_move = plan.all_planes();
     plan.next(*failure, planes_to_move);
   }
+}
+
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
+                             StageTimes* times) {
+  BatchScheduler scheduler(mesher);
+  return mesh_with_retries(input, options, scheduler, times);
 }
 
 MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {

@@ -4,6 +4,7 @@
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array_wrapper.hpp>
 #include <boost/serialization/string.hpp>
+#include <cstring>
 #include <streambuf>
 
 namespace partet {
@@ -66,10 +67,10 @@ constexpr unsigned kArchiveFlags = boost::archive::no_header;
 
 // Runs save(archive) into a string reserved for `expected` bytes.
 template <class Save>
-std::string encode(std::size_t expected, Save save, char tag = 0) {
+std::string encode(std::size_t expected, Save save, std::string_view prefix = {}) {
   WriteBuffer buffer;
-  buffer.bytes.reserve(expected + 1);
-  if (tag) buffer.bytes.push_back(tag);
+  buffer.bytes.reserve(expected + prefix.size());
+  buffer.bytes.append(prefix);
   {
     boost::archive::binary_oarchive ar(buffer, kArchiveFlags);
     save(ar);
@@ -113,7 +114,7 @@ PieceSurface deserialize_piece(std::string_view bytes) {
 
 namespace {
 
-std::string encode_result(const PieceTetMesh& result, char tag) {
+std::string encode_result(const PieceTetMesh& result, std::string_view prefix) {
   const std::size_t expected = 64 + result.mesh.steiner_points.size() * 24 + result.mesh.tets.size() * 32;
   return encode(
       expected,
@@ -124,10 +125,10 @@ std::string encode_result(const PieceTetMesh& result, char tag) {
         save_block(ar, result.mesh.tets);
         save_block(ar, result.mesh.neighbours);
       },
-      tag);
+      prefix);
 }
 
-std::string encode_failure(const Failure& failure, char tag) {
+std::string encode_failure(const Failure& failure, std::string_view prefix) {
   return encode(
       64 + failure.message.size(),
       [&](auto& ar) {
@@ -137,14 +138,14 @@ std::string encode_failure(const Failure& failure, char tag) {
         save_block(ar, planes);
         ar << failure.message;
       },
-      tag);
+      prefix);
 }
 
 constexpr char kResultTag = 'R', kFailureTag = 'F';
 
 }  // namespace
 
-std::string serialize_result(const PieceTetMesh& result) { return encode_result(result, 0); }
+std::string serialize_result(const PieceTetMesh& result) { return encode_result(result, {}); }
 
 PieceTetMesh deserialize_result(std::string_view bytes) {
   return decode<PieceTetMesh>(bytes, [](auto& ar, PieceTetMesh& result) {
@@ -158,7 +159,7 @@ PieceTetMesh deserialize_result(std::string_view bytes) {
   });
 }
 
-std::string serialize_failure(const Failure& failure) { return encode_failure(failure, 0); }
+std::string serialize_failure(const Failure& failure) { return encode_failure(failure, {}); }
 
 Failure deserialize_failure(std::string_view bytes) {
   return decode<Failure>(bytes, [](auto& ar, Failure& failure) {
@@ -174,17 +175,23 @@ Failure deserialize_failure(std::string_view bytes) {
 }
 
 std::string serialize_outcome(const PieceOutcome& outcome) {
-  return outcome.failure ? encode_failure(*outcome.failure, kFailureTag) : encode_result(outcome.result, kResultTag);
+  char prefix[1 + sizeof(double)];
+  prefix[0] = outcome.failure ? kFailureTag : kResultTag;
+  std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
+  const std::string_view head(prefix, sizeof prefix);
+  return outcome.failure ? encode_failure(*outcome.failure, head) : encode_result(outcome.result, head);
 }
 
 PieceOutcome deserialize_outcome(std::string_view bytes) {
-  PieceOutcome outcome;
-  if (!bytes.empty() && bytes[0] == kResultTag)
-    outcome.result = deserialize_result(bytes.substr(1));
-  else if (!bytes.empty() && bytes[0] == kFailureTag)
-    outcome.failure = deserialize_failure(bytes.substr(1));
-  else
+  constexpr std::size_t kHead = 1 + sizeof(double);
+  if (bytes.size() < kHead || (bytes[0] != kResultTag && bytes[0] != kFailureTag))
     throw InternalError("a meshing reply has no valid tag");
+  PieceOutcome outcome;
+  std::memcpy(&outcome.seconds, bytes.data() + 1, sizeof(double));
+  if (bytes[0] == kResultTag)
+    outcome.result = deserialize_result(bytes.substr(kHead));
+  else
+    outcome.failure = deserialize_failure(bytes.substr(kHead));
   return outcome;
 }
 

@@ -86,7 +86,7 @@ TEST(RemoveCutVertices, FinishMeshOnGeneratedShapes) {
       const SurfaceMesh input = generate_surface(name, 1500);
       const Stage s = prepare(input, k);
       ASSERT_GT(s.prepared.split.cut_vertex_count(), 0);
-      const MeshResult result = finish_mesh(s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
+      const MeshResult result = finish_mesh(input, s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
       expect_clean_result(input, s, result);
     }
   }
@@ -121,7 +121,7 @@ TEST(RemoveCutVertices, DenseCapsKeepTheirInteriorPoints) {
   const auto& split = s.prepared.split;
   const std::size_t cap_points = split.points.size() - split.input_vertex_count - split.cut_vertex_count();
   ASSERT_GT(cap_points, 0u);
-  const MeshResult result = finish_mesh(s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
+  const MeshResult result = finish_mesh(input, s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
   expect_clean_result(input, s, result);
   // Cap interior points are interior to the solid. Those outside the re-meshed region stay, in
   // order, right after the input vertices, with unchanged coordinates; a cap point whose every
@@ -168,7 +168,7 @@ TEST(RemoveCutVertices, UnusedInputVerticesAreDropped) {
   for (const auto& t : sphere.triangles) input.triangles.push_back({id[t[0]], id[t[1]], id[t[2]]});
 
   const Stage s = prepare(input, 3);
-  const MeshResult result = finish_mesh(s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
+  const MeshResult result = finish_mesh(input, s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
   for (std::size_t v = 0; v < sphere.points.size(); ++v) ASSERT_EQ(result.mesh.points[v], sphere.points[v]);
   EXPECT_EQ(result.boundary_faces, sphere.triangles);
   EXPECT_EQ(result.removal.removed, s.prepared.split.cut_vertex_count());

@@ -19,6 +19,7 @@ namespace {
 using namespace partet::test;
 
 struct Welded {
+  SurfaceMesh input;
   PreparedPieces prepared;
   std::vector<PieceTetMesh> results;
   TetMesh mesh;
@@ -30,7 +31,8 @@ Welded weld_shape(const std::string& name, int faces, int k, double density = 1.
   options.pieces = k;
   options.density = density;
   options.tetgen.quality = quality;
-  w.prepared = prepare_pieces(generate_surface(name, faces), options);
+  w.input = generate_surface(name, faces);
+  w.prepared = prepare_pieces(w.input, options);
   for (const auto& piece : w.prepared.pieces) w.results.push_back(tetrahedralize_piece(piece, options.tetgen));
   w.mesh = weld(w.prepared.split.points, w.prepared.pieces, std::vector<PieceTetMesh>(w.results));
   return w;
@@ -79,7 +81,7 @@ void expect_valid_weld(const Welded& w) {
   // The open faces are the split input triangles: every cap face got its neighbour.
   EXPECT_EQ(canonical_set(open_faces(mesh)), canonical_set(w.prepared.split.triangles));
 
-  const double volume = enclosed_volume(w.prepared.input);
+  const double volume = enclosed_volume(w.input);
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
 }
 

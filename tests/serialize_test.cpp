@@ -144,8 +144,10 @@ TEST(Serialize, FailuresAndOutcomesRoundTrip) {
   const PieceOutcome o = deserialize_outcome(serialize_outcome(ok));
   EXPECT_FALSE(o.failure);
   expect_same(o.result, r.results[1]);
-  // The reply is the tag byte and the result's own encoding: no second copy of a format.
-  EXPECT_EQ(serialize_outcome(ok).substr(1), serialize_result(r.results[1]));
+  // The reply is the tag byte, the seconds and the result's own encoding: no second format.
+  ok.seconds = 2.5;
+  EXPECT_EQ(serialize_outcome(ok).substr(1 + sizeof(double)), serialize_result(r.results[1]));
+  EXPECT_EQ(deserialize_outcome(serialize_outcome(ok)).seconds, 2.5);
 
   EXPECT_THROW(deserialize_outcome(""), InternalError);
   EXPECT_THROW(deserialize_outcome("X123"), InternalError);

@@ -34,6 +34,14 @@ constexpr int kRankStatsDoubles = 8;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 
+// Where and how fast one piece was meshed.
+struct PieceRecord {
+  int index = 0;
+  int rank = 0;
+  std::int64_t triangles = 0;  // of the piece's closed surface
+  double seconds = 0;          // wall time of its meshing, where it ran
+};
+
 // Peak resident set sizes of this process and of its (waited-for) child processes, MB.
 double own_peak_rss_mb();
 double children_peak_rss_mb();
@@ -55,7 +63,7 @@ struct JobSummary {
   const CheckReport& check;
   const StageTimes& times;
   const std::vector<RankStats>& ranks;
-  const std::vector<std::vector<int>>& pieces_of_rank;
+  const std::vector<PieceRecord>& pieces;  // by index
   double total_seconds;
 };
 

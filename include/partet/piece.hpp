@@ -23,8 +23,24 @@ struct PieceSurface {
 struct PieceOutcome {
   PieceTetMesh result;
   std::optional<Failure> failure;
+  double seconds = 0;  // wall time of the meshing, where it ran
 };
 
+// Builds the pieces one at a time, each as soon as the caps on both its sides exist. Each
+// piece's part of the input is handed over once (assemble moves it out).
+class PieceAssembler {
+ public:
+  explicit PieceAssembler(const SplitSurface& split);
+  // below: the cap of plane p-1 (none for the first piece); above: of plane p (none for the last).
+  PieceSurface assemble(int p, const Cap* below, const Cap* above);
+
+ private:
+  const SplitSurface& split_;
+  std::vector<std::vector<Triangle>> input_part_;  // split triangles by piece
+  std::vector<std::int32_t> scratch_;
+};
+
+// All pieces (caps in plane order).
 std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps);
 
 // Cheap combinatorial checks of a piece (closed, manifold, oriented). Throws MeshingError

@@ -26,17 +26,18 @@ struct MeshOptions {
   RunOptions run;
 };
 
+// One attempt's partition and closure.
 struct PreparedPieces {
-  SurfaceMesh input;
   std::vector<CutPlane> planes;
   SplitSurface split;  // also holds the cap points
   std::vector<PieceSurface> pieces;
   std::int64_t cap_triangles = 0;
 };
 
-// 1-2. Partition, surface closure and piece assembly.
-// The input must already be validated.
-PreparedPieces prepare_pieces(SurfaceMesh input, const MeshOptions& options, StageTimes* times = nullptr);
+// 1-2. Partition, surface closure and piece assembly, all at once (mesh_with_retries streams
+// the same steps instead, handing out each piece as soon as it is closed). The input must already
+// be validated.
+PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);
 
 // One cut-plane move after a failure.
 struct RetryRecord {
@@ -55,17 +56,46 @@ struct MeshResult {
   std::vector<RetryRecord> retries;
 };
 
-// 3. Meshes all pieces (here, or on other ranks) and returns their outcomes in piece order.
-using PieceMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
+// 3. Where the pieces of an attempt are meshed: this process, or the ranks of an MPI job. The
+// pipeline submits each piece as soon as it is closed (so meshing overlaps the closure of the
+// next ones), calls progress() between its own steps, and collects the outcomes at the end.
+class PieceScheduler {
+ public:
+  virtual ~PieceScheduler() = default;
+  virtual void begin_round() {}
+  // The piece stays alive and unchanged until end_round returns.
+  virtual void submit(const PieceSurface& piece) = 0;
+  // Hands out work and takes in results without waiting.
+  virtual void progress() {}
+  // Waits for every submitted piece; their outcomes in submission order.
+  virtual std::vector<PieceOutcome> end_round() = 0;
+};
 
 // Meshes every piece with the runner, one after another.
 std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner);
 
+// Meshes a round's pieces all at once, at its end, with a function (tests, one process).
+using PieceMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
+class BatchScheduler : public PieceScheduler {
+ public:
+  explicit BatchScheduler(PieceMesher mesher) : mesher_(std::move(mesher)) {}
+  void submit(const PieceSurface& piece) override { pieces_.push_back(piece); }
+  std::vector<PieceOutcome> end_round() override {
+    std::vector<PieceOutcome> outcomes = mesher_(pieces_);
+    pieces_.clear();
+    return outcomes;
+  }
+
+ private:
+  PieceMesher mesher_;
+  std::vector<PieceSurface> pieces_;
+};
+
 // 4-5. Weld the pieces' meshes (consumed: each is freed once welded, so rank 0 never holds the
 // pieces and the merged mesh in full at once) and remove the cut vertices. results must be
 // ordered by piece index.
-MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results, const MeshOptions& options,
-                       StageTimes* times = nullptr);
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+                       const MeshOptions& options, StageTimes* times = nullptr);
 
 // The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
 // boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
@@ -74,6 +104,8 @@ MeshResult finish_mesh(const PreparedPieces& prepared, std::vector<PieceTetMesh>
 // third attempt on the cap density is halved each time (0 on the last attempt). After
 // max_attempts (+1 per 4 pieces) partitions the last failure is thrown as MeshingError.
 // Input and option errors are thrown at once.
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                             StageTimes* times = nullptr);
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
                              StageTimes* times = nullptr);
 

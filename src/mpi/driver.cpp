@@ -60,38 +60,53 @@ void inject_failure(int piece, int rank) {
   throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
-// Rank 0's side of one meshing round, a dynamic master/worker queue: pieces go largest-first to
-// whichever rank is free. Rank 0 meshes pieces too when the runner works in the background
-// (a child process it polls between MPI messages), so with -np 2 both cores work. Outcomes are
-// stored by piece position, so the result does not depend on which rank meshed what.
-class RootRound {
+// Rank 0's side of the meshing, a dynamic master/worker queue: each piece goes to whichever
+// rank is free as soon as it is closed; once all are closed, the rest go largest first. Rank 0
+// meshes pieces too when the runner works in the background (a child process it polls between
+// MPI messages), from the end of the closure on, so with -np 2 both cores work. Outcomes are
+// stored by submission, so the result does not depend on which rank meshed what.
+class RootScheduler : public PieceScheduler {
  public:
-  RootRound(const MeshJob& job, const PieceRunner& runner, const std::vector<PieceSurface>& pieces, int size,
-            RankStats& stats, std::map<int, int>& owner)
-      : job_(job),
-        runner_(runner),
-        pieces_(pieces),
-        size_(size),
-        stats_(stats),
-        owner_(owner),
-        order_(pieces.size()),
-        outcomes_(pieces.size()),
-        remaining_(pieces.size()) {
-    std::iota(order_.begin(), order_.end(), 0);
-    std::stable_sort(order_.begin(), order_.end(),
-                     [&](int a, int b) { return pieces[a].triangles.size() > pieces[b].triangles.size(); });
-    for (std::size_t p = 0; p < pieces.size(); ++p) position_[pieces[p].index] = static_cast<int>(p);
+  RootScheduler(const MeshJob& job, const PieceRunner& runner, int size, RankStats& stats,
+                std::map<int, PieceRecord>& records)
+      : job_(job), runner_(runner), size_(size), stats_(stats), records_(records) {}
+
+  void begin_round() override {
+    broadcast(kMeshPieces);
+    pieces_.clear();
+    queue_.clear();
+    outcomes_.clear();
+    idle_.clear();
+    for (int w = 1; w < size_; ++w) idle_.push_back(w);
+    remaining_ = 0;
   }
 
-  std::vector<PieceOutcome> run() {
-    broadcast(kMeshPieces);
-    for (int w = 1; w < size_; ++w) hand_out(w);
+  void submit(const PieceSurface& piece) override {
+    position_[piece.index] = pieces_.size();
+    pieces_.push_back(&piece);
+    outcomes_.emplace_back();
+    queue_.push_back(pieces_.size() - 1);
+    ++remaining_;
+    dispatch();
+  }
+
+  void progress() override {
+    while (receive_reply()) {
+    }
+    if (own_ && own_->poll(0)) finish_own_piece();
+    dispatch();
+  }
+
+  std::vector<PieceOutcome> end_round() override {
+    std::stable_sort(queue_.begin(), queue_.end(), [&](std::size_t a, std::size_t b) {
+      return pieces_[a]->triangles.size() > pieces_[b]->triangles.size();
+    });
     const bool root_meshes = runner_.runs_in_background() || size_ == 1;
     while (remaining_ > 0) {
-      bool progress = false;
-      if (root_meshes && !own_ && next_ < order_.size()) progress = start_own_piece();
+      dispatch();
+      if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
+      bool progress = receive_reply();
       if (own_ && own_->poll(0)) progress = finish_own_piece();
-      if (receive_reply()) progress = true;
       // Idle: sleep in the kernel (on the child's pipe when there is one) between looks at
       // MPI, so this process leaves its core to the TetGen processes.
       if (!progress) {
@@ -101,42 +116,54 @@ class RootRound {
           std::this_thread::sleep_for(std::chrono::milliseconds(kIdleMilliseconds));
       }
     }
+    for (int w = 1; w < size_; ++w) send_piece(w, nullptr);  // round over
     return std::move(outcomes_);
   }
 
  private:
-  // Sends the next piece to a worker, or an empty message: round over.
-  void hand_out(int worker) {
+  void dispatch() {
+    while (!idle_.empty() && !queue_.empty()) {
+      const int worker = idle_.back();
+      idle_.pop_back();
+      send_piece(worker, pieces_[take_next()]);
+    }
+  }
+
+  std::size_t take_next() {
+    const std::size_t next = queue_.front();
+    queue_.erase(queue_.begin());
+    return next;
+  }
+
+  // Sends a piece to a worker, or an empty message: round over.
+  void send_piece(int worker, const PieceSurface* piece) {
     AddSeconds timer{stats_.send_seconds};
     std::string bytes;
-    if (next_ < order_.size()) {
-      const PieceSurface& piece = pieces_[order_[next_++]];
-      owner_[piece.index] = worker;
-      bytes = serialize_piece(piece);
+    if (piece) {
+      records_[piece->index] = {piece->index, worker, static_cast<std::int64_t>(piece->triangles.size()), 0};
+      bytes = serialize_piece(*piece);
     }
     stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD));
   }
 
-  bool start_own_piece() {
-    own_position_ = order_[next_++];
-    const PieceSurface& piece = pieces_[own_position_];
-    owner_[piece.index] = 0;
+  void start_own_piece() {
+    own_position_ = take_next();
+    const PieceSurface& piece = *pieces_[own_position_];
+    records_[piece.index] = {piece.index, 0, static_cast<std::int64_t>(piece.triangles.size()), 0};
     own_start_ = now_seconds();
     dump_piece(job_, piece);
     own_ = runner_.start(piece, [&piece] { inject_failure(piece.index, 0); });
-    return true;
   }
 
   bool finish_own_piece() {
-    outcomes_[own_position_] = deserialize_outcome(own_->take_reply());
+    store(own_position_, deserialize_outcome(own_->take_reply()));
     own_.reset();
     stats_.tetgen_seconds += now_seconds() - own_start_;
     stats_.pieces += 1;
-    --remaining_;
     return true;
   }
 
-  // Takes a worker's reply if one has arrived, and gives that worker its next piece.
+  // Takes a worker's reply if one has arrived; the worker is free again.
   bool receive_reply() {
     int arrived = 0;
     MPI_Status status;
@@ -149,25 +176,31 @@ class RootRound {
       stats_.bytes_received += static_cast<double>(reply.size());
       PieceOutcome outcome = deserialize_outcome(reply);
       const int index = outcome.failure ? outcome.failure->piece : outcome.result.index;
-      outcomes_[position_.at(index)] = std::move(outcome);
+      store(position_.at(index), std::move(outcome));
     }
-    --remaining_;
-    hand_out(worker);
+    idle_.push_back(worker);
     return true;
+  }
+
+  void store(std::size_t position, PieceOutcome&& outcome) {
+    records_[pieces_[position]->index].seconds = outcome.seconds;
+    outcomes_[position] = std::move(outcome);
+    --remaining_;
   }
 
   const MeshJob& job_;
   const PieceRunner& runner_;
-  const std::vector<PieceSurface>& pieces_;
   int size_;
   RankStats& stats_;
-  std::map<int, int>& owner_;    // piece index -> rank that meshed it last
-  std::vector<int> order_;       // positions in pieces_, largest first
-  std::map<int, int> position_;  // piece index -> position in pieces_ (a retry may send a subset)
-  std::vector<PieceOutcome> outcomes_;
-  std::size_t next_ = 0, remaining_;
+  std::map<int, PieceRecord>& records_;         // by piece index: the latest meshing of each piece
+  std::vector<const PieceSurface*> pieces_;     // submitted this round
+  std::map<int, std::size_t> position_;         // piece index -> position in pieces_
+  std::vector<std::size_t> queue_;              // positions not handed out yet
+  std::vector<PieceOutcome> outcomes_;          // by position
+  std::vector<int> idle_;                       // workers without a piece
+  std::size_t remaining_ = 0;
   std::unique_ptr<PieceJob> own_;
-  int own_position_ = -1;
+  std::size_t own_position_ = 0;
   double own_start_ = 0;
 };
 
@@ -204,7 +237,7 @@ struct RankState {
   StageTimes times;
   RankStats stats;
   JobStatus status;
-  std::map<int, int> owner;  // piece index -> rank that meshed it last (rank 0 only)
+  std::map<int, PieceRecord> records;  // piece index -> where and how long it was meshed (rank 0 only)
   SurfaceMesh input;
   MeshResult result;
   CheckReport check;
@@ -226,12 +259,8 @@ void on_root(RankState& state, Step step) {
 // Rank 0: partition, close, mesh (on all ranks), merge, then check and write.
 void mesh_on_root(const MeshJob& job, const PieceRunner& runner, RankState& state) {
   on_root(state, [&] {
-    state.result = mesh_with_retries(
-        state.input, job.options,
-        [&](const std::vector<PieceSurface>& pieces) {
-          return RootRound(job, runner, pieces, state.size, state.stats, state.owner).run();
-        },
-        &state.times);
+    RootScheduler scheduler(job, runner, state.size, state.stats, state.records);
+    state.result = mesh_with_retries(state.input, job.options, scheduler, &state.times);
   });
   broadcast(kDone);
   if (state.status.error.empty())
@@ -248,11 +277,11 @@ void finish(const MeshJob& job, RankState& state) {
   const bool ok = agree(state.status.error.empty());
   if (!ok) state.status.exit_code = 1;
   if (state.rank != 0 || !ok) return;
-  std::vector<std::vector<int>> pieces_of_rank(state.size);
-  for (const auto& [piece, rank_of_piece] : state.owner)
-    if (piece < state.result.pieces) pieces_of_rank[rank_of_piece].push_back(piece);
-  const JobSummary summary{job,         state.input, state.result,   state.check,
-                           state.times, all,         pieces_of_rank, now_seconds() - state.start};
+  std::vector<PieceRecord> pieces;
+  for (const auto& [index, record] : state.records)
+    if (index < state.result.pieces) pieces.push_back(record);
+  const JobSummary summary{job, state.input, state.result, state.check, state.times, all, pieces,
+                           now_seconds() - state.start};
   write_report(summary);
   print_summary(summary);
 }
