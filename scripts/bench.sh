@@ -88,4 +88,10 @@ for input in "$@"; do
   rm -f "$work/$name".1.* "$work"/out_k*
 done
 echo "wrote $csv"
-"$here/plot_bench.py" "$csv" "$outdir/bench.png" && echo "wrote $outdir/bench.png"
+# The plot uses Debian's python3 and python3-matplotlib (a python3 earlier on PATH may lack it).
+if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  echo "installing python3-matplotlib for the plot"
+  sudo=""; [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get install -y -qq --no-install-recommends python3-matplotlib > /dev/null
+fi
+/usr/bin/python3 "$here/plot_bench.py" "$csv" "$outdir/bench.png" && echo "wrote $outdir/bench.png"

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plots scripts/bench.sh's CSV: wall time and peak memory against the piece count, one line per
 input, each relative to TetGen on the same input (dashed line at 1) when TetGen was run.
 Usage: plot_bench.py BENCH.csv OUT.png   (needs python3-matplotlib)"""
