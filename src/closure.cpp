@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
+#include <unordered_map>
 #include <string>
 
 #include "geometry.hpp"
@@ -169,14 +171,16 @@ bool encroaches(const CDT& cdt, CDT::Face_handle g, const K::Point_2& p) {
 }
 
 // Inserts p into the domain unless it falls outside, encroaches or coincides; the new point is
-// appended to `points` (so it gets a global id). Returns whether it was inserted.
-bool insert_interior_point(CDT& cdt, const K::Point_2& p, const PlaneFrame& frame, std::vector<Point3>& points) {
-  const CDT::Face_handle g = cdt.locate(p);
-  if (g == CDT::Face_handle() || !in_domain(cdt, g) || encroaches(cdt, g, p)) return false;
+// appended to `points` (so it gets a global id). `hint` is a face near p (walks start there).
+// Returns the new vertex, or a null handle.
+CDT::Vertex_handle insert_interior_point(CDT& cdt, const K::Point_2& p, CDT::Face_handle hint, const PlaneFrame& frame,
+                                         std::vector<Point3>& points) {
+  const CDT::Face_handle g = cdt.locate(p, hint);
+  if (g == CDT::Face_handle() || !in_domain(cdt, g) || encroaches(cdt, g, p)) return {};
   const int nesting = g->info().nesting;
   const auto before = cdt.number_of_vertices();
   auto vh = cdt.insert(p, g);
-  if (cdt.number_of_vertices() == before) return false;  // coincides with an existing point
+  if (cdt.number_of_vertices() == before) return {};  // coincides with an existing point
   // The new faces fill a region bounded by unconstrained edges: same nesting as before.
   auto fc = cdt.incident_faces(vh), done = fc;
   do {
@@ -184,34 +188,156 @@ bool insert_interior_point(CDT& cdt, const K::Point_2& p, const PlaneFrame& fram
   } while (++fc != done);
   vh->info() = static_cast<std::int32_t>(points.size());
   points.push_back(lift(frame, p));
-  return true;
+  return vh;
 }
 
-// Refinement by size that never splits a border chord (both pieces must keep matching): a too
-// large face gets its centroid unless that encroaches on a border chord. (Circumcenters give
-// rounder triangles but land arbitrarily close to other points, which TetGen then merges.)
+// The border chords in a uniform grid of square cells, to find the chords near a point.
+class ChordGrid {
+ public:
+  ChordGrid(const CDT& cdt, double cell) : cell_(cell) {
+    for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+      lo_x_ = std::min(lo_x_, v->point().x());
+      lo_y_ = std::min(lo_y_, v->point().y());
+      hi_x_ = std::max(hi_x_, v->point().x());
+      hi_y_ = std::max(hi_y_, v->point().y());
+    }
+    columns_ = static_cast<long>((hi_x_ - lo_x_) / cell_) + 1;
+    rows_ = static_cast<long>((hi_y_ - lo_y_) / cell_) + 1;
+    for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e) {
+      if (!cdt.is_constrained(*e)) continue;
+      const K::Point_2& a = e->first->vertex(CDT::cw(e->second))->point();
+      const K::Point_2& b = e->first->vertex(CDT::ccw(e->second))->point();
+      segments_.push_back({a, b});
+      for (long r = row(std::min(a.y(), b.y())); r <= row(std::max(a.y(), b.y())); ++r)
+        for (long c = column(std::min(a.x(), b.x())); c <= column(std::max(a.x(), b.x())); ++c)
+          cells_[r * columns_ + c].push_back(segments_.size() - 1);
+    }
+  }
+  double lo_x() const { return lo_x_; }
+  double lo_y() const { return lo_y_; }
+  double hi_x() const { return hi_x_; }
+  double hi_y() const { return hi_y_; }
+
+  // Calls f(x_lo, y_lo, x_hi, y_hi) for every cell holding a chord or next to one (each once):
+  // together they cover every point closer than one cell to the border.
+  template <class F>
+  void for_each_cell_near_border(F f) const {
+    std::vector<long> near;
+    for (const auto& [index, chords] : cells_) {
+      const long r0 = index / columns_, c0 = index % columns_;
+      for (long r = std::max(r0 - 1, 0L); r <= std::min(r0 + 1, rows_ - 1); ++r)
+        for (long c = std::max(c0 - 1, 0L); c <= std::min(c0 + 1, columns_ - 1); ++c) near.push_back(r * columns_ + c);
+    }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    for (long index : near) {
+      const double x = lo_x_ + static_cast<double>(index % columns_) * cell_;
+      const double y = lo_y_ + static_cast<double>(index / columns_) * cell_;
+      f(x, y, std::nextafter(x + cell_, x), std::nextafter(y + cell_, y));
+    }
+  }
+
+  // True when a chord passes closer than `distance` (at most one cell) to p.
+  bool near(const K::Point_2& p, double distance) const {
+    const double d2 = distance * distance;
+    const long r0 = row(p.y()), c0 = column(p.x());
+    for (long r = std::max(r0 - 1, 0L); r <= std::min(r0 + 1, rows_ - 1); ++r)
+      for (long c = std::max(c0 - 1, 0L); c <= std::min(c0 + 1, columns_ - 1); ++c) {
+        auto it = cells_.find(r * columns_ + c);
+        if (it == cells_.end()) continue;
+        for (std::size_t s : it->second)
+          if (CGAL::squared_distance(p, K::Segment_2(segments_[s][0], segments_[s][1])) < d2) return true;
+      }
+    return false;
+  }
+
+ private:
+  long row(double y) const { return std::clamp(static_cast<long>((y - lo_y_) / cell_), 0L, rows_ - 1); }
+  long column(double x) const { return std::clamp(static_cast<long>((x - lo_x_) / cell_), 0L, columns_ - 1); }
+
+  double cell_;
+  double lo_x_ = std::numeric_limits<double>::max(), lo_y_ = std::numeric_limits<double>::max();
+  double hi_x_ = std::numeric_limits<double>::lowest(), hi_y_ = std::numeric_limits<double>::lowest();
+  long columns_ = 1, rows_ = 1;
+  std::vector<std::array<K::Point_2, 2>> segments_;
+  std::unordered_map<long, std::vector<std::size_t>> cells_;
+};
+
+// A triangular lattice: rows `row_height` apart, odd rows shifted by half a spacing. The lattice
+// with twice the spacing and the same origin is a subset of it, so levels nest.
+struct Lattice {
+  double x0, y0, spacing;
+  double row_height() const { return spacing * std::sqrt(3.0) / 2; }
+  K::Point_2 at(long row, long column) const {
+    const double shift = (row % 2 != 0) ? spacing / 2 : 0.0;
+    return {x0 + shift + static_cast<double>(column) * spacing, y0 + static_cast<double>(row) * row_height()};
+  }
+  // Calls f(point) for the lattice points in [x_lo, x_hi] x [y_lo, y_hi].
+  template <class F>
+  void for_each_in(double x_lo, double y_lo, double x_hi, double y_hi, F f) const {
+    const long r_lo = std::max(0L, static_cast<long>(std::ceil((y_lo - y0) / row_height())));
+    const long r_hi = static_cast<long>(std::floor((y_hi - y0) / row_height()));
+    for (long r = r_lo; r <= r_hi; ++r) {
+      const double shift = (r % 2 != 0) ? spacing / 2 : 0.0;
+      const long c_lo = std::max(0L, static_cast<long>(std::ceil((x_lo - x0 - shift) / spacing)));
+      const long c_hi = static_cast<long>(std::floor((x_hi - x0 - shift) / spacing));
+      for (long c = c_lo; c <= c_hi; ++c) f(at(r, c));
+    }
+  }
+};
+
+// Where the cap's interior points go: a graded lattice. Its spacing is `base` next to the border
+// and grows with the distance d to the border, to about d / kGrading: level l (spacing
+// base * 2^l) fills the band base * kGrading * 2^l <= d < base * kGrading * 2^(l+1). The levels
+// nest, so no two points are closer than `base`, and neighbouring bands differ by a factor 2.
+// The points number about (border points) x density x kGrading x 2 plus a coarse core, instead
+// of growing with the cap's area: caps of large models stay cheap for TetGen too. No point goes
+// closer than base/2 to the border (a border chord is never split, so both pieces keep
+// matching, and points near it would make slivers).
+std::vector<K::Point_2> graded_cap_points(const CDT& cdt, double base, std::size_t budget) {
+  constexpr double kGrading = 2.0;
+  const ChordGrid outline(cdt, base);
+  const double width = outline.hi_x() - outline.lo_x(), height = outline.hi_y() - outline.lo_y();
+  // The top level covers the core, up to the largest distance from the border: half the
+  // bounding box's diagonal at most. Its lattice spans the whole bounding box (a few points).
+  const double deepest = std::hypot(width, height) / 2;
+  int top = 0;
+  while (kGrading * 2 * base * std::ldexp(1.0, top) < deepest) ++top;
+  std::vector<K::Point_2> points;
+  for (int level = 0; level <= top; ++level) {
+    const Lattice lattice{outline.lo_x(), outline.lo_y(), base * std::ldexp(1.0, level)};
+    const double inner = level == 0 ? base / 2 : kGrading * lattice.spacing;  // the band [inner, outer)
+    const double outer = kGrading * 2 * lattice.spacing;
+    const ChordGrid grid(cdt, outer);
+    auto keep = [&](const K::Point_2& p) {
+      if (grid.near(p, inner) || (level < top && !grid.near(p, outer))) return;
+      points.push_back(p);
+    };
+    if (level == top)
+      lattice.for_each_in(outline.lo_x(), outline.lo_y(), outline.hi_x(), outline.hi_y(), keep);
+    else
+      grid.for_each_cell_near_border([&](double x_lo, double y_lo, double x_hi, double y_hi) {
+        lattice.for_each_in(x_lo, y_lo, x_hi, y_hi, keep);
+      });
+  }
+  // Row by row, so each insertion starts its walk next to the previous point.
+  std::sort(points.begin(), points.end(),
+            [](const K::Point_2& a, const K::Point_2& b) { return a.y() != b.y() ? a.y() < b.y() : a.x() < b.x(); });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() > budget) points.resize(budget);
+  return points;
+}
+
+// Fills the cap's interior with a graded triangular lattice (graded_cap_points), joined to the
+// border by the constrained triangulation. The lattice spacing next to the border is the mean
+// border edge length / density.
 void refine_cap(CDT& cdt, std::size_t chord_count, double border_length, double density, const PlaneFrame& frame,
                 std::vector<Point3>& points) {
-  const double target = border_length / static_cast<double>(chord_count) / density;
-  const double max_area = 2.0 * std::sqrt(3.0) / 4.0 * target * target;
+  const double base = border_length / static_cast<double>(chord_count) / density;
   const std::size_t budget = 50 * chord_count + 1000;  // bounds the work on odd inputs
-  std::size_t inserted = 0;
-  for (int round = 0; round < 64 && inserted < budget; ++round) {
-    std::vector<std::array<K::Point_2, 3>> large;
-    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-      if (!in_domain(cdt, f)) continue;
-      const auto& a = f->vertex(0)->point();
-      const auto& b = f->vertex(1)->point();
-      const auto& c = f->vertex(2)->point();
-      if (std::abs(CGAL::area(a, b, c)) > max_area) large.push_back({a, b, c});
-    }
-    const std::size_t before = inserted;
-    for (const auto& t : large) {
-      if (inserted >= budget) break;
-      if (insert_interior_point(cdt, CGAL::centroid(t[0], t[1], t[2]), frame, points)) ++inserted;
-    }
-    if (inserted == before) break;
-  }
+  CDT::Face_handle hint = cdt.infinite_face()->neighbor(0);
+  for (const K::Point_2& p : graded_cap_points(cdt, base, budget))
+    if (auto v = insert_interior_point(cdt, p, hint, frame, points); v != CDT::Vertex_handle()) hint = v->face();
 }
 
 // The domain's triangles in a deterministic order, independent of CGAL's internal face order.

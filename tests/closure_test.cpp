@@ -1,6 +1,8 @@
 // Surface closure: build_caps triangulates the cross-section of the solid on every cut plane.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -162,8 +164,57 @@ TEST(BuildCaps, DensityAddsInteriorPointsOnThePlane) {
   std::size_t interior = 0;
   for (const auto& cap : c3.caps) interior += cap.interior_point_count;
   EXPECT_EQ(c3.split.points.size(), c3.points_before_caps + interior);
-  // Roughly: density d gives ~ d^2 times as many cap triangles for a fine refinement.
-  EXPECT_GT(c3.caps[0].interior_point_count, 3 * c1.caps[0].interior_point_count);
+  // The spacing next to the border is the mean border edge / density: about density times as
+  // many points along the border (the core is graded, so not density^2).
+  EXPECT_GT(c3.caps[0].interior_point_count, 1.4 * c1.caps[0].interior_point_count);
+}
+
+TEST(BuildCaps, InteriorPointsAreSpacedAndKeepAMarginFromTheBorder) {
+  // A long box: its caps are squares far larger than the border spacing, so the interior is
+  // graded (coarser away from the border).
+  const SurfaceMesh s = generate_surface("sphere", 20000);
+  for (double density : {0.25, 1.0}) {
+    SCOPED_TRACE("density " + std::to_string(density));
+    const Closed c = close_surface(s, 2, density);
+    const Cap& cap = c.caps[0];
+    const int axis = c.axis;
+    ASSERT_GE(axis, 0);
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    // Border chords of the cap: its edges used by one cap triangle only.
+    std::map<std::pair<std::int32_t, std::int32_t>, int> edge_use;
+    for (const auto& t : cap.triangles)
+      for (int e = 0; e < 3; ++e) ++edge_use[{std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])}];
+    double border_length = 0;
+    std::vector<std::pair<Point3, Point3>> chords;
+    for (const auto& [edge, uses] : edge_use)
+      if (uses == 1) {
+        chords.push_back({c.split.points[edge.first], c.split.points[edge.second]});
+        border_length += norm(sub(chords.back().first, chords.back().second));
+      }
+    const double base = border_length / static_cast<double>(chords.size()) / density;
+    const std::size_t first = c.points_before_caps, last = first + static_cast<std::size_t>(cap.interior_point_count);
+    ASSERT_GT(last, first + 10);
+    auto distance2d = [&](const Point3& a, const Point3& b) { return std::hypot(a[u] - b[u], a[v] - b[v]); };
+    auto segment_distance = [&](const Point3& p, const Point3& a, const Point3& b) {
+      const double ax = b[u] - a[u], ay = b[v] - a[v], px = p[u] - a[u], py = p[v] - a[v];
+      const double t = std::clamp((px * ax + py * ay) / (ax * ax + ay * ay), 0.0, 1.0);
+      return std::hypot(px - t * ax, py - t * ay);
+    };
+    double closest_pair = std::numeric_limits<double>::infinity(), closest_border = closest_pair, widest = 0;
+    for (std::size_t i = first; i < last; ++i) {
+      const Point3& p = c.split.points[i];
+      for (std::size_t j = i + 1; j < last; ++j) closest_pair = std::min(closest_pair, distance2d(p, c.split.points[j]));
+      double to_border = std::numeric_limits<double>::infinity();
+      for (const auto& [a, b] : chords) to_border = std::min(to_border, segment_distance(p, a, b));
+      closest_border = std::min(closest_border, to_border);
+      widest = std::max(widest, to_border);
+    }
+    EXPECT_GE(closest_pair, base * (1 - 1e-9));
+    EXPECT_GE(closest_border, base / 2 * (1 - 1e-9));
+    // Graded: far fewer points than a uniform lattice of the border spacing would need.
+    const double uniform = cap_area(c, cap) / (std::sqrt(3.0) / 2 * base * base);
+    if (widest > 8 * base) EXPECT_LT(cap.interior_point_count, 0.6 * uniform);
+  }
 }
 
 TEST(BuildCaps, DensityMustBeFiniteAndNonNegative) {
