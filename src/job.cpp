@@ -69,8 +69,11 @@ std::string report_json(const JobSummary& s) {
   report["density"] = s.job.options.density;
   report["tetgen_quality"] = s.job.options.tetgen.quality;
   report["stage_seconds"] = nlohmann::json::object();
-  for (const auto& [stage, seconds] : s.times)
-    report["stage_seconds"][stage] = report["stage_seconds"].value(stage, 0.0) + seconds;
+  report["stage_rss_mb"] = nlohmann::json::object();  // rank 0's resident memory after each stage
+  for (const StageTime& t : s.times) {
+    report["stage_seconds"][t.stage] = report["stage_seconds"].value(t.stage, 0.0) + t.seconds;
+    report["stage_rss_mb"][t.stage] = std::max(report["stage_rss_mb"].value(t.stage, 0.0), t.rss_mb);
+  }
   // Rank 0's time inside the sends and receives of the meshing rounds (part of "tetgen", which
   // is the wall time of the rounds: pieces are sent, meshed and gathered concurrently).
   report["stage_seconds"]["send"] = s.ranks[0].send_seconds;
@@ -127,7 +130,7 @@ void print_summary(const JobSummary& s) {
             std::to_string(s.ranks.size()) + " ranks; " + std::to_string(s.result.removal.removed) +
             " cut vertices removed; " + format("%.2f s", s.total_seconds));
   std::string stages = "stages:";
-  for (const auto& [stage, seconds] : s.times) stages += " " + stage + format(" %.2f", seconds);
+  for (const StageTime& t : s.times) stages += " " + t.stage + format(" %.2f", t.seconds);
   double worst = 0;
   for (const auto& r : s.ranks) worst = std::max({worst, r.peak_rss_mb, r.tetgen_child_peak_rss_mb});
   log::info(stages + format("; peak RSS %.0f MB (largest process)", worst));

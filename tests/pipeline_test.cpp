@@ -195,9 +195,10 @@ TEST(MeshSurface, StageTimesInOrder) {
   StageTimes times;
   mesh_surface(generate_surface("sphere", 500), options_for(2), &times);
   std::vector<std::string> names;
-  for (const auto& [name, seconds] : times) {
-    names.push_back(name);
-    EXPECT_GE(seconds, 0);
+  for (const StageTime& t : times) {
+    names.push_back(t.stage);
+    EXPECT_GE(t.seconds, 0);
+    EXPECT_GT(t.rss_mb, 0);
   }
   EXPECT_EQ(names, (std::vector<std::string>{"partition", "closure", "tetgen", "merge", "cut_vertex_removal"}));
 }

@@ -1,18 +1,25 @@
-// Wall-clock seconds per named stage, used by the pipeline and the MPI driver alike.
+// Wall-clock seconds and memory per named stage, used by the pipeline and the MPI driver alike.
 #pragma once
 #include <chrono>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace partet {
 
-// Seconds per stage, in the order the stages ran (a stage may appear more than once).
-using StageTimes = std::vector<std::pair<std::string, double>>;
+struct StageTime {
+  std::string stage;
+  double seconds = 0;
+  double rss_mb = 0;  // this process's resident memory at the end of the stage
+};
+// In the order the stages ran (a stage may appear more than once).
+using StageTimes = std::vector<StageTime>;
 
 inline double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
+
+// This process's resident set size now, MB (0 where /proc is not available).
+double current_rss_mb();
 
 // Records the time since the previous lap (or construction) under a stage name.
 class StageTimer {
@@ -20,7 +27,7 @@ class StageTimer {
   explicit StageTimer(StageTimes* times) : times_(times), start_(now_seconds()) {}
   void lap(const std::string& stage) {
     const double now = now_seconds();
-    if (times_) times_->emplace_back(stage, now - start_);
+    if (times_) times_->push_back({stage, now - start_, current_rss_mb()});
     start_ = now;
   }
 
