@@ -92,7 +92,8 @@ std::string report_json(const JobSummary& s) {
   report["piece"] = nlohmann::json::array();
   for (const PieceRecord& p : s.pieces)
     report["piece"].push_back(
-        {{"index", p.index}, {"rank", p.rank}, {"triangles", p.triangles}, {"tetgen_seconds", p.seconds}});
+        {{"index", p.index}, {"rank", p.rank}, {"triangles", p.triangles}, {"tetgen_seconds", p.seconds},
+         {"tetgen_mb", p.memory_mb}});
   for (std::size_t r = 0; r < s.ranks.size(); ++r) {
     const RankStats& stats = s.ranks[r];
     std::vector<int> pieces;

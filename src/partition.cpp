@@ -56,7 +56,16 @@ Point3 main_axis(const SurfaceMesh& surface, const std::vector<char>& used) {
 }  // namespace
 
 int piece_of_point(const std::vector<CutPlane>& planes, const Point3& p) {
-  // Planes are sorted along the axis: binary search on the exact side test.
+  // Planes are sorted along the axis. A coordinate-axis plane's side is the coordinate compared
+  // with the offset, exactly; otherwise binary search on the exact side test.
+  if (!planes.empty()) {
+    const Point3& n = planes[0].normal;
+    for (int axis = 0; axis < 3; ++axis)
+      if (n[axis] == 1 && n[(axis + 1) % 3] == 0 && n[(axis + 2) % 3] == 0)
+        return static_cast<int>(std::lower_bound(planes.begin(), planes.end(), p[axis],
+                                                 [](const CutPlane& plane, double x) { return plane.offset < x; }) -
+                                planes.begin());
+  }
   const K::Point_3 q = to_cgal(p);
   int lo = 0, hi = static_cast<int>(planes.size());
   while (lo < hi) {
@@ -149,25 +158,79 @@ std::vector<Gap> usable_gaps(const AxisOrder& a) {
   return gaps;
 }
 
-// The gap for a plane whose ideal position is between sorted vertices target-1 and target,
-// among gaps[first..last]. Among the gaps near the ideal one, the widest: a plane far from
-// every vertex cuts no triangle close to a corner, which avoids slivers and near-degenerate
-// crossings in the pieces TetGen gets. The window keeps pieces within a few percent of equal. A
-// retry (shift s > 0) takes the (s+1)-th widest instead, in a window 1 + 2s times as wide, so a
-// plane that keeps failing moves further away.
-std::size_t pick_gap(const AxisOrder& a, const std::vector<Gap>& gaps, std::size_t target, std::size_t first,
-                     std::size_t last, std::size_t base_window, int shift) {
+// A plane candidate: a usable gap, its width and its clearance.
+struct Candidate {
+  std::size_t gap;  // index into the usable gaps
+  double width;
+  double clearance = 1;  // min over the input edges it crosses of min(t, 1-t), t along the edge
+};
+
+// The candidates for a plane whose ideal position is between sorted vertices target-1 and
+// target: the widest usable gaps near it (a plane far from every vertex cuts no triangle close
+// to a corner, which avoids slivers and near-degenerate crossings in the pieces TetGen gets).
+// The window keeps pieces within a few percent of equal; a retry (shift s > 0) widens it
+// 1 + 2s times, so a plane that keeps failing moves further away.
+std::vector<Candidate> candidates_near(const AxisOrder& a, const std::vector<Gap>& gaps, std::size_t target,
+                                       std::size_t last, std::size_t base_window, int shift) {
+  constexpr std::size_t kTried = 16;
   const std::size_t window = base_window * (1 + 2 * static_cast<std::size_t>(shift));
-  std::vector<std::pair<double, std::size_t>> candidates;  // (-width, index into gaps)
-  for (std::size_t u = first; u <= last; ++u) {
+  std::vector<Candidate> candidates;
+  for (std::size_t u = 0; u <= last; ++u) {
     const std::size_t m = gaps[u].m;
     if (m + window < target) continue;
     if (m > target + window) break;
-    candidates.push_back({-(a.at(m) - a.at(m - 1)), u});
+    candidates.push_back({u, a.at(m) - a.at(m - 1)});
   }
-  std::sort(candidates.begin(), candidates.end());
-  if (!candidates.empty()) return candidates[static_cast<std::size_t>(shift) % candidates.size()].second;
-  // No usable gap near the ideal position: the nearest one that still leaves room.
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.width > y.width; });
+  if (candidates.size() > kTried + static_cast<std::size_t>(shift))
+    candidates.resize(kTried + static_cast<std::size_t>(shift));
+  return candidates;
+}
+
+// Measures every candidate's clearance in one pass over the input edges: a cut vertex close to
+// an edge's end (relative to that edge's length) lies close to an input vertex and to the cut
+// vertices of its neighbouring edges, which TetGen may merge or fail to recover.
+void measure_clearance(const SurfaceMesh& surface, const Point3& axis, const std::vector<Gap>& gaps,
+                       std::vector<std::vector<Candidate>>& candidates) {
+  std::vector<std::pair<double, Candidate*>> at;  // by plane offset
+  for (auto& list : candidates)
+    for (auto& c : list) at.push_back({gaps[c.gap].plane.offset, &c});
+  std::sort(at.begin(), at.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  if (at.empty()) return;
+  // In a closed oriented surface each edge runs once each way: count it where it runs upwards.
+  for (const Triangle& t : surface.triangles)
+    for (int e = 0; e < 3; ++e) {
+      if (t[e] > t[(e + 1) % 3]) continue;
+      double p = dot(axis, surface.points[t[e]]), q = dot(axis, surface.points[t[(e + 1) % 3]]);
+      if (p > q) std::swap(p, q);
+      auto it = std::upper_bound(at.begin(), at.end(), p, [](double x, const auto& y) { return x < y.first; });
+      for (; it != at.end() && it->first < q; ++it) {
+        const double s = (it->first - p) / (q - p);
+        it->second->clearance = std::min(it->second->clearance, std::min(s, 1 - s));
+      }
+    }
+}
+
+// The candidate to use: the widest with a clearance of at least kGoodClearance, else the one
+// with the best clearance; a retry (shift s) takes the (s+1)-th in that order. Only gaps from
+// `first` on (after the previous plane's) qualify; -1 when none does.
+long pick_candidate(std::vector<Candidate> candidates, std::size_t first, int shift) {
+  constexpr double kGoodClearance = 0.05;
+  candidates.erase(
+      std::remove_if(candidates.begin(), candidates.end(), [&](const Candidate& c) { return c.gap < first; }),
+      candidates.end());
+  if (candidates.empty()) return -1;
+  std::stable_sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    const bool good_x = x.clearance >= kGoodClearance, good_y = y.clearance >= kGoodClearance;
+    if (good_x != good_y) return good_x;
+    return good_x ? x.width > y.width : x.clearance > y.clearance;
+  });
+  return static_cast<long>(candidates[static_cast<std::size_t>(shift) % candidates.size()].gap);
+}
+
+// No usable gap near the ideal position: the nearest one that still leaves room.
+std::size_t nearest_gap(const std::vector<Gap>& gaps, std::size_t target, std::size_t first, std::size_t last) {
   auto it = std::lower_bound(gaps.begin() + static_cast<long>(first), gaps.begin() + static_cast<long>(last) + 1,
                              target, [](const Gap& g, std::size_t t) { return g.m < t; });
   std::size_t chosen = static_cast<std::size_t>(it - gaps.begin());
@@ -182,20 +245,27 @@ std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAx
                                         const std::vector<int>& shifts) {
   if (k < 1) throw OptionError("the number of pieces must be at least 1 (got " + std::to_string(k) + ")");
   if (k == 1) return {};
-  const AxisOrder a = sort_along(surface, cut_axis(surface, mode));
+  const Point3 axis = cut_axis(surface, mode);
+  const AxisOrder a = sort_along(surface, axis);
   const std::vector<Gap> gaps = usable_gaps(a);
   // Fewer distinct cut positions than planes asked for: use them all (the caller warns).
   if (gaps.size() + 1 < static_cast<std::size_t>(k)) k = static_cast<int>(gaps.size()) + 1;
   const std::size_t n = a.size();
   const std::size_t base_window = std::max<std::size_t>(2, n / (static_cast<std::size_t>(k) * 25));
+  auto target_of = [&](int j) { return (n * static_cast<std::size_t>(j) + k / 2) / static_cast<std::size_t>(k); };
+  auto shift_of = [&](int j) { return j - 1 < static_cast<int>(shifts.size()) ? shifts[j - 1] : 0; };
+  // Leave enough usable gaps for the planes still to come.
+  auto last_of = [&](int j) { return gaps.size() - static_cast<std::size_t>(k - 1 - j) - 1; };
+  std::vector<std::vector<Candidate>> candidates(static_cast<std::size_t>(k));
+  for (int j = 1; j < k; ++j)
+    candidates[j] = candidates_near(a, gaps, target_of(j), last_of(j), base_window, shift_of(j));
+  measure_clearance(surface, axis, gaps, candidates);
   std::vector<CutPlane> planes;
   std::size_t first = 0;  // planes take strictly increasing usable gaps
   for (int j = 1; j < k; ++j) {
-    const std::size_t target = (n * static_cast<std::size_t>(j) + k / 2) / static_cast<std::size_t>(k);
-    // Leave enough usable gaps for the planes still to come.
-    const std::size_t last = gaps.size() - static_cast<std::size_t>(k - 1 - j) - 1;
-    const int shift = j - 1 < static_cast<int>(shifts.size()) ? shifts[j - 1] : 0;
-    const std::size_t chosen = pick_gap(a, gaps, target, first, last, base_window, shift);
+    const long picked = pick_candidate(candidates[j], first, shift_of(j));
+    const std::size_t chosen =
+        picked >= 0 ? static_cast<std::size_t>(picked) : nearest_gap(gaps, target_of(j), first, last_of(j));
     planes.push_back(gaps[chosen].plane);
     first = chosen + 1;
   }

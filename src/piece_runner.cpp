@@ -1,5 +1,8 @@
 #include "partet/piece_runner.hpp"
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <csignal>
 
 #include "partet/errors.hpp"
@@ -13,7 +16,7 @@ namespace {
 // Runs in the process that meshes: never throws, every failure becomes a reply.
 std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, const std::function<void()>& before) {
   PieceOutcome outcome;
-  const double start = now_seconds();
+  const double start = now_seconds(), resident_at_start = current_rss_mb();
   try {
     if (before) before();
     outcome.result = tetrahedralize_piece(piece, tetgen);
@@ -23,6 +26,9 @@ std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, 
     outcome.failure = Failure{FailureKind::other, piece.index, {}, e.what()};
   }
   outcome.seconds = now_seconds() - start;
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  outcome.memory_mb = std::max(0.0, static_cast<double>(usage.ru_maxrss) / 1024.0 - resident_at_start);
   return serialize_outcome(outcome);
 }
 

@@ -175,19 +175,21 @@ Failure deserialize_failure(std::string_view bytes) {
 }
 
 std::string serialize_outcome(const PieceOutcome& outcome) {
-  char prefix[1 + sizeof(double)];
+  char prefix[1 + 2 * sizeof(double)];
   prefix[0] = outcome.failure ? kFailureTag : kResultTag;
   std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
+  std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
   const std::string_view head(prefix, sizeof prefix);
   return outcome.failure ? encode_failure(*outcome.failure, head) : encode_result(outcome.result, head);
 }
 
 PieceOutcome deserialize_outcome(std::string_view bytes) {
-  constexpr std::size_t kHead = 1 + sizeof(double);
+  constexpr std::size_t kHead = 1 + 2 * sizeof(double);
   if (bytes.size() < kHead || (bytes[0] != kResultTag && bytes[0] != kFailureTag))
     throw InternalError("a meshing reply has no valid tag");
   PieceOutcome outcome;
   std::memcpy(&outcome.seconds, bytes.data() + 1, sizeof(double));
+  std::memcpy(&outcome.memory_mb, bytes.data() + 1 + sizeof(double), sizeof(double));
   if (bytes[0] == kResultTag)
     outcome.result = deserialize_result(bytes.substr(kHead));
   else

@@ -146,8 +146,10 @@ TEST(Serialize, FailuresAndOutcomesRoundTrip) {
   expect_same(o.result, r.results[1]);
   // The reply is the tag byte, the seconds and the result's own encoding: no second format.
   ok.seconds = 2.5;
-  EXPECT_EQ(serialize_outcome(ok).substr(1 + sizeof(double)), serialize_result(r.results[1]));
+  ok.memory_mb = 12.25;
+  EXPECT_EQ(serialize_outcome(ok).substr(1 + 2 * sizeof(double)), serialize_result(r.results[1]));
   EXPECT_EQ(deserialize_outcome(serialize_outcome(ok)).seconds, 2.5);
+  EXPECT_EQ(deserialize_outcome(serialize_outcome(ok)).memory_mb, 12.25);
 
   EXPECT_THROW(deserialize_outcome(""), InternalError);
   EXPECT_THROW(deserialize_outcome("X123"), InternalError);

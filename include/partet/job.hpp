@@ -40,6 +40,7 @@ struct PieceRecord {
   int rank = 0;
   std::int64_t triangles = 0;  // of the piece's closed surface
   double seconds = 0;          // wall time of its meshing, where it ran
+  double memory_mb = 0;        // peak memory its meshing added (TetGen's own, in a child process)
 };
 
 // Peak resident set sizes of this process and of its (waited-for) child processes, MB.

@@ -23,7 +23,8 @@ struct PieceSurface {
 struct PieceOutcome {
   PieceTetMesh result;
   std::optional<Failure> failure;
-  double seconds = 0;  // wall time of the meshing, where it ran
+  double seconds = 0;    // wall time of the meshing, where it ran
+  double memory_mb = 0;  // peak memory the meshing added to the process it ran in (a child: its own)
 };
 
 // Builds the pieces one at a time, each as soon as the caps on both its sides exist. Each

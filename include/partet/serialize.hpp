@@ -20,8 +20,8 @@ PieceTetMesh deserialize_result(std::string_view bytes);
 std::string serialize_failure(const Failure& failure);
 Failure deserialize_failure(std::string_view bytes);
 
-// A meshing run's reply: one tag byte ('R' result, 'F' failure), the seconds it took, then the
-// result or failure.
+// A meshing run's reply: one tag byte ('R' result, 'F' failure), the seconds and memory it took,
+// then the result or failure.
 std::string serialize_outcome(const PieceOutcome& outcome);
 // Throws InternalError on bytes that are no reply.
 PieceOutcome deserialize_outcome(std::string_view bytes);

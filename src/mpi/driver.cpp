@@ -140,7 +140,7 @@ class RootScheduler : public PieceScheduler {
     AddSeconds timer{stats_.send_seconds};
     std::string bytes;
     if (piece) {
-      records_[piece->index] = {piece->index, worker, static_cast<std::int64_t>(piece->triangles.size()), 0};
+      records_[piece->index] = {piece->index, worker, static_cast<std::int64_t>(piece->triangles.size()), 0, 0};
       bytes = serialize_piece(*piece);
     }
     stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD));
@@ -149,7 +149,7 @@ class RootScheduler : public PieceScheduler {
   void start_own_piece() {
     own_position_ = take_next();
     const PieceSurface& piece = *pieces_[own_position_];
-    records_[piece.index] = {piece.index, 0, static_cast<std::int64_t>(piece.triangles.size()), 0};
+    records_[piece.index] = {piece.index, 0, static_cast<std::int64_t>(piece.triangles.size()), 0, 0};
     own_start_ = now_seconds();
     dump_piece(job_, piece);
     own_ = runner_.start(piece, [&piece] { inject_failure(piece.index, 0); });
@@ -184,6 +184,7 @@ class RootScheduler : public PieceScheduler {
 
   void store(std::size_t position, PieceOutcome&& outcome) {
     records_[pieces_[position]->index].seconds = outcome.seconds;
+    records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
     outcomes_[position] = std::move(outcome);
     --remaining_;
   }
