@@ -125,6 +125,8 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
   for (std::size_t t = 0; t < in_region.size(); ++t) kept[t] = !in_region[t];
   const std::vector<std::int32_t> new_index = compact_ids(kept);
   std::vector<Tet> tets, neighbours;
+  std::vector<std::int32_t> piece;
+  const bool has_piece = mesh.piece.size() == mesh.tets.size();
   tets.reserve(mesh.tets.size());
   neighbours.reserve(mesh.tets.size());
   std::vector<std::int32_t> seam;  // tets whose faces must be joined: kept ones next to the region, and new ones
@@ -143,15 +145,18 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
     if (next_to_region) seam.push_back(static_cast<std::int32_t>(tets.size()));
     tets.push_back(mesh.tets[t]);
     neighbours.push_back(nb);
+    if (has_piece) piece.push_back(mesh.piece[t]);
   }
   for (const Part& part : parts) {
     const std::int32_t base = append_local_mesh(part.mesh, part.ids, mesh.points, tets, neighbours);
     for (std::size_t r = 0; r < part.mesh.tets.size(); ++r) seam.push_back(base + static_cast<std::int32_t>(r));
+    if (has_piece) piece.resize(tets.size(), -1);  // made by the re-meshing, not by a piece
     stats.cavity_tets_out += static_cast<std::int64_t>(part.mesh.tets.size());
   }
   connect_open_faces(tets, neighbours, &seam);
   mesh.tets = std::move(tets);
   mesh.neighbours = std::move(neighbours);
+  mesh.piece = std::move(piece);
 }
 
 // Drops unused points (the cut vertices, and input vertices no triangle uses), keeping order.

@@ -29,6 +29,9 @@ struct TetMesh {
   std::vector<Point3> points;
   std::vector<Tet> tets;
   std::vector<Tet> neighbours;
+  // Optional (empty, or one entry per tet): the piece whose TetGen run made the tet; -1 for the
+  // tets re-meshed around the cuts.
+  std::vector<std::int32_t> piece;
 };
 
 // The face of tet t opposite vertex j, oriented so that its normal points out of t.
