@@ -6,6 +6,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -421,7 +422,67 @@ void check_volume(const SurfaceMesh& input, CheckReport& report) {
                                 format_number(report.surface_volume));
 }
 
+// All files of a set carry the same ID.
+void check_set_ids(const TetgenFileSet& files, Violations& violations) {
+  for (const auto& [file, id] : files.ids)
+    if (id != files.ids.front().second) {
+      violations.push_back("the files come from different runs: " + files.ids.front().first + " has mesh ID '" +
+                           files.ids.front().second + "', " + file + " has '" + id + "'");
+      return;
+    }
+}
+
+// .face holds exactly the boundary faces: outward when partet wrote the set, in any orientation
+// otherwise (TetGen's own .face does not promise one).
+void check_face_file(const TetgenFileSet& files, Violations& violations) {
+  if (!files.has_faces) return;
+  const bool oriented = !files.ids.empty() && !files.ids.front().second.empty();
+  std::vector<Triangle> boundary;
+  for (std::size_t t = 0; t < files.mesh.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j)
+      if (files.mesh.neighbours[t][j] < 0) boundary.push_back(outward_face(files.mesh.tets[t], j));
+  auto key = [&](Triangle f) {
+    if (oriented) return normalized(f);
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  std::vector<Triangle> expected, found;
+  for (const Triangle& f : boundary) expected.push_back(key(f));
+  for (const Triangle& f : files.faces) found.push_back(key(f));
+  std::sort(expected.begin(), expected.end());
+  std::sort(found.begin(), found.end());
+  if (expected == found) return;
+  std::vector<Triangle> extra, missing;
+  std::set_difference(found.begin(), found.end(), expected.begin(), expected.end(), std::back_inserter(extra));
+  std::set_difference(expected.begin(), expected.end(), found.begin(), found.end(), std::back_inserter(missing));
+  violations.push_back("the .face file does not list exactly the " + std::string(oriented ? "outward " : "") +
+                       "boundary faces: " + std::to_string(extra.size()) + " listed faces are not boundary faces" +
+                       (extra.empty() ? "" : " (first " + format_triangle(extra.front()) + ")") + ", " +
+                       std::to_string(missing.size()) + " boundary faces are missing" +
+                       (missing.empty() ? "" : " (first " + format_triangle(missing.front()) + ")"));
+}
+
+// .neigh holds exactly the neighbours the tets imply (symmetric, across shared faces).
+void check_neigh_file(const TetgenFileSet& files, Violations& violations) {
+  if (!files.has_neighbours) return;
+  std::int64_t wrong = 0, first = -1;
+  for (std::size_t t = 0; t < files.mesh.tets.size(); ++t)
+    if (files.neighbours[t] != files.mesh.neighbours[t] && wrong++ == 0) first = static_cast<std::int64_t>(t);
+  if (wrong > 0)
+    violations.push_back(std::to_string(wrong) +
+                         " rows of the .neigh file differ from the neighbours the tets imply, first: tet " +
+                         std::to_string(first));
+}
+
 }  // namespace
+
+CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files) {
+  CheckReport report = check_mesh(input, files.mesh);
+  check_set_ids(files, report.violations);
+  check_face_file(files, report.violations);
+  check_neigh_file(files, report.violations);
+  return report;
+}
 
 CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
   CheckReport report;

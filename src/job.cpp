@@ -4,7 +4,8 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
+#include <cerrno>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "partet/errors.hpp"
@@ -46,7 +47,26 @@ SurfaceMesh read_valid_input(const std::string& path, StageTimes& times) {
   return input;
 }
 
-CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times) {
+std::vector<std::string> output_paths(const MeshJob& job) {
+  std::vector<std::string> paths;
+  for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh})
+    paths.push_back(job.output_prefix + extension(file));
+  if (!job.report_path.empty()) paths.push_back(job.report_path);
+  return paths;
+}
+
+void check_outputs(const MeshJob& job) {
+  // "" or "out/" would write hidden files such as out/.node.
+  const std::string& prefix = job.output_prefix;
+  const std::string name = prefix.substr(prefix.find_last_of('/') + 1);
+  if (name.empty() || name == "." || name == "..")
+    throw OutputError("the output prefix '" + prefix + "' names no file (give e.g. 'out/model' for out/model.node ...)");
+  check_output_paths(output_paths(job), {job.input});
+  remove_stale_temporaries(output_paths(job));
+}
+
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
+                            OutputSet& outputs) {
   CheckReport check;
   StageTimer timer(&times);
   if (job.check_output) {
@@ -54,7 +74,7 @@ CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const 
     timer.lap("check");
     if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
   }
-  write_tetgen_files(result.mesh, result.boundary_faces, job.output_prefix);
+  add_tetgen_files(outputs, result.mesh, result.boundary_faces, job.output_prefix);
   timer.lap("write");
   return check;
 }
@@ -117,11 +137,16 @@ std::string report_json(const JobSummary& s) {
   return report.dump(2) + "\n";
 }
 
-void write_report(const JobSummary& summary) {
-  if (summary.job.report_path.empty()) return;
-  std::ofstream out(summary.job.report_path);
-  out << report_json(summary);
-  if (!out) log::warning("cannot write report '" + summary.job.report_path + "'");
+void add_report(OutputSet& outputs, const JobSummary& summary) {
+  const std::string& path = summary.job.report_path;
+  if (path.empty()) return;
+  const std::string text = report_json(summary);
+  outputs.add(path, [&](const std::string& temporary) {
+    std::FILE* f = std::fopen(temporary.c_str(), "wb");
+    const bool ok = f && std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (f && std::fclose(f) != 0) throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
+    if (!ok) throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
+  });
 }
 
 void print_summary(const JobSummary& s) {
@@ -142,7 +167,8 @@ void print_summary(const JobSummary& s) {
                   s.check.quality.amips_max);
     log::info(text);
   }
-  log::info("wrote " + s.job.output_prefix + ".node/.ele/.face/.neigh");
+  log::info("wrote " + s.job.output_prefix + ".node/.ele/.face/.neigh" +
+            (s.job.report_path.empty() ? "" : " and " + s.job.report_path));
 }
 
 }  // namespace partet

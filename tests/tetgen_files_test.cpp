@@ -13,6 +13,7 @@
 #include "partet/errors.hpp"
 #include "partet/tetgen_files.hpp"
 #include "test_support.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
@@ -41,10 +42,11 @@ std::string first_line(const std::string& path) {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Temporaries and set-aside files of a publish (".tmp-PID-RANDOM", ".old.tmp-...").
 std::vector<std::string> tmp_files(const std::string& dir) {
   std::vector<std::string> found;
   for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.path().extension() == ".tmp") found.push_back(entry.path().string());
+    if (entry.path().filename().string().find(".tmp") != std::string::npos) found.push_back(entry.path().string());
   return found;
 }
 
@@ -216,18 +218,61 @@ TEST(TetgenFiles, MalformedContentNamesFileAndLine) {
 TEST(TetgenFiles, WriteFailureThrowsAndLeavesNoTemporaries) {
   std::string dir = test::temp_dir("tetgen_write_fail");
   EXPECT_THROW(write_tetgen_files(cube_mesh(), {}, dir + "/missing_dir/m"), OutputError);
-  // A directory in the way of the last temporary: the first three are written, then writing
-  // fails, and none of them may stay behind.
-  fs::create_directories(dir + "/m.neigh.tmp");
+  // A directory where the last file must go: writing works, moving it into place fails, and
+  // nothing of the new set may stay behind.
+  fs::create_directories(dir + "/m.neigh/inside");
   try {
     write_tetgen_files(cube_mesh(), {}, dir + "/m");
     ADD_FAILURE() << "expected OutputError";
   } catch (const OutputError& e) {
-    EXPECT_NE(std::string(e.what()).find(dir + "/m.neigh.tmp"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'" + dir + "/m.neigh'"), std::string::npos) << e.what();
   }
-  fs::remove(dir + "/m.neigh.tmp");
+  fs::remove_all(dir + "/m.neigh");
   EXPECT_TRUE(tmp_files(dir).empty());
-  EXPECT_FALSE(fs::exists(dir + "/m.node"));  // nothing renamed after a failure
+  EXPECT_FALSE(fs::exists(dir + "/m.node"));  // nothing moved in after a failure
+}
+
+TEST(TetgenFiles, FailedPublishKeepsThePreviousSet) {
+  std::string dir = test::temp_dir("tetgen_publish_fail");
+  const TetMesh first = cube_mesh();
+  write_tetgen_files(first, {}, dir + "/m");
+  auto contents = [&] {
+    std::string all;
+    for (const char* ext : {".node", ".ele", ".face", ".neigh"}) {
+      std::ifstream in(dir + "/m" + ext, std::ios::binary);
+      all += std::string(std::istreambuf_iterator<char>(in), {}) + "|";
+    }
+    return all;
+  };
+  const std::string before = contents();
+  TetMesh second = first;
+  second.points[0][0] += 0.5;
+  for (int failing = 1; failing <= 4; ++failing) {
+    SCOPED_TRACE("move " + std::to_string(failing) + " fails");
+    ::setenv("PARTET_INJECT_PUBLISH_FAILURE", std::to_string(failing).c_str(), 1);
+    EXPECT_THROW(write_tetgen_files(second, {}, dir + "/m"), OutputError);
+    ::unsetenv("PARTET_INJECT_PUBLISH_FAILURE");
+    EXPECT_EQ(contents(), before);
+    EXPECT_TRUE(tmp_files(dir).empty());
+  }
+  write_tetgen_files(second, {}, dir + "/m");
+  EXPECT_NE(contents(), before);
+}
+
+TEST(TetgenFiles, EveryFileOfASetCarriesTheSameId) {
+  std::string dir = test::temp_dir("tetgen_ids");
+  TetMesh a = cube_mesh(), b = cube_mesh();
+  a.neighbours = compute_neighbours(a.tets);
+  b.points[1][1] += 0.25;
+  write_tetgen_files(a, {}, dir + "/a");
+  write_tetgen_files(b, {}, dir + "/b");
+  const TetgenFileSet set = read_tetgen_set(dir + "/a");
+  ASSERT_EQ(set.ids.size(), 4u);
+  for (const auto& [file, id] : set.ids) EXPECT_EQ(id, mesh_id(a, {})) << file;
+  EXPECT_NE(mesh_id(a, {}), mesh_id(b, {}));
+  EXPECT_TRUE(set.has_faces);
+  EXPECT_TRUE(set.has_neighbours);
+  EXPECT_EQ(set.neighbours, set.mesh.neighbours);
 }
 
 TEST(TetgenFiles, LargeMeshRoundTrip) {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "partet/tetgen_files.hpp"
 
 namespace partet {
 
@@ -29,6 +30,11 @@ struct CheckReport {
 // volume equals the volume the input encloses; V-E+F-T equals half the Euler characteristic of
 // the input; no duplicate or unused vertices.
 CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh);
+
+// check_mesh, and the other files of the set too: .face must be exactly the boundary faces
+// (outward, for files partet wrote), .neigh exactly the neighbours the tets imply, and every file
+// must carry the same set ID (a set mixed from different runs fails).
+CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files);
 
 MeshQuality mesh_quality(const TetMesh& mesh);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "partet/check.hpp"
+#include "partet/output_set.hpp"
 #include "partet/pipeline.hpp"
 
 namespace partet {
@@ -53,8 +54,16 @@ double children_peak_rss_mb();
 // triangulation rejects crossing loops. Throws InputError.
 SurfaceMesh read_valid_input(const std::string& path, StageTimes& times);
 
-// Checks the result if asked (throws Error when the check fails) and writes the output files.
-CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times);
+// Every file the job will write: PREFIX.node .ele .face .neigh and the report.
+std::vector<std::string> output_paths(const MeshJob& job);
+// Before any work: refuses output paths that cannot be written or collide with each other or the
+// input (OutputError), and removes temporaries that killed runs left behind.
+void check_outputs(const MeshJob& job);
+
+// Checks the result if asked (throws Error when the check fails) and writes the mesh files
+// under temporary names into `outputs` (published once every rank agrees).
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
+                            OutputSet& outputs);
 
 // Everything the report and the summary say about a finished job.
 struct JobSummary {
@@ -70,8 +79,8 @@ struct JobSummary {
 
 // The --report JSON document.
 std::string report_json(const JobSummary& summary);
-// Writes the report; a failure is a warning (the mesh is already written).
-void write_report(const JobSummary& summary);
+// Adds the report (when asked for) to the files published with the mesh.
+void add_report(OutputSet& outputs, const JobSummary& summary);
 // The lines printed at the end of a successful run.
 void print_summary(const JobSummary& summary);
 

@@ -71,7 +71,7 @@ void print_check_json(const partet::CheckReport& report) {
 
 int run_check(const std::string& input_path, const std::string& prefix, bool json) {
   const partet::CheckReport report =
-      partet::check_mesh(partet::read_surface(input_path), partet::read_tetgen_files(prefix));
+      partet::check_mesh_files(partet::read_surface(input_path), partet::read_tetgen_set(prefix));
   json ? print_check_json(report) : print_check(report);
   return report.ok() ? 0 : 2;
 }

@@ -12,6 +12,7 @@
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
+#include "partet/output_set.hpp"
 #include "partet/serialize.hpp"
 #include "partet/surface_io.hpp"
 
@@ -242,6 +243,7 @@ struct RankState {
   SurfaceMesh input;
   MeshResult result;
   CheckReport check;
+  OutputSet outputs;  // rank 0: the files, under temporary names until every rank agrees
 };
 
 // Runs a rank-0 step, turning its exception into the job's error.
@@ -265,26 +267,33 @@ void mesh_on_root(const MeshJob& job, const PieceRunner& runner, RankState& stat
   });
   broadcast(kDone);
   if (state.status.error.empty())
-    on_root(state, [&] { state.check = check_and_write(job, state.input, state.result, state.times); });
+    on_root(state,
+            [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
 }
 
-// Per-rank figures to rank 0, then the final agreement; rank 0 reports a success.
+// Per-rank figures to rank 0, then the agreement: only when every rank succeeded does rank 0
+// publish the files (all at once), and every rank learns whether that worked too.
 void finish(const MeshJob& job, RankState& state) {
   state.stats.peak_rss_mb = own_peak_rss_mb();
   state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
   gather_doubles(reinterpret_cast<const double*>(&state.stats), kRankStatsDoubles,
                  reinterpret_cast<double*>(all.data()), 0, MPI_COMM_WORLD);
-  const bool ok = agree(state.status.error.empty());
+  bool ok = agree(state.status.error.empty());
+  if (ok && state.rank == 0) {
+    std::vector<PieceRecord> pieces;
+    for (const auto& [index, record] : state.records)
+      if (index < state.result.pieces) pieces.push_back(record);
+    const JobSummary summary{job, state.input, state.result, state.check, state.times, all, pieces,
+                             now_seconds() - state.start};
+    on_root(state, [&] {
+      add_report(state.outputs, summary);
+      state.outputs.publish();
+    });
+    if (state.status.error.empty()) print_summary(summary);
+  }
+  if (ok) ok = agree(state.status.error.empty());
   if (!ok) state.status.exit_code = 1;
-  if (state.rank != 0 || !ok) return;
-  std::vector<PieceRecord> pieces;
-  for (const auto& [index, record] : state.records)
-    if (index < state.result.pieces) pieces.push_back(record);
-  const JobSummary summary{job, state.input, state.result, state.check, state.times, all, pieces,
-                           now_seconds() - state.start};
-  write_report(summary);
-  print_summary(summary);
 }
 
 }  // namespace
@@ -296,8 +305,14 @@ JobStatus run_mesh_job(const MeshJob& job) {
   log::set_rank(state.rank);
   const PieceRunner runner(job.options.tetgen, job.options.run);
 
-  // 1. Rank 0 reads and validates.
-  if (state.rank == 0) on_root(state, [&] { state.input = read_valid_input(job.input, state.times); });
+  // 1. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
+  // rank removes its temporary files; rank 0 says so.
+  install_interrupt_handler(state.rank == 0 ? "partet: interrupted: no output written" : "");
+  if (state.rank == 0)
+    on_root(state, [&] {
+      check_outputs(job);
+      state.input = read_valid_input(job.input, state.times);
+    });
   if (!agree(state.status.error.empty())) {
     state.status.exit_code = 1;
     return state.status;

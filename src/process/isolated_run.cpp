@@ -52,6 +52,8 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     if (::getppid() != parent) ::_exit(4);
     // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
     ::close(fds[0]);
+    ::signal(SIGINT, SIG_DFL);  // the parent's handler would remove the parent's files
+    ::signal(SIGTERM, SIG_DFL);
     ::signal(SIGABRT, SIG_DFL);
     ::signal(SIGSEGV, SIG_DFL);
     ::signal(SIGBUS, SIG_DFL);
