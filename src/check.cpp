@@ -104,6 +104,18 @@ struct KeyedVertex {
   bool operator<(const KeyedVertex& o) const { return key == o.key ? index < o.index : key < o.key; }
 };
 
+// In long double: the products of three coordinate differences underflow double for inputs at
+// scale 1e-110 and below.
+long double signed_volume6_precise(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  long double u[3], v[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = static_cast<long double>(b[k]) - a[k];
+    v[k] = static_cast<long double>(c[k]) - a[k];
+    w[k] = static_cast<long double>(d[k]) - a[k];
+  }
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
 double signed_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   double u[3], v[3], w[3];
   for (int k = 0; k < 3; ++k) {
@@ -233,8 +245,8 @@ bool check_indices(const TetMesh& mesh, Violations& violations) {
 }
 
 // Orientation, with an exact predicate: a nearly flat tet must not pass by rounding. Returns the
-// total tet volume.
-double check_orientation(const TetMesh& mesh, Violations& violations) {
+// total tet volume (long double: it does not underflow at any input's scale).
+long double check_orientation(const TetMesh& mesh, Violations& violations) {
   std::int64_t negative = 0, flat = 0, first = -1;
   long double volume6 = 0;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
@@ -246,13 +258,13 @@ double check_orientation(const TetMesh& mesh, Violations& violations) {
       if (negative + flat == 0) first = static_cast<std::int64_t>(t);
       (o == CGAL::NEGATIVE ? negative : flat)++;
     }
-    volume6 += signed_volume6(a, b, c, d);
+    volume6 += signed_volume6_precise(a, b, c, d);
   }
   if (negative + flat > 0)
     violations.push_back(std::to_string(negative + flat) + " tets are not positively oriented (" +
                          std::to_string(negative) + " inverted, " + std::to_string(flat) + " flat), first: tet " +
                          std::to_string(first));
-  return static_cast<double>(volume6 / 6);
+  return volume6 / 6;
 }
 
 // Vertices in no tet. Returns the number of used vertices.
@@ -413,10 +425,11 @@ void check_boundary_is_input(const std::vector<Triangle>& boundary, const Surfac
 }
 
 // The tets must fill exactly what the input encloses (catches filled cavities).
-void check_volume(const SurfaceMesh& input, CheckReport& report) {
-  report.surface_volume = enclosed_volume(input);
-  const double scale = std::max(std::abs(report.tet_volume), std::abs(report.surface_volume));
-  if (std::abs(report.tet_volume - report.surface_volume) > kVolumeTolerance * scale)
+void check_volume(const SurfaceMesh& input, long double tet_volume, CheckReport& report) {
+  const long double surface_volume = enclosed_volume_precise(input);
+  report.surface_volume = static_cast<double>(surface_volume);
+  const long double scale = std::max(std::abs(tet_volume), std::abs(surface_volume));
+  if (std::abs(tet_volume - surface_volume) > kVolumeTolerance * scale)
     report.violations.push_back("tet volume " + format_number(report.tet_volume) +
                                 " differs from the volume enclosed by the input, " +
                                 format_number(report.surface_volume));
@@ -489,7 +502,8 @@ CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
   report.vertices = static_cast<std::int64_t>(mesh.points.size());
   report.tets = static_cast<std::int64_t>(mesh.tets.size());
   if (!check_indices(mesh, report.violations)) return report;
-  report.tet_volume = check_orientation(mesh, report.violations);
+  const long double tet_volume = check_orientation(mesh, report.violations);
+  report.tet_volume = static_cast<double>(tet_volume);
   const std::int64_t used_count = check_unused_vertices(mesh, report.violations);
   const std::vector<KeyedVertex> by_coordinates = check_duplicate_vertices(mesh, report.violations);
   const FaceCount faces = check_faces(mesh, report.violations);
@@ -497,7 +511,7 @@ CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
   check_euler(mesh, used_count, faces.faces, input, report);
   const auto mesh_vertex_of = find_input_vertices(input, by_coordinates, report.violations);
   check_boundary_is_input(faces.boundary, input, mesh_vertex_of, report.violations);
-  check_volume(input, report);
+  check_volume(input, tet_volume, report);
   report.quality = mesh_quality(mesh);
   return report;
 }

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
@@ -34,10 +35,34 @@ std::string format(const char* pattern, double value) {
 double own_peak_rss_mb() { return peak_rss_mb(RUSAGE_SELF); }
 double children_peak_rss_mb() { return peak_rss_mb(RUSAGE_CHILDREN); }
 
-SurfaceMesh read_valid_input(const std::string& path, StageTimes& times) {
+int unit_scale_exponent(const SurfaceMesh& surface) {
+  double largest = 0;
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (double x : surface.points[v]) largest = std::max(largest, std::abs(x));
+  if (!(largest > 0) || !std::isfinite(largest)) return 0;
+  const int magnitude = std::ilogb(largest);
+  if (magnitude >= -40 && magnitude <= 40) return 0;
+  const int exponent = -magnitude;
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (double x : surface.points[v])
+        if (std::ldexp(std::ldexp(x, exponent), -exponent) != x) return 0;  // would lose bits
+  return exponent;
+}
+
+void scale_points(std::vector<Point3>& points, int exponent) {
+  if (exponent == 0) return;
+  for (Point3& p : points)
+    for (double& x : p) x = std::ldexp(x, exponent);
+}
+
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent) {
   StageTimer timer(&times);
   SurfaceMesh input = read_surface(path);
   timer.lap("read");
+  *exponent = unit_scale_exponent(input);
+  scale_points(input.points, *exponent);
   validate_topology(input);
   const double volume = enclosed_volume(input);
   if (!(volume > 0))

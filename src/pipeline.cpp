@@ -73,18 +73,32 @@ class RetryPlan {
     return planes;
   }
 
-  // Moves the planes for the next attempt; throws the failure when none is left.
-  void next(const Failure& failure, std::vector<int> planes) {
+  // TetGen's coplanarity tolerance is relative to the model's size: for a valid input it called
+  // self-intersecting or too close (a very thin solid), later attempts use a tiny one. True
+  // when the options changed.
+  bool tighten_tolerance(const Failure& failure) {
+    if ((failure.kind != FailureKind::self_intersection && failure.kind != FailureKind::too_close) ||
+        !options_.tetgen.tolerance.empty())
+      return false;
+    options_.tetgen.tolerance = "1e-16";
+    log::warning("the input is valid but TetGen took part of it for self-intersecting or degenerate; "
+                 "retrying with a tighter tolerance");
+    return true;
+  }
+
+  // Moves the planes for the next attempt (none when only the options changed); throws the
+  // failure when no attempt is left.
+  void next(const Failure& failure, std::vector<int> planes, bool options_changed) {
     std::sort(planes.begin(), planes.end());
     planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
-    if (last() || planes.empty()) {
+    if (last() || (planes.empty() && !options_changed)) {
       Failure final = failure;
       final.message = failure.text() + (attempt_ > 0 ? " (after " + std::to_string(attempt_ + 1) + " partitions)" : "");
       final.piece = -1;
       throw MeshingError(final);
     }
-    std::string note =
-        "attempt " + std::to_string(attempt_ + 1) + " failed: " + failure.text() + "; moving cut plane(s)";
+    std::string note = "attempt " + std::to_string(attempt_ + 1) + " failed: " + failure.text();
+    if (!planes.empty()) note += "; moving cut plane(s)";
     for (int j : planes) note += " " + std::to_string(j);
     // From the third attempt on, also simplify the caps: fewer interior cap points leave TetGen
     // less to recover on the cap (the last attempt uses none).
@@ -170,7 +184,7 @@ std::vector<PieceOutcome> close_and_mesh(const SurfaceMesh& input, const MeshOpt
   timer.lap("partition");
   std::vector<PieceOutcome> outcomes;
   std::vector<std::size_t> submitted;
-  scheduler.begin_round();
+  scheduler.begin_round(options.tetgen);
   try {
     stream.close([&](const PieceSurface& piece) {
       outcomes.emplace_back();
@@ -288,8 +302,9 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
       check_no_self_intersections(input);
       input_checked = true;
     }
-    if (planes_to_move.empty()) planes_to_move = plan.all_planes();
-    plan.next(*failure, planes_to_move);
+    const bool options_changed = plan.tighten_tolerance(*failure);
+    if (planes_to_move.empty() && !options_changed) planes_to_move = plan.all_planes();
+    plan.next(*failure, planes_to_move, options_changed);
   }
 }
 
@@ -300,9 +315,12 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
 }
 
 MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
-  const PieceRunner runner(options.tetgen, options.run);
   return mesh_with_retries(
-      input, options, [&](const std::vector<PieceSurface>& pieces) { return mesh_pieces_here(pieces, runner); }, times);
+      input, options,
+      [&](const std::vector<PieceSurface>& pieces, const TetgenOptions& tetgen) {
+        return mesh_pieces_here(pieces, PieceRunner(tetgen, options.run));
+      },
+      times);
 }
 
 }  // namespace partet

@@ -89,26 +89,52 @@ T decode(std::string_view bytes, Load load) {
 
 }  // namespace
 
+namespace {
+
+template <class Archive>
+void save_piece(Archive& ar, const PieceSurface& piece) {
+  std::int32_t index = piece.index;
+  ar << index;
+  save_block(ar, piece.global_ids);
+  save_block(ar, piece.points);
+  save_block(ar, piece.triangles);
+}
+
+template <class Archive>
+void load_piece(Archive& ar, PieceSurface& piece) {
+  std::int32_t index = 0;
+  ar >> index;
+  piece.index = index;
+  load_block(ar, piece.global_ids);
+  load_block(ar, piece.points);
+  load_block(ar, piece.triangles);
+}
+
+std::size_t piece_bytes(const PieceSurface& piece) {
+  return 64 + piece.global_ids.size() * 4 + piece.points.size() * 24 + piece.triangles.size() * 12;
+}
+
+}  // namespace
+
 std::string serialize_piece(const PieceSurface& piece) {
-  const std::size_t expected =
-      64 + piece.global_ids.size() * 4 + piece.points.size() * 24 + piece.triangles.size() * 12;
-  return encode(expected, [&](auto& ar) {
-    std::int32_t index = piece.index;
-    ar << index;
-    save_block(ar, piece.global_ids);
-    save_block(ar, piece.points);
-    save_block(ar, piece.triangles);
-  });
+  return encode(piece_bytes(piece), [&](auto& ar) { save_piece(ar, piece); });
 }
 
 PieceSurface deserialize_piece(std::string_view bytes) {
-  return decode<PieceSurface>(bytes, [](auto& ar, PieceSurface& piece) {
-    std::int32_t index = 0;
-    ar >> index;
-    piece.index = index;
-    load_block(ar, piece.global_ids);
-    load_block(ar, piece.points);
-    load_block(ar, piece.triangles);
+  return decode<PieceSurface>(bytes, [](auto& ar, PieceSurface& piece) { load_piece(ar, piece); });
+}
+
+std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
+  return encode(piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size(), [&](auto& ar) {
+    save_piece(ar, piece);
+    ar << tetgen.quality << tetgen.tolerance;
+  });
+}
+
+PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
+  return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
+    load_piece(ar, piece);
+    ar >> tetgen.quality >> tetgen.tolerance;
   });
 }
 

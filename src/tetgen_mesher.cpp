@@ -3,6 +3,9 @@
 #include <tetgen.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -77,6 +80,7 @@ RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle
   // p: mesh a PLC; Y: no Steiner points on the boundary; z: 0-based; n: neighbours; Q: quiet.
   std::string switches = "pYzQn";
   if (!options.quality.empty()) switches += "q" + options.quality;
+  if (!options.tolerance.empty()) switches += "T" + options.tolerance;
   try {
     tetrahedralize(switches.data(), &in, &out);
   } catch (int code) {
@@ -85,8 +89,9 @@ RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle
   const auto n = static_cast<std::int32_t>(points.size());
   if (out.numberoftetrahedra <= 0 || out.tetrahedronlist == nullptr)
     throw MeshingError(FailureKind::tetgen_error, piece, "TetGen produced no tetrahedra (is the surface closed?)");
-  if (out.numberofpoints < n || out.neighborlist == nullptr)
-    throw MeshingError(FailureKind::tetgen_error, piece, "TetGen output is incomplete");
+  if (out.numberofpoints < n)
+    throw MeshingError(FailureKind::too_close, piece, "TetGen merged input points closer than its tolerance");
+  if (out.neighborlist == nullptr) throw MeshingError(FailureKind::tetgen_error, piece, "TetGen output is incomplete");
   for (std::int32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
       if (out.pointlist[3 * static_cast<std::size_t>(i) + c] != points[i][c])
@@ -245,7 +250,41 @@ void keep_used_steiner_points(LocalTetMesh& mesh, const std::vector<Point3>& all
     }
 }
 
+// A plain decimal number: digits, at most one point, an optional exponent. No sign, inf, nan or
+// hexadecimal: what TetGen's switch parser reads the same way.
+bool parse_plain_number(const std::string& text, double& value) {
+  std::size_t i = 0, digits = 0;
+  while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i, ++digits;
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i, ++digits;
+  }
+  if (digits == 0) return false;
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    const std::size_t start = i;
+    while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i;
+    if (i == start) return false;
+  }
+  if (i != text.size()) return false;
+  value = std::strtod(text.c_str(), nullptr);
+  return std::isfinite(value);
+}
+
 }  // namespace
+
+std::string parse_quality(const std::string& text) {
+  if (text.empty()) return text;
+  const std::size_t slash = text.find('/');
+  double ratio = 0, angle = 0;
+  const bool ok = parse_plain_number(text.substr(0, slash), ratio) && ratio >= 1 && ratio <= 100 &&
+                  (slash == std::string::npos || (parse_plain_number(text.substr(slash + 1), angle) && angle <= 20));
+  if (!ok)
+    throw OptionError("the quality bound must be R or R/ANGLE with 1 <= R <= 100 and 0 <= ANGLE <= 20 degrees (got '" +
+                      text + "')");
+  return text;
+}
 
 LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
                                  const TetgenOptions& options, int piece, SurfaceRegions regions) {

@@ -351,16 +351,19 @@ void check_no_self_intersections(const SurfaceMesh& surface, const char* what) {
                    (pairs.size() > 1 ? "s" : "") + ")");
 }
 
-double enclosed_volume(const SurfaceMesh& surface) {
-  if (surface.points.empty()) return 0.0;
-  // Measuring from the bounding box centre keeps the terms small, so that far-from-origin
-  // inputs do not lose the volume to cancellation.
-  Point3 lo = surface.points[0], hi = surface.points[0];
-  for (const Point3& p : surface.points)
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::min(lo[i], p[i]);
-      hi[i] = std::max(hi[i], p[i]);
-    }
+double enclosed_volume(const SurfaceMesh& surface) { return static_cast<double>(enclosed_volume_precise(surface)); }
+
+long double enclosed_volume_precise(const SurfaceMesh& surface) {
+  if (surface.triangles.empty()) return 0.0;
+  // Measuring from the centre of the used vertices' bounding box keeps the terms small, so that
+  // far-from-origin inputs (or a far unused vertex) do not lose the volume to cancellation.
+  Point3 lo = surface.points[surface.triangles[0][0]], hi = lo;
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (int i = 0; i < 3; ++i) {
+        lo[i] = std::min(lo[i], surface.points[v][i]);
+        hi[i] = std::max(hi[i], surface.points[v][i]);
+      }
   long double origin[3];
   for (int i = 0; i < 3; ++i) origin[i] = (static_cast<long double>(lo[i]) + hi[i]) / 2;
 
@@ -372,10 +375,10 @@ double enclosed_volume(const SurfaceMesh& surface) {
       b[i] = surface.points[t[1]][i] - origin[i];
       c[i] = surface.points[t[2]][i] - origin[i];
     }
-    six_volume +=
-        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                  a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
-  return static_cast<double>(six_volume / 6);
+  return six_volume / 6;
 }
 
 void validate_surface(const SurfaceMesh& surface) {

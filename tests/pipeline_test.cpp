@@ -214,9 +214,9 @@ TEST(MeshWithRetries, FailedPieceMovesItsPlanes) {
   const MeshOptions o = options_for(4);
   int calls = 0;
   std::vector<std::vector<PieceSurface>> seen;
-  const PieceMesher flaky = [&](const std::vector<PieceSurface>& pieces) {
+  const PieceMesher flaky = [&](const std::vector<PieceSurface>& pieces, const TetgenOptions& tetgen) {
     seen.push_back(pieces);
-    auto outcomes = mesh_pieces_here(pieces, PieceRunner(o.tetgen, o.run));
+    auto outcomes = mesh_pieces_here(pieces, PieceRunner(tetgen, o.run));
     if (calls++ == 0) {
       outcomes[1].result = {};
       outcomes[1].failure = Failure{FailureKind::tetgen_error, 1, {}, "simulated failure"};
@@ -241,9 +241,9 @@ TEST(MeshWithRetries, GivesUpAfterMaxAttempts) {
   MeshOptions o = options_for(3);
   o.max_attempts = 3;
   int calls = 0;
-  const PieceMesher broken = [&](const std::vector<PieceSurface>& pieces) {
+  const PieceMesher broken = [&](const std::vector<PieceSurface>& pieces, const TetgenOptions& tetgen) {
     ++calls;
-    auto outcomes = mesh_pieces_here(pieces, PieceRunner(o.tetgen, o.run));
+    auto outcomes = mesh_pieces_here(pieces, PieceRunner(tetgen, o.run));
     outcomes.back().failure = Failure{FailureKind::tetgen_error, 2, {}, "always fails"};
     return outcomes;
   };

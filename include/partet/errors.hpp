@@ -43,6 +43,7 @@ enum class FailureKind : std::int32_t {
   no_result = 6,          // the meshing process ended without a result
   injected = 7,           // a test hook (PARTET_INJECT_FAILURE)
   other = 8,              // any other error inside the meshing process
+  too_close = 9,          // TetGen took features closer than its tolerance for one (thin solids)
 };
 
 // A meshing failure as a value: it crosses process and rank boundaries serialized.

@@ -48,11 +48,17 @@ struct PieceRecord {
 double own_peak_rss_mb();
 double children_peak_rss_mb();
 
-// Reads the input and runs the cheap checks (closed, manifold, oriented, outward). Self-
-// intersections are checked per piece, in parallel, right before TetGen: a face pair on
-// opposite sides of a cut can only meet on the cut plane, where the cap's constrained
-// triangulation rejects crossing loops. Throws InputError.
-SurfaceMesh read_valid_input(const std::string& path, StageTimes& times);
+// Inputs at any scale: multiplying coordinates by a power of two is exact, so an input far from
+// unit size is meshed as a copy scaled by 2^exponent and the mesh is scaled back, bit for bit.
+// The exponent is 0 for inputs already within 2^-40 .. 2^40 (most: their output is unchanged)
+// and when scaling would not be exact.
+int unit_scale_exponent(const SurfaceMesh& surface);
+void scale_points(std::vector<Point3>& points, int exponent);
+
+// Reads the input, scales it to unit size (its exponent goes to *exponent) and runs the cheap
+// checks (closed, manifold, oriented, outward). Self-intersections are left to TetGen, with a
+// check of the whole input when a piece fails. Throws InputError.
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent);
 
 // Every file the job will write: PREFIX.node .ele .face .neigh and the report.
 std::vector<std::string> output_paths(const MeshJob& job);

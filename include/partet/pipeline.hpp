@@ -62,7 +62,8 @@ struct MeshResult {
 class PieceScheduler {
  public:
   virtual ~PieceScheduler() = default;
-  virtual void begin_round() {}
+  // A round meshes with these TetGen options (a retry may change them).
+  virtual void begin_round(const TetgenOptions& tetgen) = 0;
   // The piece stays alive and unchanged until end_round returns.
   virtual void submit(const PieceSurface& piece) = 0;
   // Hands out work and takes in results without waiting.
@@ -75,19 +76,22 @@ class PieceScheduler {
 std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner);
 
 // Meshes a round's pieces all at once, at its end, with a function (tests, one process).
-using PieceMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
+using PieceMesher =
+    std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&, const TetgenOptions&)>;
 class BatchScheduler : public PieceScheduler {
  public:
   explicit BatchScheduler(PieceMesher mesher) : mesher_(std::move(mesher)) {}
+  void begin_round(const TetgenOptions& tetgen) override { tetgen_ = tetgen; }
   void submit(const PieceSurface& piece) override { pieces_.push_back(piece); }
   std::vector<PieceOutcome> end_round() override {
-    std::vector<PieceOutcome> outcomes = mesher_(pieces_);
+    std::vector<PieceOutcome> outcomes = mesher_(pieces_, tetgen_);
     pieces_.clear();
     return outcomes;
   }
 
  private:
   PieceMesher mesher_;
+  TetgenOptions tetgen_;
   std::vector<PieceSurface> pieces_;
 };
 

@@ -8,11 +8,16 @@
 #include "partet/errors.hpp"
 #include "partet/mesh_types.hpp"
 #include "partet/piece.hpp"
+#include "partet/tetgen_mesher.hpp"
 
 namespace partet {
 
 std::string serialize_piece(const PieceSurface& piece);
 PieceSurface deserialize_piece(std::string_view bytes);
+
+// A piece and the TetGen options to mesh it with, as a worker receives it.
+std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen);
+PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen);
 
 std::string serialize_result(const PieceTetMesh& result);
 PieceTetMesh deserialize_result(std::string_view bytes);

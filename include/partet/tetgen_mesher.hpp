@@ -11,7 +11,15 @@ namespace partet {
 
 struct TetgenOptions {
   std::string quality;  // "" = none; "R" or "R/ANGLE": TetGen's -q (radius-edge ratio / min dihedral)
+  // "" = TetGen's default; else TetGen's -T (the tolerance of its coplanarity test). A retry uses
+  // a tiny one when TetGen calls a valid input self-intersecting (very thin solids).
+  std::string tolerance;
 };
+
+// Checks a quality bound before it reaches TetGen: "R" or "R/ANGLE", plain decimal numbers with
+// 1 <= R <= 100 and 0 <= ANGLE <= 20 (TetGen does not finish with tighter bounds). Returns it
+// in TetGen's form; throws OptionError.
+std::string parse_quality(const std::string& text);
 
 // What the caller knows about the regions a surface encloses.
 enum class SurfaceRegions {

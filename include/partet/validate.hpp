@@ -18,5 +18,7 @@ void validate_surface(const SurfaceMesh& surface);
 
 // Volume enclosed by a closed oriented surface (cavities count negative).
 double enclosed_volume(const SurfaceMesh& surface);
+// The same in long double, whose range does not underflow at any double input's scale.
+long double enclosed_volume_precise(const SurfaceMesh& surface);
 
 }  // namespace partet

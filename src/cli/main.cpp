@@ -15,25 +15,9 @@
 #include "partet/refine_surface.hpp"
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
+#include "partet/tetgen_mesher.hpp"
 
 namespace {
-
-// "R" or "R/ANGLE" with positive numbers, as TetGen's -q takes it.
-bool valid_quality(const std::string& q) {
-  if (q.empty()) return true;
-  const auto slash = q.find('/');
-  auto positive = [](const std::string& s) {
-    try {
-      std::size_t used = 0;
-      const double v = std::stod(s, &used);
-      return used == s.size() && v > 0;
-    } catch (...) {
-      return false;
-    }
-  };
-  if (slash == std::string::npos) return positive(q);
-  return positive(q.substr(0, slash)) && positive(q.substr(slash + 1));
-}
 
 void print_check(const partet::CheckReport& report) {
   const auto& q = report.quality;
@@ -199,11 +183,12 @@ int main(int argc, char** argv) {
     partet::log::error(e.what());
     return 1;
   }
-  if (!valid_quality(c.quality)) {
-    partet::log::error("--quality must be R or R/ANGLE with positive numbers (got '" + c.quality + "')");
-    return 1;
+  try {
+    c.job.options.tetgen.quality = partet::parse_quality(c.quality);
+  } catch (const partet::OptionError& e) {
+    partet::log::error(std::string("--quality: ") + e.what());
+    return 2;
   }
-  c.job.options.tetgen.quality = c.quality;
   c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
   partet::log::set_level(c.quiet     ? partet::log::Level::quiet
                          : c.verbose ? partet::log::Level::verbose

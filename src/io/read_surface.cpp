@@ -35,6 +35,8 @@ std::string check_path(const std::string& path) {
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) throw InputError("cannot open '" + path + "': no such file");
   if (fs::is_directory(status)) throw InputError("cannot open '" + path + "': is a directory");
+  // A FIFO or a device would block or never end; only regular files are read.
+  if (!fs::is_regular_file(status)) throw InputError("cannot read '" + path + "': not a regular file");
   const std::string ext = lowercase_extension(path);
   if (ext != "off" && ext != "obj" && ext != "ply" && ext != "stl")
     throw InputError("cannot read '" + path + "': unknown format '" +

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -280,6 +281,26 @@ DeclaredCounts ply_counts(std::istringstream& lines) {
   return counts;
 }
 
+// An STL file is binary (an 80-byte header, a facet count n, then exactly 50 bytes per facet) or
+// ASCII ("solid ..."). Anything else (random data, a byte-order mark before "solid") would make
+// CGAL read nonsense for a long time or report the wrong problem.
+void check_stl(const std::string& head, const std::string& path, std::uintmax_t file_size) {
+  const std::string prefix = "cannot read '" + path + "': ";
+  if (head.rfind("\xEF\xBB\xBF", 0) == 0)
+    throw InputError(prefix + "the file starts with a UTF-8 byte order mark; remove it (an ASCII STL starts with 'solid')");
+  bool binary_size_matches = false;
+  if (head.size() >= 84) {
+    std::uint32_t facets = 0;
+    std::memcpy(&facets, head.data() + 80, sizeof facets);
+    binary_size_matches = file_size == 84 + 50 * static_cast<std::uintmax_t>(facets);
+  }
+  const std::size_t first = head.find_first_not_of(" \t\r\n");
+  const bool ascii = first != std::string::npos && head.compare(first, 5, "solid") == 0;
+  if (!ascii && !binary_size_matches)
+    throw InputError(prefix + "not an STL file: it does not start with 'solid', and its size (" +
+                     std::to_string(file_size) + " bytes) is not that of a binary STL with the facet count it declares");
+}
+
 }  // namespace
 
 void check_declared_counts(const std::string& path, const std::string& ext, std::uintmax_t file_size) {
@@ -298,6 +319,7 @@ void check_declared_counts(const std::string& path, const std::string& ext, std:
     lines.seekg(0);
     counts = ply_counts(lines);
   } else {
+    if (ext == "stl") check_stl(head, path, file_size);
     return;
   }
   // The smallest possible records: "0 0 0\n" per vertex and "3 0 1 2\n" per face (binary

@@ -16,8 +16,9 @@ std::string lowercase_extension(const std::string& path);
 std::string format_name(const std::string& ext);
 
 // Throws InputError when an OFF or PLY header declares more vertices and faces than a file of
-// file_size bytes can hold (CGAL reserves memory for the declared counts), or when a PLY header
-// is malformed (CGAL's PLY reader crashes on some).
+// file_size bytes can hold (CGAL reserves memory for the declared counts), when a PLY header is
+// malformed (CGAL's PLY reader crashes on some), or when an .stl file is neither ASCII nor a
+// binary STL of consistent size.
 void check_declared_counts(const std::string& path, const std::string& ext, std::uintmax_t file_size);
 
 // What is wrong with an ASCII OFF or OBJ file, or an empty string if the scan cannot tell.

@@ -68,11 +68,11 @@ void inject_failure(int piece, int rank) {
 // stored by submission, so the result does not depend on which rank meshed what.
 class RootScheduler : public PieceScheduler {
  public:
-  RootScheduler(const MeshJob& job, const PieceRunner& runner, int size, RankStats& stats,
-                std::map<int, PieceRecord>& records)
-      : job_(job), runner_(runner), size_(size), stats_(stats), records_(records) {}
+  RootScheduler(const MeshJob& job, int size, RankStats& stats, std::map<int, PieceRecord>& records)
+      : job_(job), runner_(job.options.tetgen, job.options.run), size_(size), stats_(stats), records_(records) {}
 
-  void begin_round() override {
+  void begin_round(const TetgenOptions& tetgen) override {
+    runner_ = PieceRunner(tetgen, job_.options.run);
     broadcast(kMeshPieces);
     pieces_.clear();
     queue_.clear();
@@ -142,7 +142,7 @@ class RootScheduler : public PieceScheduler {
     std::string bytes;
     if (piece) {
       records_[piece->index] = {piece->index, worker, static_cast<std::int64_t>(piece->triangles.size()), 0, 0};
-      bytes = serialize_piece(*piece);
+      bytes = serialize_task(*piece, runner_.tetgen());
     }
     stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD));
   }
@@ -191,7 +191,7 @@ class RootScheduler : public PieceScheduler {
   }
 
   const MeshJob& job_;
-  const PieceRunner& runner_;
+  PieceRunner runner_;  // this round's TetGen options
   int size_;
   RankStats& stats_;
   std::map<int, PieceRecord>& records_;         // by piece index: the latest meshing of each piece
@@ -207,7 +207,7 @@ class RootScheduler : public PieceScheduler {
 };
 
 // A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
-void worker_loop(const MeshJob& job, const PieceRunner& runner, int rank, RankStats& stats) {
+void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   while (receive_command() == kMeshPieces) {
     for (;;) {
       std::string bytes;
@@ -217,7 +217,9 @@ void worker_loop(const MeshJob& job, const PieceRunner& runner, int rank, RankSt
       }
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
-      const PieceSurface piece = deserialize_piece(bytes);
+      TetgenOptions tetgen;
+      const PieceSurface piece = deserialize_task(bytes, tetgen);
+      const PieceRunner runner(tetgen, job.options.run);
       std::string().swap(bytes);
       dump_piece(job, piece);
       std::string reply;
@@ -243,6 +245,7 @@ struct RankState {
   SurfaceMesh input;
   MeshResult result;
   CheckReport check;
+  int scale_exponent = 0;  // the input is meshed scaled by 2^scale_exponent
   OutputSet outputs;  // rank 0: the files, under temporary names until every rank agrees
 };
 
@@ -260,12 +263,15 @@ void on_root(RankState& state, Step step) {
 }
 
 // Rank 0: partition, close, mesh (on all ranks), merge, then check and write.
-void mesh_on_root(const MeshJob& job, const PieceRunner& runner, RankState& state) {
+void mesh_on_root(const MeshJob& job, RankState& state) {
   on_root(state, [&] {
-    RootScheduler scheduler(job, runner, state.size, state.stats, state.records);
+    RootScheduler scheduler(job, state.size, state.stats, state.records);
     state.result = mesh_with_retries(state.input, job.options, scheduler, &state.times);
   });
   broadcast(kDone);
+  // Back to the input's own scale (exact), before the check and the files.
+  scale_points(state.input.points, -state.scale_exponent);
+  scale_points(state.result.mesh.points, -state.scale_exponent);
   if (state.status.error.empty())
     on_root(state,
             [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
@@ -303,15 +309,13 @@ JobStatus run_mesh_job(const MeshJob& job) {
   MPI_Comm_rank(MPI_COMM_WORLD, &state.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &state.size);
   log::set_rank(state.rank);
-  const PieceRunner runner(job.options.tetgen, job.options.run);
-
   // 1. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
   // rank removes its temporary files; rank 0 says so.
   install_interrupt_handler(state.rank == 0 ? "partet: interrupted: no output written" : "");
   if (state.rank == 0)
     on_root(state, [&] {
       check_outputs(job);
-      state.input = read_valid_input(job.input, state.times);
+      state.input = read_valid_input(job.input, state.times, &state.scale_exponent);
     });
   if (!agree(state.status.error.empty())) {
     state.status.exit_code = 1;
@@ -319,9 +323,9 @@ JobStatus run_mesh_job(const MeshJob& job) {
   }
   // 2-5. Partition, close, mesh everywhere, merge; check and write on rank 0.
   if (state.rank == 0)
-    mesh_on_root(job, runner, state);
+    mesh_on_root(job, state);
   else
-    worker_loop(job, runner, state.rank, state.stats);
+    worker_loop(job, state.rank, state.stats);
   finish(job, state);
   return state.status;
 }

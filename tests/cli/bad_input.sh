@@ -61,7 +61,7 @@ expect fail "input is not closed: 3 border edges" -- mesh open.off -o out
 expect fail "inside out" -- mesh inside_out.off -o out
 expect fail "must be at least 1|not in|--pieces" -- mesh tet.off -o out --pieces 0
 expect fail "density" -- mesh tet.off -o out --density -1
-expect fail "--quality must be R or R/ANGLE" -- mesh tet.off -o out --quality abc
+expect fail "--quality: the quality bound must be R or R/ANGLE" -- mesh tet.off -o out --quality abc
 expect fail "axis" -- mesh tet.off -o out --axis diagonal
 expect ok "using [0-9]+ pieces instead of 50" -- mesh tet.off -o out --pieces 50
 if [ -n "$meshes" ] && [ -d "$meshes/invalid" ]; then
