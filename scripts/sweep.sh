@@ -1,34 +1,46 @@
 #!/usr/bin/env bash
-# Meshes every model in a directory at several piece counts, checks each result and prints a
-# pass/fail table. Usage: sweep.sh [PARTET] [MESHES_DIR] [MAX_FACES] [K...]
+# Meshes every model of a directory (up to a face count) at several piece counts and cut axes,
+# checks each result and prints a pass/fail table, with the number of retries each needed.
+# Usage: sweep.sh [-p PARTET] [-d MESHES_DIR] [-f MAX_FACES] [-k "K..."] [-a "auto pca"] [-j JOBS]
+#   e.g. sweep.sh -f 20000 -k "$(seq -s ' ' 1 32)" -a "auto pca"
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
-partet=${1:-$partet}
-meshes=${2:-$here/../../shared/meshes}
-max_faces=${3:-100000000}
-shift 3 2>/dev/null || shift $#
-ks=("$@")
-[ ${#ks[@]} -eq 0 ] && ks=(1 2 3 4 8)
-out=$(mktemp -d)
-pass=0 fail=0
-printf "%-28s %8s" model faces
-for k in "${ks[@]}"; do printf " %6s" "k=$k"; done
-echo
-for f in "$meshes"/*.off; do
-  faces=$(awk 'NR==2 {print $2; exit}' "$f")
-  [ "$faces" -le "$max_faces" ] || continue
-  printf "%-28s %8s" "$(basename "$f")" "$faces"
-  for k in "${ks[@]}"; do
-    if "$here/mesh_and_check.sh" "$partet" "$f" "$k" "$out" > "$out/log" 2>&1 && grep -q "check passed" "$out/log"; then
-      printf " %6s" ok; pass=$((pass + 1))
-    else
-      printf " %6s" FAIL; fail=$((fail + 1))
-      echo "$(basename "$f") k=$k: $(grep -E 'error|VIOLATION' "$out/log" | head -1)" >> "$out/failures"
-    fi
-  done
-  echo
+meshes=$here/../../shared/meshes max_faces=100000000 ks="1 2 3 4 8" axes=auto jobs=2
+while getopts "p:d:f:k:a:j:" opt; do
+  case $opt in
+    p) partet=$OPTARG ;; d) meshes=$OPTARG ;; f) max_faces=$OPTARG ;; k) ks=$OPTARG ;; a) axes=$OPTARG ;;
+    j) jobs=$OPTARG ;; *) sed -n '2,5p' "$0"; exit 2 ;;
+  esac
 done
-[ -f "$out/failures" ] && { echo "failures:"; cat "$out/failures"; }
-rm -rf "$out"
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+make_work_dir
+# One run: prints "model axis k result retries".
+run_one() {
+  local model=$1 axis=$2 k=$3 out
+  out=$(mktemp -d -p "$work")
+  if timeout "${PARTET_TIMEOUT:-600}" "$partet" mesh "$model" -o "$out/m" --pieces "$k" --axis "$axis" \
+       --report "$out/r.json" > "$out/log" 2>&1 && "$partet" check "$model" "$out/m" > "$out/check" 2>&1; then
+    echo "$(basename "$model" .off) $axis $k ok $(grep -c '"attempt"' "$out/r.json")"
+  else
+    echo "$(basename "$model" .off) $axis $k FAIL 0 $(grep -hE 'error|VIOLATION' "$out/log" "$out/check" | head -1)"
+  fi
+  rm -rf "$out"
+}
+export -f run_one
+export partet work
+for f in "$meshes"/*.off; do
+  [ "$(awk 'NR==2 {print $2; exit}' "$f")" -le "$max_faces" ] || continue
+  for axis in $axes; do for k in $ks; do echo "$f $axis $k"; done; done
+done | xargs -P "$jobs" -n 3 bash -c 'run_one "$@"' _ > "$work/results"
+sort -k1,1 -k2,2 -k3,3n "$work/results" > "$work/sorted"
+# Table: a row per model and axis, a column per K ("ok", "ok+N" with N retries, or FAIL).
+awk -v ks="$ks" 'BEGIN {n = split(ks, k, " "); printf "%-22s %-5s", "model", "axis"; for (i = 1; i <= n; ++i) printf " %5s", "k" k[i]; print ""}
+  {key = $1 " " $2; if (!(key in seen)) {seen[key] = 1; order[++m] = key}
+   cell[key, $3] = ($4 == "ok") ? ($5 > 0 ? "ok+" $5 : "ok") : "FAIL"}
+  END {for (j = 1; j <= m; ++j) {split(order[j], p, " "); printf "%-22s %-5s", p[1], p[2];
+       for (i = 1; i <= n; ++i) printf " %5s", cell[order[j], k[i]]; print ""}}' "$work/sorted"
+pass=$(awk '$4 == "ok"' "$work/sorted" | wc -l)
+retried=$(awk '$4 == "ok" && $5 > 0' "$work/sorted" | wc -l)
+failed=$(awk '$4 == "FAIL"' "$work/sorted" | wc -l)
+if [ "$failed" -gt 0 ]; then echo "failures:"; awk '$4 == "FAIL"' "$work/sorted"; fi
+echo "$pass passed ($retried after retries), $failed failed"
+[ "$failed" -eq 0 ]

@@ -89,11 +89,13 @@ double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& option
   return (5.0 + 1e-3 * static_cast<double>(triangles)) * (options.quality.empty() ? 1 : 10);
 }
 
+double PieceRunner::time_limit(const PieceSurface& piece) const {
+  return run_.timeout_seconds > 0 ? run_.timeout_seconds : 10 + default_tetgen_timeout(piece.triangles.size(), tetgen_);
+}
+
 std::unique_ptr<PieceJob> PieceRunner::start(const PieceSurface& piece, std::function<void()> before) const {
   if (!run_.isolate) return std::make_unique<InProcessJob>(piece_reply(piece, tetgen_, before));
-  const double limit =
-      run_.timeout_seconds > 0 ? run_.timeout_seconds : 10 + default_tetgen_timeout(piece.triangles.size(), tetgen_);
-  return std::make_unique<ChildProcessJob>(piece, tetgen_, std::move(before), limit);
+  return std::make_unique<ChildProcessJob>(piece, tetgen_, std::move(before), time_limit(piece));
 }
 
 std::string PieceRunner::mesh_to_reply(const PieceSurface& piece, std::function<void()> before) const {

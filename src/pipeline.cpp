@@ -296,10 +296,11 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
       failure = Failure{FailureKind::other, -1, {}, e.what()};
     }
     // TetGen failing is often the input's fault (pieces are not checked for self-intersections
-    // before TetGen): check the whole input once (throws InputError naming input faces) before
-    // blaming the cuts.
+    // or the nesting of shells before TetGen): check the whole input once (throws InputError
+    // naming input faces) before blaming the cuts.
     if (failure->kind != FailureKind::injected && !input_checked) {
       check_no_self_intersections(input);
+      check_shell_nesting(input);
       input_checked = true;
     }
     const bool options_changed = plan.tighten_tolerance(*failure);

@@ -310,7 +310,69 @@ bool faces_intersect(const Triangle& a, const Triangle& b, const std::vector<Poi
   return CGAL::do_intersect(ta, tb);
 }
 
+// The shells: triangles joined across shared edges; returns each triangle's shell.
+std::vector<std::int32_t> shell_of_triangles(const SurfaceMesh& surface, std::int32_t& count) {
+  const EdgeTable table = edge_table(surface.triangles);
+  std::vector<std::int32_t> shell(surface.triangles.size(), -1);
+  count = 0;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < shell.size(); ++seed) {
+    if (shell[seed] >= 0) continue;
+    shell[seed] = count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t f = stack.back();
+      stack.pop_back();
+      for (int c = 0; c < 3; ++c)
+        for (std::int32_t g : table.edges[table.corner_edge[3 * f + c]].faces)
+          if (g >= 0 && shell[g] < 0) {
+            shell[g] = count;
+            stack.push_back(static_cast<std::size_t>(g));
+          }
+    }
+    ++count;
+  }
+  return shell;
+}
+
+// How many times the triangles wind around p (a point on none of them): the sum of their signed
+// solid angles over 4 pi, rounded (Van Oosterom and Strackee).
+long winding_number(const SurfaceMesh& surface, const std::vector<std::size_t>& triangles, const Point3& p) {
+  long double total = 0;
+  for (std::size_t f : triangles) {
+    const Triangle& t = surface.triangles[f];
+    const Point3 a = sub(surface.points[t[0]], p), b = sub(surface.points[t[1]], p), c = sub(surface.points[t[2]], p);
+    const double la = norm(a), lb = norm(b), lc = norm(c);
+    const double numerator = dot(a, cross(b, c));
+    const double denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+    total += 2 * std::atan2(numerator, denominator);
+  }
+  return std::lround(static_cast<double>(total / (4 * kPi)));
+}
+
 }  // namespace
+
+void check_shell_nesting(const SurfaceMesh& surface) {
+  std::int32_t count = 0;
+  const std::vector<std::int32_t> shell = shell_of_triangles(surface, count);
+  if (count < 2) return;
+  std::vector<std::vector<std::size_t>> faces(count);
+  for (std::size_t f = 0; f < shell.size(); ++f) faces[shell[f]].push_back(f);
+  for (std::int32_t s = 0; s < count; ++s) {
+    const std::int32_t vertex = surface.triangles[faces[s].front()][0];
+    long depth = 0;
+    for (std::int32_t t = 0; t < count; ++t)
+      if (t != s && winding_number(surface, faces[t], surface.points[vertex]) != 0) ++depth;
+    SurfaceMesh one{surface.points, {}};
+    for (std::size_t f : faces[s]) one.triangles.push_back(surface.triangles[f]);
+    const bool outward = enclosed_volume_precise(one) > 0;
+    if (outward != (depth % 2 == 0))
+      throw InputError("input shells are nested inconsistently: the shell through vertex " + str(vertex) +
+                       " lies inside " + str(depth) + " other shell" + (depth == 1 ? "" : "s") + " but faces " +
+                       (outward ? "outwards" : "inwards") +
+                       " (a cavity must face into the void, an island inside a cavity outwards)");
+  }
+}
 
 void validate_topology(const SurfaceMesh& surface) {
   const char* what = "input";

@@ -51,6 +51,8 @@ class PieceRunner {
   LocalTetMesh mesh_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles) const;
 
   const TetgenOptions& tetgen() const { return tetgen_; }
+  // The time limit of an isolated run on this piece, seconds.
+  double time_limit(const PieceSurface& piece) const;
 
  private:
   TetgenOptions tetgen_;

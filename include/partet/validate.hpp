@@ -13,6 +13,11 @@ void validate_topology(const SurfaceMesh& surface);
 // ("input self-intersects: faces 12 and 873 intersect"). `what` names the surface in the message.
 void check_no_self_intersections(const SurfaceMesh& surface, const char* what = "input");
 
+// Throws InputError when the shells (closed components) are not nested consistently: a shell
+// inside an even number of other shells must face outwards, inside an odd number (a cavity)
+// inwards. Costs shells x faces: used to explain a failure, not on every run.
+void check_shell_nesting(const SurfaceMesh& surface);
+
 // Both of the above, plus a positive enclosed volume (outward orientation).
 void validate_surface(const SurfaceMesh& surface);
 

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -79,6 +80,13 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
   return code;
 }
 
+// This process's rank when an MPI launcher started it (before MPI_Init: from its environment).
+int launched_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
+    if (const char* value = std::getenv(name)) return std::atoi(value);
+  return 0;
+}
+
 // What the command line asked for.
 struct CommandLine {
   partet::MeshJob job;
@@ -109,6 +117,11 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
           "--axis", c.axis,
           "cut direction: auto = coordinate axis nearest the PCA axis (exactly planar caps), pca = the PCA axis")
       ->check(CLI::IsMember({"auto", "pca"}))
+      ->capture_default_str();
+  mesh->add_option("--piece-timeout", job.options.run.timeout_seconds,
+                   "seconds before meshing one piece is given up (0: scaled with the piece's size; a rank that "
+                   "does not answer by then ends the job)")
+      ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();
   mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
@@ -173,7 +186,14 @@ int main(int argc, char** argv) {
   auto* check = add_check_command(app, c);
   auto* generate = add_generate_command(app, c);
   auto* refine = add_refine_command(app, c);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    // Usage errors: one line, exit code 2, from the first rank only when launched by MPI.
+    if (launched_rank() == 0) partet::log::error(std::string(e.what()) + " (see partet --help)");
+    return 2;
+  }
 
   try {
     if (*check) return run_check(c.check_input, c.check_prefix, c.check_json);
@@ -186,7 +206,7 @@ int main(int argc, char** argv) {
   try {
     c.job.options.tetgen.quality = partet::parse_quality(c.quality);
   } catch (const partet::OptionError& e) {
-    partet::log::error(std::string("--quality: ") + e.what());
+    if (launched_rank() == 0) partet::log::error(std::string("--quality: ") + e.what());
     return 2;
   }
   c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;

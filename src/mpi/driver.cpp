@@ -24,12 +24,53 @@ constexpr int kTagReply = 2;
 constexpr int kIdleMilliseconds = 5;  // how long rank 0 sleeps between looks at MPI when idle
 enum Command : int { kDone = 0, kMeshPieces = 1 };
 
+// A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
+// worker a piece's own time limit plus kReplyGraceSeconds to answer, and kWorkerSeconds for
+// anything else (taking a message, joining an agreement). A worker allows rank 0, which may
+// merge and write for long, kRootSeconds between messages.
+constexpr double kReplyGraceSeconds = 10;
+constexpr double kWorkerSeconds = 120;
+constexpr double kRootSeconds = 3600;
+
+// Ends the whole job now: a rank stopped answering.
+[[noreturn]] void abort_job(const std::string& message) {
+  log::error(message + "; ending the job");
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::abort();  // MPI_Abort does not return
+}
+
+int my_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+// How long this rank waits for the others in a collective step.
+double collective_limit() { return my_rank() == 0 ? kWorkerSeconds : kRootSeconds; }
+
+// Runs a collective step; a rank that does not join in time ends the job.
+template <class Step>
+auto bounded(Step step) {
+  try {
+    return step();
+  } catch (const Stalled&) {
+    abort_job(my_rank() == 0 ? "a worker rank did not join the agreement within " +
+                                   std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)"
+                             : "rank 0 has sent nothing for " + std::to_string(static_cast<int>(kRootSeconds)) +
+                                   " s (stopped or dead?)");
+  }
+}
+
 // Every rank learns whether all ranks succeeded.
-bool agree(bool ok_here) { return all_true(ok_here, MPI_COMM_WORLD); }
+bool agree(bool ok_here) { return bounded([&] { return all_true(ok_here, MPI_COMM_WORLD, collective_limit()); }); }
 
-void broadcast(Command command) { broadcast_int(command, 0, MPI_COMM_WORLD); }
+void broadcast(Command command) {
+  bounded([&] { return broadcast_int(command, 0, MPI_COMM_WORLD, collective_limit()); });
+}
 
-Command receive_command() { return static_cast<Command>(broadcast_int(kDone, 0, MPI_COMM_WORLD)); }
+Command receive_command() {
+  return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, MPI_COMM_WORLD, collective_limit()); }));
+}
 
 // Adds the seconds an object lives to a total.
 struct AddSeconds {
@@ -94,6 +135,7 @@ class RootScheduler : public PieceScheduler {
   void progress() override {
     while (receive_reply()) {
     }
+    check_workers_answer();
     if (own_ && own_->poll(0)) finish_own_piece();
     dispatch();
   }
@@ -108,6 +150,7 @@ class RootScheduler : public PieceScheduler {
       if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
       bool progress = receive_reply();
       if (own_ && own_->poll(0)) progress = finish_own_piece();
+      check_workers_answer();
       // Idle: sleep in the kernel (on the child's pipe when there is one) between looks at
       // MPI, so this process leaves its core to the TetGen processes.
       if (!progress) {
@@ -143,8 +186,25 @@ class RootScheduler : public PieceScheduler {
     if (piece) {
       records_[piece->index] = {piece->index, worker, static_cast<std::int64_t>(piece->triangles.size()), 0, 0};
       bytes = serialize_task(*piece, runner_.tetgen());
+      busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index};
     }
-    stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD));
+    try {
+      stats_.bytes_sent +=
+          static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD, kMaxChunk, kWorkerSeconds));
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(worker) + " did not take a message within " +
+                std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+    }
+  }
+
+  // A worker that does not answer within its piece's time limit (its TetGen child would have
+  // been stopped by then) is stopped, hung or dead.
+  void check_workers_answer() const {
+    const double now = now_seconds();
+    for (const auto& [worker, busy] : busy_)
+      if (now > busy.deadline)
+        abort_job("rank " + std::to_string(worker) + " has not answered for piece " + std::to_string(busy.piece) +
+                  " within its time limit (stopped or dead?)");
   }
 
   void start_own_piece() {
@@ -180,6 +240,7 @@ class RootScheduler : public PieceScheduler {
       store(position_.at(index), std::move(outcome));
     }
     idle_.push_back(worker);
+    busy_.erase(worker);
     return true;
   }
 
@@ -200,6 +261,11 @@ class RootScheduler : public PieceScheduler {
   std::vector<std::size_t> queue_;              // positions not handed out yet
   std::vector<PieceOutcome> outcomes_;          // by position
   std::vector<int> idle_;                       // workers without a piece
+  struct Busy {
+    double deadline;  // when its answer is overdue
+    int piece;
+  };
+  std::map<int, Busy> busy_;  // workers with a piece
   std::size_t remaining_ = 0;
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
@@ -213,7 +279,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       std::string bytes;
       {
         AddSeconds timer{stats.receive_seconds};
-        bytes = recv_bytes(0, kTagPiece, MPI_COMM_WORLD);
+        bytes = bounded([] { return recv_bytes(0, kTagPiece, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); });
       }
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
@@ -229,7 +295,8 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       }
       stats.pieces += 1;
       AddSeconds timer{stats.send_seconds};
-      stats.bytes_sent += static_cast<double>(send_bytes(reply, 0, kTagReply, MPI_COMM_WORLD));
+      stats.bytes_sent += static_cast<double>(
+          bounded([&] { return send_bytes(reply, 0, kTagReply, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); }));
     }
   }
 }
@@ -277,14 +344,28 @@ void mesh_on_root(const MeshJob& job, RankState& state) {
             [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
 }
 
+// Test hook: PARTET_INJECT_FAILURE="worker:abort-before-agreement" makes rank 1 die after its
+// last piece, while rank 0 writes (the job must then publish nothing).
+void inject_worker_death(int rank) {
+  const char* spec = std::getenv("PARTET_INJECT_FAILURE");
+  if (rank == 1 && spec && std::string(spec) == "worker:abort-before-agreement") {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    std::abort();
+  }
+}
+
 // Per-rank figures to rank 0, then the agreement: only when every rank succeeded does rank 0
 // publish the files (all at once), and every rank learns whether that worked too.
 void finish(const MeshJob& job, RankState& state) {
+  inject_worker_death(state.rank);
   state.stats.peak_rss_mb = own_peak_rss_mb();
   state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
-  gather_doubles(reinterpret_cast<const double*>(&state.stats), kRankStatsDoubles,
-                 reinterpret_cast<double*>(all.data()), 0, MPI_COMM_WORLD);
+  bounded([&] {
+    gather_doubles(reinterpret_cast<const double*>(&state.stats), kRankStatsDoubles,
+                   reinterpret_cast<double*>(all.data()), 0, MPI_COMM_WORLD, collective_limit());
+    return 0;
+  });
   bool ok = agree(state.status.error.empty());
   if (ok && state.rank == 0) {
     std::vector<PieceRecord> pieces;

@@ -6,39 +6,44 @@
 
 namespace partet::mpi {
 
-void wait_sleeping(MPI_Request& request, MPI_Status* status) {
+void wait_sleeping(MPI_Request& request, MPI_Status* status, double timeout_seconds) {
   int done = 0;
   for (int spin = 0; spin < 64; ++spin) {
     MPI_Test(&request, &done, status);
     if (done) return;
   }
+  const auto start = std::chrono::steady_clock::now();
   auto pause = std::chrono::microseconds(20);
   for (;;) {
     MPI_Test(&request, &done, status);
     if (done) return;
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(1000));
+    if (timeout_seconds > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_seconds)
+      throw Stalled("no message for " + std::to_string(static_cast<long long>(timeout_seconds)) + " s");
   }
 }
 
-std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk) {
+std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk,
+                         double timeout_seconds) {
   std::uint64_t size = bytes.size();
   MPI_Request request;
   MPI_Isend(&size, 1, MPI_UINT64_T, dest, tag, comm, &request);
-  wait_sleeping(request);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
   for (std::size_t offset = 0; offset < bytes.size(); offset += max_chunk) {
     const std::size_t n = std::min(max_chunk, bytes.size() - offset);
     MPI_Isend(bytes.data() + offset, static_cast<int>(n), MPI_BYTE, dest, tag, comm, &request);
-    wait_sleeping(request);
+    wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
   }
   return size + sizeof(size);
 }
 
-std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk) {
+std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk, double timeout_seconds) {
   std::uint64_t size = 0;
   MPI_Request request;
   MPI_Irecv(&size, 1, MPI_UINT64_T, source, tag, comm, &request);
-  wait_sleeping(request);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
   std::string bytes(size, '\0');
   for (std::size_t offset = 0; offset < size; offset += max_chunk) {
     const std::size_t n = std::min<std::size_t>(max_chunk, size - offset);
@@ -48,25 +53,25 @@ std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk
   return bytes;
 }
 
-int broadcast_int(int value, int root, MPI_Comm comm) {
+int broadcast_int(int value, int root, MPI_Comm comm, double timeout_seconds) {
   MPI_Request request;
   MPI_Ibcast(&value, 1, MPI_INT, root, comm, &request);
-  wait_sleeping(request);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
   return value;
 }
 
-bool all_true(bool mine, MPI_Comm comm) {
+bool all_true(bool mine, MPI_Comm comm, double timeout_seconds) {
   int value = mine ? 1 : 0, all = 0;
   MPI_Request request;
   MPI_Iallreduce(&value, &all, 1, MPI_INT, MPI_MIN, comm, &request);
-  wait_sleeping(request);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
   return all == 1;
 }
 
-void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm) {
+void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm, double timeout_seconds) {
   MPI_Request request;
   MPI_Igather(mine, count, MPI_DOUBLE, all, count, MPI_DOUBLE, root, comm, &request);
-  wait_sleeping(request);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
 }
 
 }  // namespace partet::mpi

@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -14,16 +15,26 @@ namespace partet::mpi {
 // Largest chunk sent in one MPI call (1 GiB).
 constexpr std::size_t kMaxChunk = std::size_t{1} << 30;
 
+// A wait gave up: the other side has been silent for longer than the caller allows.
+struct Stalled : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // Waits for a request to complete: a short spin, then tests with sleeps growing to 1 ms.
-void wait_sleeping(MPI_Request& request, MPI_Status* status = MPI_STATUS_IGNORE);
+// Throws Stalled after timeout_seconds (never when 0).
+void wait_sleeping(MPI_Request& request, MPI_Status* status = MPI_STATUS_IGNORE, double timeout_seconds = 0);
 
-// Sends a size header, then the bytes in chunks of at most max_chunk. Returns bytes sent.
-std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk);
-std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk);
+// Sends a size header, then the bytes in chunks of at most max_chunk. Returns bytes sent. Each
+// part may wait up to timeout_seconds for the receiver (0: no limit).
+std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk,
+                         double timeout_seconds = 0);
+// Receives what send_bytes sent; the header may take up to timeout_seconds to come (0: no limit).
+std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk,
+                       double timeout_seconds = 0);
 
-// Collectives that sleep while they wait.
-int broadcast_int(int value, int root, MPI_Comm comm);
-bool all_true(bool mine, MPI_Comm comm);  // every rank learns whether all ranks said true
-void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm);
+// Collectives that sleep while they wait, at most timeout_seconds (0: no limit).
+int broadcast_int(int value, int root, MPI_Comm comm, double timeout_seconds = 0);
+bool all_true(bool mine, MPI_Comm comm, double timeout_seconds = 0);  // every rank learns whether all said true
+void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm, double timeout_seconds = 0);
 
 }  // namespace partet::mpi

@@ -20,10 +20,17 @@ printf 'OFF\n4 2 0\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n4 0 1 2 3\n4 0 3 2 1\n' > bowtie
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n' > inside_out.off
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > tet.off
 echo "not a mesh" > model.xyz
+mkfifo fifo.off
+ln -s /dev/urandom random.stl
+head -c 3000 /dev/urandom > noise.stl
+printf '\xef\xbb\xbfsolid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid x\n' > bom.stl
+# Unused vertex far away, and a thin solid: valid inputs that must mesh.
+printf 'OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1e12 1e12 1e12\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > far_unused.off
+printf 'OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1e-9\n1 0 1e-9\n1 1 1e-9\n0 1 1e-9\n3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n' > thin.off
 printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
 
 pass=0 fail=0
-# expect CODE REGEX -- ARGS...: CODE is "fail" (non-zero exit) or "ok".
+# expect CODE REGEX -- ARGS...: CODE is "fail" (non-zero exit), "usage" (exit code 2) or "ok".
 expect() {
   local want=$1 regex=$2
   shift 3
@@ -33,7 +40,13 @@ expect() {
   timeout 10 "$@" > log 2>&1
   local code=$? elapsed=$((SECONDS - start))
   local problem=""
-  if [ "$want" = fail ]; then
+  if [ "$want" = usage ]; then
+    [ "$code" -eq 2 ] || problem="exit code $code, not 2"
+    # One line (under a launcher, one from partet: the launcher adds its own).
+    if [ ${#launch[@]} -eq 0 ]; then [ "$(wc -l < log)" -eq 1 ] || problem="${problem:+$problem; }not one line"
+    else [ "$(grep -c '^partet' log)" -eq 1 ] || problem="${problem:+$problem; }not one partet line"; fi
+    grep -q "^partet: error: " log || problem="${problem:+$problem; }no 'partet: error:' prefix"
+  elif [ "$want" = fail ]; then
     [ "$code" -ne 0 ] || problem="exit code 0"
     [ "$code" -ne 124 ] || problem="did not end within 10 s"
     ls out.* > /dev/null 2>&1 && problem="output files left: $(ls out.*)"
@@ -59,10 +72,25 @@ expect fail "face 3 refers to vertex 7" -- mesh range.off -o out
 expect fail "face 0 has 4 corners and cannot be triangulated" -- mesh bowtie.off -o out
 expect fail "input is not closed: 3 border edges" -- mesh open.off -o out
 expect fail "inside out" -- mesh inside_out.off -o out
-expect fail "must be at least 1|not in|--pieces" -- mesh tet.off -o out --pieces 0
-expect fail "density" -- mesh tet.off -o out --density -1
-expect fail "--quality: the quality bound must be R or R/ANGLE" -- mesh tet.off -o out --quality abc
-expect fail "axis" -- mesh tet.off -o out --axis diagonal
+expect usage "--pieces: Value 0 not in range" -- mesh tet.off -o out --pieces 0
+expect usage "--density" -- mesh tet.off -o out --density -1
+for q in abc 0.5 inf nan 1e-300 0x1p1 -2 1.5/30 1.5/-1 "1.4 2"; do
+  expect usage "--quality: the quality bound must be R or R/ANGLE" -- mesh tet.off -o out --quality "$q"
+done
+expect usage "--axis: diagonal not in" -- mesh tet.off -o out --axis diagonal
+expect usage "input is required" -- mesh
+expect usage "subcommand" -- "$partet" frobnicate
+expect fail "cannot read 'fifo.off': not a regular file" -- mesh fifo.off -o out
+expect fail "cannot read 'random.stl': not a regular file" -- mesh random.stl -o out
+expect fail "cannot read 'noise.stl': not an STL file" -- mesh noise.stl -o out
+expect fail "byte order mark" -- mesh bom.stl -o out
+expect fail "the output prefix 'out/' names no file" -- mesh tet.off -o out/
+expect fail "the output prefix '' names no file" -- mesh tet.off -o ""
+expect fail "cannot write 'nodir/out.node': directory 'nodir' does not exist" -- mesh tet.off -o nodir/out
+expect fail "cannot write 'out.node': it is the same file as 'out.node'" -- mesh tet.off -o out --report out.node
+expect fail "cannot write 'tet.off': it is the same file as 'tet.off'" -- mesh tet.off -o out --report tet.off
+expect ok "wrote out.node" -- mesh far_unused.off -o out --check
+expect ok "wrote out.node" -- mesh thin.off -o out --pieces 2 --check
 expect ok "using [0-9]+ pieces instead of 50" -- mesh tet.off -o out --pieces 50
 if [ -n "$meshes" ] && [ -d "$meshes/invalid" ]; then
   expect fail "input is not closed: 223 border edges" -- mesh "$meshes/invalid/bunny_open.off" -o out

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# No orphaned processes and a clear message: (1) SIGTERM to a one-rank run ends it at once with
+# exit code 143 and "interrupted", its TetGen child dies with it, and no file (temporary or
+# final) is left; (2) SIGKILL of a rank under the launcher takes its TetGen child with it and
+# ends the job without output.
+# Usage: interrupt.sh PARTET MPIEXEC
+set -uo pipefail
+partet=$1 mpiexec=$2
+work=$(mktemp -d)
+trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+"$partet" generate torus --faces 200000 -o "$work/big.off" > /dev/null || exit 1
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "ok   $*"; }
+bad() { fail=$((fail + 1)); echo "FAIL $*"; }
+processes() {  # running ones (a zombie waiting to be reaped does not count)
+  local n=0
+  for pid in $(pgrep -f "mesh $work/big.off"); do
+    [ "$(awk '{print $3}' "/proc/$pid/stat" 2> /dev/null)" = Z ] || n=$((n + 1))
+  done
+  echo "$n"
+}
+# Waits until a TetGen child (a partet whose parent is partet) runs; prints its pid.
+child_of_job() {
+  for i in $(seq 200); do
+    for pid in $(pgrep -f "mesh $work/big.off"); do
+      parent=$(awk '{print $4}' "/proc/$pid/stat" 2> /dev/null)
+      [ -n "$parent" ] && [ "$(cat "/proc/$parent/comm" 2> /dev/null)" = partet ] && { echo "$pid"; return; }
+    done
+    sleep 0.05
+  done
+}
+
+# 1. SIGTERM to a one-rank run.
+"$partet" mesh "$work/big.off" -o "$work/one" --pieces 2 > "$work/log1" 2>&1 &
+rank=$!
+child=$(child_of_job)
+[ -n "$child" ] || bad "no TetGen child seen"
+kill -TERM "$rank"
+wait "$rank"
+code=$?
+sleep 1
+[ "$code" -eq 143 ] && ok "SIGTERM: exit code 143" || bad "SIGTERM: exit code $code"
+grep -q "interrupted" "$work/log1" && ok "SIGTERM: says $(grep -m1 interrupted "$work/log1")" || bad "SIGTERM: no message"
+[ "$(processes)" -eq 0 ] && ok "SIGTERM: no process left" || bad "SIGTERM: $(processes) processes left"
+ls "$work" | grep -q '^one' && bad "SIGTERM: files left: $(ls "$work")" || ok "SIGTERM: no file left"
+
+# 2. SIGKILL of rank 1 under the launcher, while its TetGen child runs.
+"$mpiexec" -n 2 "$partet" mesh "$work/big.off" -o "$work/two" --pieces 4 > "$work/log2" 2>&1 &
+launcher=$!
+victim=""
+for i in $(seq 200); do
+  for pid in $(pgrep -f "mesh $work/big.off"); do
+    if tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" &&
+       pgrep -P "$pid" > /dev/null; then victim=$pid; fi
+  done
+  [ -n "$victim" ] && break
+  sleep 0.05
+done
+[ -n "$victim" ] || bad "rank 1 with a TetGen child not found"
+victim_child=$(pgrep -P "$victim" | head -1)
+kill -KILL "$victim"
+sleep 1
+# Gone, or a zombie waiting for init to reap it: either way it no longer runs.
+alive() { [ -e "/proc/$1/stat" ] && [ "$(awk '{print $3}' "/proc/$1/stat" 2> /dev/null)" != Z ]; }
+[ -n "$victim_child" ] && ! alive "$victim_child" && ok "SIGKILL: the rank's TetGen child died with it" ||
+  bad "SIGKILL: the TetGen child $victim_child still runs"
+timeout 30 tail --pid="$launcher" -f /dev/null
+wait "$launcher"
+code=$?
+[ "$code" -ne 0 ] && ok "SIGKILL: the job ended with exit code $code" || bad "SIGKILL: exit code 0"
+sleep 1
+[ "$(processes)" -eq 0 ] && ok "SIGKILL: no process left" || bad "SIGKILL: $(processes) processes left"
+ls "$work" | grep -q '^two\.[a-z]*$' && bad "SIGKILL: output files: $(ls "$work")" || ok "SIGKILL: no output file"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
