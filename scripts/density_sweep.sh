@@ -9,8 +9,8 @@ printf "%-22s %7s %9s %8s %10s %10s %9s %8s\n" model density tets wall_s amips_a
 for model in "$@"; do
   for d in "${densities[@]}"; do
     /usr/bin/time -f "%e" -o "$work/t" "$partet" mesh "$model" -o "$work/out" --pieces "$k" --density "$d" --quiet
-    "$partet" check "$model" "$work/out" > "$work/c"
-    q=$(sed -n 's/^quality: AMIPS avg \([^ ]*\) max \([^;]*\); dihedral min \([^ ]*\) max [^;]*; tets <5deg \([0-9]*\).*/\1 \2 \3 \4/p' "$work/c")
+    q=$("$partet" check --json "$model" "$work/out" | python3 -c 'import json, sys; q = json.load(sys.stdin)["quality"]
+print(q["amips_avg"], q["amips_max"], q["min_dihedral_deg"], q["tets_below_5deg"])')
     printf "%-22s %7s %9s %8s %10s %10s %9s %8s\n" "$(basename "$model")" "$d" "$(head -1 "$work/out.ele" | awk '{print $1}')" "$(cat "$work/t")" $q
   done
 done

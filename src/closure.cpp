@@ -389,6 +389,7 @@ Cap CapBuilder::build(int plane) {
   const auto first_interior = static_cast<std::int32_t>(split_.points.size());
   if (density_ > 0) refine_cap(cdt, chords.size(), border_length, density_, frame, split_.points);
   cap.interior_point_count = static_cast<std::int32_t>(split_.points.size()) - first_interior;
+  split_.cap_point_plane.insert(split_.cap_point_plane.end(), static_cast<std::size_t>(cap.interior_point_count), plane);
   cap.triangles = domain_triangles(cdt);
   check_cap_closes_loops(cap.triangles, chords, j);
   return cap;

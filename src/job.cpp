@@ -14,6 +14,7 @@
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
 #include "partet/validate.hpp"
+#include "quality_json.hpp"
 
 namespace partet {
 namespace {
@@ -127,7 +128,9 @@ std::string report_json(const JobSummary& s) {
   report["counts"] = {{"input_vertices", s.input.points.size()},
                       {"input_faces", s.input.triangles.size()},
                       {"cut_vertices_inserted", s.result.cut_vertices_inserted},
-                      {"cut_vertices_removed", s.result.removal.removed},
+                      {"cut_vertices_removed", s.result.seam.cut_vertices_removed},
+                      {"cap_points_removed", s.result.seam.cap_points_removed},
+                      {"seam_regions", s.result.seam.regions},
                       {"cap_triangles", s.result.cap_triangles},
                       {"output_vertices", s.result.mesh.points.size()},
                       {"output_tets", s.result.mesh.tets.size()}};
@@ -154,11 +157,16 @@ std::string report_json(const JobSummary& s) {
                               {"receive_seconds", stats.receive_seconds},
                               {"bytes_received", stats.bytes_received}});
   }
-  if (s.job.check_output)
-    report["quality"] = {{"amips_avg", s.check.quality.amips_avg},
-                         {"amips_max", s.check.quality.amips_max},
-                         {"min_dihedral_deg", s.check.quality.min_dihedral_deg},
-                         {"max_dihedral_deg", s.check.quality.max_dihedral_deg}};
+  report["cut_planes"] = nlohmann::json::array();
+  for (const CutPlane& p : s.result.planes) report["cut_planes"].push_back({{"normal", p.normal}, {"offset", p.offset}});
+  if (s.job.check_output) {
+    // The seam zone (tets crossing or touching a cut plane) against the rest.
+    const std::vector<char> zone = seam_zone(s.result.mesh, s.result.planes);
+    report["quality"] = {
+        {"all", quality_json(s.check.quality)},
+        {"seam_zone", quality_json(mesh_quality(s.result.mesh, [&](std::size_t t) { return zone[t] != 0; }))},
+        {"elsewhere", quality_json(mesh_quality(s.result.mesh, [&](std::size_t t) { return zone[t] == 0; }))}};
+  }
   return report.dump(2) + "\n";
 }
 
@@ -178,8 +186,8 @@ void print_summary(const JobSummary& s) {
   const auto& mesh = s.result.mesh;
   log::info(std::to_string(s.input.triangles.size()) + " faces -> " + std::to_string(mesh.tets.size()) + " tets, " +
             std::to_string(mesh.points.size()) + " vertices; " + std::to_string(s.result.pieces) + " pieces on " +
-            std::to_string(s.ranks.size()) + " ranks; " + std::to_string(s.result.removal.removed) +
-            " cut vertices removed; " + format("%.2f s", s.total_seconds));
+            std::to_string(s.ranks.size()) + " ranks; " + std::to_string(s.result.seam.cut_vertices_removed + s.result.seam.cap_points_removed) +
+            " seam vertices removed; " + format("%.2f s", s.total_seconds));
   std::string stages = "stages:";
   for (const StageTime& t : s.times) stages += " " + t.stage + format(" %.2f", t.seconds);
   double worst = 0;

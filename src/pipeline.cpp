@@ -112,11 +112,22 @@ class RetryPlan {
     records_.push_back({attempt_, failure.text(), planes});
     for (int j : planes) ++options_.plane_shifts[j];
     ++attempt_;
+    fall_back_to_coordinate_axis();
   }
 
   std::vector<RetryRecord> take_records() { return std::move(records_); }
 
  private:
+  // Crossings on a PCA plane are rounded off it, so its caps are only nearly planar and TetGen
+  // can fail to recover them however the planes move: after half the attempts, cut along the
+  // coordinate axis nearest the PCA axis instead (exactly planar caps), from fresh planes.
+  void fall_back_to_coordinate_axis() {
+    if (options_.axis != CutAxis::pca || attempt_ < attempts_ / 2) return;
+    options_.axis = CutAxis::coordinate_near_pca;
+    std::fill(options_.plane_shifts.begin(), options_.plane_shifts.end(), 0);
+    log::warning("the PCA cut planes kept failing; cutting along the coordinate axis nearest to it instead");
+  }
+
   MeshOptions options_;
   int attempts_;
   int attempt_ = 0;
@@ -230,22 +241,33 @@ PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& optio
 }
 
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
-                       const MeshOptions& options, StageTimes* times) {
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
   StageTimer timer(times);
   MeshResult result;
   result.mesh = weld(prepared.split.points, prepared.pieces, std::move(results));
   timer.lap("merge");
-  const PieceRunner runner(options.tetgen, options.run);
-  result.removal = remove_cut_vertices(result.mesh, input, prepared.split,
-                                       [&](const std::vector<Point3>& points, const std::vector<Triangle>& triangles) {
-                                         return runner.mesh_surface(points, triangles);
-                                       });
-  timer.lap("cut_vertex_removal");
+  // The regions around the seams are meshed like pieces, on every rank.
+  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
+    scheduler.begin_round(options.tetgen);
+    for (const auto& region : regions) scheduler.submit(region);
+    return scheduler.end_round();
+  };
+  result.seam = heal_seams(result.mesh, input, prepared.split, options.heal, mesher);
+  timer.lap("seam_healing");
   result.boundary_faces = input_in_output_numbering(input);
   result.cut_vertices_inserted = prepared.split.cut_vertex_count();
+  result.planes = prepared.planes;
   result.cap_triangles = prepared.cap_triangles;
   result.pieces = static_cast<int>(prepared.pieces.size());
   return result;
+}
+
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+                       const MeshOptions& options, StageTimes* times) {
+  BatchScheduler here([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+    return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
+  });
+  return finish_mesh(input, prepared, std::move(results), options, here, times);
 }
 
 std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner) {
@@ -277,7 +299,7 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
         results.reserve(outcomes.size());
         for (auto& o : outcomes) results.push_back(std::move(o.result));
         std::vector<PieceOutcome>().swap(outcomes);
-        MeshResult result = finish_mesh(input, prepared, std::move(results), plan.options(), times);
+        MeshResult result = finish_mesh(input, prepared, std::move(results), plan.options(), scheduler, times);
         result.retries = plan.take_records();
         return result;
       }
@@ -289,7 +311,7 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     } catch (const OptionError&) {
       throw;
     } catch (const MeshingError& e) {
-      // From partition, closure, merge or cut-vertex removal; only the last knows its planes.
+      // From partition, closure, merge or seam healing; only the last knows its planes.
       failure = e.failure;
       planes_to_move = e.failure.planes;
     } catch (const Error& e) {

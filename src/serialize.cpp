@@ -127,14 +127,17 @@ PieceSurface deserialize_piece(std::string_view bytes) {
 std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
   return encode(piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size(), [&](auto& ar) {
     save_piece(ar, piece);
-    ar << tetgen.quality << tetgen.tolerance;
+    const std::int32_t seam_region = piece.seam_region ? 1 : 0;
+    ar << tetgen.quality << tetgen.tolerance << seam_region;
   });
 }
 
 PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
   return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
     load_piece(ar, piece);
-    ar >> tetgen.quality >> tetgen.tolerance;
+    std::int32_t seam_region = 0;
+    ar >> tetgen.quality >> tetgen.tolerance >> seam_region;
+    piece.seam_region = seam_region != 0;
   });
 }
 

@@ -306,13 +306,14 @@ PieceTetMesh tetrahedralize_piece(const PieceSurface& piece, const TetgenOptions
   // face proves they do not intersect, and when TetGen fails the pipeline checks the whole
   // input before blaming the cuts. The topology check is cheap and catches a partition bug
   // before TetGen sees it.
-  check_piece_topology(piece);
+  if (!piece.seam_region) check_piece_topology(piece);
   PieceTetMesh result;
   result.index = piece.index;
   result.surface_point_count = static_cast<std::int32_t>(piece.points.size());
   // A piece is manifold (the input was validated, the caps close it); with one shell it
   // encloses one region.
-  const SurfaceRegions regions = shell_count(piece.triangles) == 1 ? SurfaceRegions::one_shell : SurfaceRegions::any;
+  const SurfaceRegions regions =
+      !piece.seam_region && shell_count(piece.triangles) == 1 ? SurfaceRegions::one_shell : SurfaceRegions::any;
   result.mesh = mesh_closed_surface(piece.points, piece.triangles, options, piece.index, regions);
   return result;
 }

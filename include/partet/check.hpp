@@ -5,15 +5,10 @@
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "partet/quality.hpp"
 #include "partet/tetgen_files.hpp"
 
 namespace partet {
-
-struct MeshQuality {
-  double amips_avg = 0, amips_max = 0;  // conformal AMIPS energy, 3 = regular tet
-  double min_dihedral_deg = 0, max_dihedral_deg = 0;
-  std::int64_t below_5deg = 0, above_175deg = 0;  // tets with a dihedral angle < 5 or > 175 deg
-};
 
 struct CheckReport {
   std::vector<std::string> violations;  // empty when the mesh is valid
@@ -36,10 +31,5 @@ CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh);
 // must carry the same set ID (a set mixed from different runs fails).
 CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files);
 
-MeshQuality mesh_quality(const TetMesh& mesh);
-
-// Conformal AMIPS energy tr(J^T J) / det(J)^(2/3) of one tet (3 for a regular tet,
-// +inf for a flat or inverted one).
-double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
 
 }  // namespace partet

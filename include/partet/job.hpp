@@ -76,7 +76,7 @@ struct JobSummary {
   const MeshJob& job;
   const SurfaceMesh& input;
   const MeshResult& result;
-  const CheckReport& check;
+  const CheckReport& check;  // with --check: its quality covers the whole mesh
   const StageTimes& times;
   const std::vector<RankStats>& ranks;
   const std::vector<PieceRecord>& pieces;  // by index

@@ -46,6 +46,8 @@ struct SplitSurface {
   std::vector<std::int32_t> parent;                          // input triangle each triangle comes from
   std::vector<std::array<std::int32_t, 2>> cut_vertex_edge;  // input edge a cut vertex splits
   std::vector<std::int32_t> cut_vertex_plane;                // plane a cut vertex lies on
+  // The caps' interior points follow the cut vertices in `points`; the plane of each.
+  std::vector<std::int32_t> cap_point_plane;
   int piece_count = 1;
 
   bool is_cut_vertex(std::int32_t v) const { return v >= input_vertex_count; }

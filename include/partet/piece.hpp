@@ -14,6 +14,10 @@ namespace partet {
 
 struct PieceSurface {
   int index = 0;
+  // A region around a seam being re-meshed rather than a piece: its boundary (faces of the tets
+  // around it) may pinch at vertices and enclose pockets, so every region TetGen fills is
+  // classified, and the piece topology check does not apply.
+  bool seam_region = false;
   std::vector<std::int32_t> global_ids;  // local point -> global point, ascending
   std::vector<Point3> points;
   std::vector<Triangle> triangles;  // local ids, outward

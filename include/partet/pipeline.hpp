@@ -6,11 +6,11 @@
 #include <vector>
 
 #include "partet/closure.hpp"
-#include "partet/cut_vertex_removal.hpp"
 #include "partet/mesh_types.hpp"
 #include "partet/partition.hpp"
 #include "partet/piece.hpp"
 #include "partet/piece_runner.hpp"
+#include "partet/seam_healing.hpp"
 #include "partet/stage_timer.hpp"
 #include "partet/tetgen_mesher.hpp"
 
@@ -22,6 +22,7 @@ struct MeshOptions {
   CutAxis axis = CutAxis::coordinate_near_pca;
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
   int max_attempts = 6;           // partitions tried before giving up, plus one per 4 pieces beyond the first
+  bool heal = true;               // also remove the caps' interior points (seam healing)
   TetgenOptions tetgen;
   RunOptions run;
 };
@@ -48,8 +49,9 @@ struct RetryRecord {
 
 struct MeshResult {
   TetMesh mesh;
+  std::vector<CutPlane> planes;          // the cut planes used (around them: the seam zone)
   std::vector<Triangle> boundary_faces;  // the input triangles, in output numbering
-  CutVertexRemovalStats removal;
+  SeamStats seam;
   std::int64_t cut_vertices_inserted = 0;
   std::int64_t cap_triangles = 0;
   int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)
@@ -96,8 +98,11 @@ class BatchScheduler : public PieceScheduler {
 };
 
 // 4-5. Weld the pieces' meshes (consumed: each is freed once welded, so rank 0 never holds the
-// pieces and the merged mesh in full at once) and remove the cut vertices. results must be
-// ordered by piece index.
+// pieces and the merged mesh in full at once) and heal the seams, the regions around them meshed
+// by the scheduler (in parallel). results must be ordered by piece index.
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
+// The same, with the regions meshed in this process, one after another.
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
                        const MeshOptions& options, StageTimes* times = nullptr);
 

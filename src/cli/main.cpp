@@ -4,11 +4,14 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <fstream>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "partet/check.hpp"
+#include "partet/quality.hpp"
+#include "quality_json.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
 #include "partet/log.hpp"
@@ -20,45 +23,83 @@
 
 namespace {
 
-void print_check(const partet::CheckReport& report) {
-  const auto& q = report.quality;
+// The quality of the seam zone (tets crossing or touching a cut plane) and of the rest, when
+// the run's report names the planes.
+struct ZoneQuality {
+  bool known = false;
+  partet::MeshQuality seam, elsewhere;
+};
+
+ZoneQuality zone_quality(const partet::TetMesh& mesh, const std::string& report_path) {
+  ZoneQuality zones;
+  if (report_path.empty()) return zones;
+  std::ifstream in(report_path);
+  if (!in) throw partet::InputError("cannot open report '" + report_path + "'");
+  nlohmann::json report;
+  try {
+    in >> report;
+  } catch (const std::exception& e) {
+    throw partet::InputError("cannot read report '" + report_path + "': " + e.what());
+  }
+  std::vector<partet::CutPlane> planes;
+  for (const auto& p : report.value("cut_planes", nlohmann::json::array()))
+    planes.push_back({{p["normal"][0], p["normal"][1], p["normal"][2]}, p["offset"]});
+  const std::vector<char> zone = partet::seam_zone(mesh, planes);
+  zones.known = true;
+  zones.seam = partet::mesh_quality(mesh, [&](std::size_t t) { return zone[t] != 0; });
+  zones.elsewhere = partet::mesh_quality(mesh, [&](std::size_t t) { return zone[t] == 0; });
+  return zones;
+}
+
+void print_check(const partet::CheckReport& report, const ZoneQuality& zones) {
   std::printf("vertices %lld, tets %lld, boundary faces %lld\n", static_cast<long long>(report.vertices),
               static_cast<long long>(report.tets), static_cast<long long>(report.boundary_faces));
   std::printf("volume: tets %.17g, surface %.17g\n", report.tet_volume, report.surface_volume);
   std::printf("euler: mesh %ld, expected %ld\n", report.euler_mesh, report.euler_expected);
-  std::printf("quality: AMIPS avg %.4g max %.4g; dihedral min %.4g max %.4g deg; tets <5deg %lld, >175deg %lld\n",
-              q.amips_avg, q.amips_max, q.min_dihedral_deg, q.max_dihedral_deg, static_cast<long long>(q.below_5deg),
-              static_cast<long long>(q.above_175deg));
+  std::printf("quality: %s\n", partet::quality_line(report.quality).c_str());
+  std::printf("dihedral angles:");
+  double from = 0;
+  for (std::size_t i = 0; i < partet::kDihedralBins.size(); ++i) {
+    std::printf(" %g-%g: %lld%s", from, partet::kDihedralBins[i],
+                static_cast<long long>(report.quality.dihedral_histogram[i]),
+                i + 1 < partet::kDihedralBins.size() ? "," : "\n");
+    from = partet::kDihedralBins[i];
+  }
+  if (zones.known) {
+    std::printf("seam zone (%lld tets): %s\n", static_cast<long long>(zones.seam.tets),
+                partet::quality_line(zones.seam).c_str());
+    std::printf("elsewhere (%lld tets): %s\n", static_cast<long long>(zones.elsewhere.tets),
+                partet::quality_line(zones.elsewhere).c_str());
+  }
   for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
   std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
 }
 
-void print_check_json(const partet::CheckReport& report) {
-  const auto& q = report.quality;
-  const nlohmann::json json = {{"ok", report.ok()},
-                               {"violations", report.violations},
-                               {"vertices", report.vertices},
-                               {"tets", report.tets},
-                               {"boundary_faces", report.boundary_faces},
-                               {"tet_volume", report.tet_volume},
-                               {"surface_volume", report.surface_volume},
-                               {"euler_mesh", report.euler_mesh},
-                               {"euler_expected", report.euler_expected},
-                               {"quality",
-                                {{"amips_avg", q.amips_avg},
-                                 {"amips_max", q.amips_max},
-                                 {"min_dihedral_deg", q.min_dihedral_deg},
-                                 {"max_dihedral_deg", q.max_dihedral_deg},
-                                 {"tets_below_5deg", q.below_5deg},
-                                 {"tets_above_175deg", q.above_175deg}}}};
+void print_check_json(const partet::CheckReport& report, const ZoneQuality& zones) {
+  nlohmann::json json = {{"ok", report.ok()},
+                         {"violations", report.violations},
+                         {"vertices", report.vertices},
+                         {"tets", report.tets},
+                         {"boundary_faces", report.boundary_faces},
+                         {"tet_volume", report.tet_volume},
+                         {"surface_volume", report.surface_volume},
+                         {"euler_mesh", report.euler_mesh},
+                         {"euler_expected", report.euler_expected},
+                         {"quality", partet::quality_json(report.quality)}};
+  if (zones.known) {
+    json["seam_zone_quality"] = partet::quality_json(zones.seam);
+    json["elsewhere_quality"] = partet::quality_json(zones.elsewhere);
+  }
   std::printf("%s\n", json.dump(2).c_str());
 }
 
-int run_check(const std::string& input_path, const std::string& prefix, bool json) {
-  const partet::CheckReport report =
-      partet::check_mesh_files(partet::read_surface(input_path), partet::read_tetgen_set(prefix));
-  json ? print_check_json(report) : print_check(report);
-  return report.ok() ? 0 : 2;
+// Exit code 0 when the check passes, 1 when it fails (2 is kept for usage errors).
+int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json) {
+  const partet::TetgenFileSet files = partet::read_tetgen_set(prefix);
+  const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files);
+  const ZoneQuality zones = zone_quality(files.mesh, report_path);
+  json ? print_check_json(report, zones) : print_check(report, zones);
+  return report.ok() ? 0 : 1;
 }
 
 int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
@@ -92,7 +133,7 @@ struct CommandLine {
   partet::MeshJob job;
   std::string quality, axis = "auto";
   bool quiet = false, verbose = false;
-  std::string check_input, check_prefix;
+  std::string check_input, check_prefix, check_report;
   bool check_json = false;
   std::string shape, generate_output;
   int faces = 2000;
@@ -123,6 +164,12 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
                    "does not answer by then ends the job)")
       ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();
+  mesh->add_option("--max-attempts", job.options.max_attempts,
+                   "partitions tried before giving up (plus one per 4 pieces)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  mesh->add_flag("!--no-heal", job.options.heal,
+                 "keep the caps' interior points (remove only the cut vertices on input edges), for comparison");
   mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
   mesh->add_flag("--quiet", c.quiet, "print errors only");
@@ -137,6 +184,9 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
   check->add_option("prefix", c.check_prefix, "prefix of the .node/.ele files")->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
+  check->add_option("--report", c.check_report,
+                    "the --report of the run that made the mesh: also give the quality of the seam zone (tets "
+                    "crossing a cut plane) and of the rest");
   return check;
 }
 
@@ -196,7 +246,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*check) return run_check(c.check_input, c.check_prefix, c.check_json);
+    if (*check) return run_check(c.check_input, c.check_prefix, c.check_report, c.check_json);
     if (*generate) return run_generate(c);
     if (*refine) return run_refine(c);
   } catch (const std::exception& e) {

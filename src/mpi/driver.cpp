@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -116,6 +117,7 @@ class RootScheduler : public PieceScheduler {
     runner_ = PieceRunner(tetgen, job_.options.run);
     broadcast(kMeshPieces);
     pieces_.clear();
+    position_.clear();
     queue_.clear();
     outcomes_.clear();
     idle_.clear();
@@ -184,7 +186,7 @@ class RootScheduler : public PieceScheduler {
     AddSeconds timer{stats_.send_seconds};
     std::string bytes;
     if (piece) {
-      records_[piece->index] = {piece->index, worker, static_cast<std::int64_t>(piece->triangles.size()), 0, 0};
+      record(*piece, worker);
       bytes = serialize_task(*piece, runner_.tetgen());
       busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index};
     }
@@ -210,17 +212,19 @@ class RootScheduler : public PieceScheduler {
   void start_own_piece() {
     own_position_ = take_next();
     const PieceSurface& piece = *pieces_[own_position_];
-    records_[piece.index] = {piece.index, 0, static_cast<std::int64_t>(piece.triangles.size()), 0, 0};
+    record(piece, 0);
     own_start_ = now_seconds();
-    dump_piece(job_, piece);
-    own_ = runner_.start(piece, [&piece] { inject_failure(piece.index, 0); });
+    if (!piece.seam_region) dump_piece(job_, piece);
+    own_ = runner_.start(piece, [&piece] {
+      if (!piece.seam_region) inject_failure(piece.index, 0);
+    });
   }
 
   bool finish_own_piece() {
     store(own_position_, deserialize_outcome(own_->take_reply()));
     own_.reset();
     stats_.tetgen_seconds += now_seconds() - own_start_;
-    stats_.pieces += 1;
+    if (!pieces_[own_position_]->seam_region) stats_.pieces += 1;
     return true;
   }
 
@@ -244,9 +248,17 @@ class RootScheduler : public PieceScheduler {
     return true;
   }
 
+  // Where each piece (not seam region) was meshed, for the report.
+  void record(const PieceSurface& piece, int rank) {
+    if (!piece.seam_region)
+      records_[piece.index] = {piece.index, rank, static_cast<std::int64_t>(piece.triangles.size()), 0, 0};
+  }
+
   void store(std::size_t position, PieceOutcome&& outcome) {
-    records_[pieces_[position]->index].seconds = outcome.seconds;
-    records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
+    if (!pieces_[position]->seam_region) {
+      records_[pieces_[position]->index].seconds = outcome.seconds;
+      records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
+    }
     outcomes_[position] = std::move(outcome);
     --remaining_;
   }
@@ -286,14 +298,17 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       TetgenOptions tetgen;
       const PieceSurface piece = deserialize_task(bytes, tetgen);
       const PieceRunner runner(tetgen, job.options.run);
+      const bool region = piece.seam_region;
       std::string().swap(bytes);
-      dump_piece(job, piece);
+      if (!region) dump_piece(job, piece);
       std::string reply;
       {
         AddSeconds timer{stats.tetgen_seconds};
-        reply = runner.mesh_to_reply(piece, [&piece, rank] { inject_failure(piece.index, rank); });
+        reply = runner.mesh_to_reply(piece, [&piece, rank, region] {
+          if (!region) inject_failure(piece.index, rank);
+        });
       }
-      stats.pieces += 1;
+      if (!region) stats.pieces += 1;
       AddSeconds timer{stats.send_seconds};
       stats.bytes_sent += static_cast<double>(
           bounded([&] { return send_bytes(reply, 0, kTagReply, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); }));
@@ -339,6 +354,7 @@ void mesh_on_root(const MeshJob& job, RankState& state) {
   // Back to the input's own scale (exact), before the check and the files.
   scale_points(state.input.points, -state.scale_exponent);
   scale_points(state.result.mesh.points, -state.scale_exponent);
+  for (CutPlane& plane : state.result.planes) plane.offset = std::ldexp(plane.offset, -state.scale_exponent);
   if (state.status.error.empty())
     on_root(state,
             [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });

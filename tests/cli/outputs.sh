@@ -44,7 +44,15 @@ if [ ${#launch[@]} -gt 0 ]; then
       bad "dying worker: $(cat log; ls)"; }
 fi
 
-# 3. check: the intact set passes; each damage is caught.
+# 3. Temporaries a killed run left behind (its process is gone) are removed by the next run on
+#    the same prefix; those of a running process are not.
+touch m.node.tmp-999999999-deadbeef m.ele.tmp-$$-cafecafe
+"${launch[@]}" "$partet" mesh torus.off -o m --pieces 3 --quiet --report m.json
+[ ! -e m.node.tmp-999999999-deadbeef ] && [ -e m.ele.tmp-$$-cafecafe ] && ok "stale temporaries removed, live ones kept" ||
+  bad "stale temporaries: $(ls)"
+rm -f m.ele.tmp-$$-cafecafe
+
+# 4. check: the intact set passes; each damage is caught.
 "$partet" check torus.off m > log 2>&1 && ok "intact set passes" || bad "intact set: $(cat log)"
 "$partet" mesh sphere.off -o other --pieces 2 --quiet
 expect_check_fails() {  # DESCRIPTION REGEX: the check of m (damaged) fails with the message

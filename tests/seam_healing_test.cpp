@@ -1,5 +1,5 @@
-// Cut-vertex removal: after remove_cut_vertices (and finish_mesh around it) the mesh has no
-// cut vertex, every input triangle is a boundary face, and check_mesh accepts it.
+// Seam healing: after heal_seams (and finish_mesh around it) the mesh has no cut vertex (and,
+// when healing, no cap point), every input triangle is a boundary face, and check_mesh accepts it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "partet/check.hpp"
-#include "partet/cut_vertex_removal.hpp"
+#include "partet/seam_healing.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
 #include "partet/merge.hpp"
@@ -39,9 +39,9 @@ Stage prepare(const SurfaceMesh& input, int k, double density = 1.0) {
   return s;
 }
 
-SurfaceMesher here(const MeshOptions& options) {
-  return [options](const std::vector<Point3>& points, const std::vector<Triangle>& triangles) {
-    return mesh_closed_surface(points, triangles, options.tetgen);
+RegionMesher here(const MeshOptions& options) {
+  return [options](const std::vector<PieceSurface>& regions) {
+    return mesh_pieces_here(regions, PieceRunner(options.tetgen, options.run));
   };
 }
 
@@ -55,11 +55,13 @@ std::string violations(const CheckReport& r) {
 void expect_clean_result(const SurfaceMesh& input, const Stage& s, const MeshResult& result) {
   const TetMesh& mesh = result.mesh;
   const SplitSurface& split = s.prepared.split;
-  EXPECT_EQ(result.removal.removed, split.cut_vertex_count());
+  EXPECT_EQ(result.seam.cut_vertices_removed, split.cut_vertex_count());
   if (split.cut_vertex_count() > 0) {
-    EXPECT_GT(result.removal.cavity_tets_in, 0);
-    EXPECT_GT(result.removal.cavity_tets_out, 0);
+    EXPECT_GT(result.seam.tets_in, 0);
+    EXPECT_GT(result.seam.tets_out, 0);
   }
+  // Healing removes the caps' interior points too.
+  if (s.options.heal) EXPECT_EQ(result.seam.cap_points_removed, static_cast<std::int64_t>(split.cap_point_plane.size()));
   // Input vertices first, same order and coordinates.
   ASSERT_GE(mesh.points.size(), input.points.size());
   for (std::size_t v = 0; v < input.points.size(); ++v) ASSERT_EQ(mesh.points[v], input.points[v]);
@@ -79,7 +81,7 @@ void expect_clean_result(const SurfaceMesh& input, const Stage& s, const MeshRes
   EXPECT_TRUE(report.ok()) << violations(report);
 }
 
-TEST(RemoveCutVertices, FinishMeshOnGeneratedShapes) {
+TEST(HealSeams, FinishMeshOnGeneratedShapes) {
   for (const char* name : {"sphere", "torus", "genus3", "nested"}) {
     for (int k : {2, 4}) {
       SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k));
@@ -92,7 +94,7 @@ TEST(RemoveCutVertices, FinishMeshOnGeneratedShapes) {
   }
 }
 
-TEST(RemoveCutVertices, DirectCallOnWeldedMesh) {
+TEST(HealSeams, DirectCallOnWeldedMesh) {
   const SurfaceMesh input = generate_surface("torus", 1500);
   const Stage s = prepare(input, 3);
   TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
@@ -105,19 +107,38 @@ TEST(RemoveCutVertices, DirectCallOnWeldedMesh) {
                  v < s.prepared.split.input_vertex_count + s.prepared.split.cut_vertex_count();
         }))
       ++touching;
-  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, here(s.options));
-  EXPECT_EQ(stats.removed, s.prepared.split.cut_vertex_count());
-  EXPECT_EQ(stats.cavity_tets_in, touching);
-  EXPECT_EQ(mesh.tets.size(), tets_before - stats.cavity_tets_in + stats.cavity_tets_out);
+  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, false, here(s.options));
+  EXPECT_EQ(stats.cut_vertices_removed, s.prepared.split.cut_vertex_count());
+  EXPECT_EQ(stats.cap_points_removed, 0);
+  EXPECT_EQ(stats.tets_in, touching);
+  EXPECT_EQ(mesh.tets.size(), tets_before - stats.tets_in + stats.tets_out);
   const CheckReport report = check_mesh(input, mesh);
   EXPECT_TRUE(report.ok()) << violations(report);
   const double volume = enclosed_volume(input);
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
 }
 
-TEST(RemoveCutVertices, DenseCapsKeepTheirInteriorPoints) {
+TEST(HealSeams, HealingRemovesEveryCapPoint) {
   const SurfaceMesh input = generate_surface("sphere", 1500);
   const Stage s = prepare(input, 3, 2.0);
+  ASSERT_TRUE(s.options.heal);
+  const MeshResult result = finish_mesh(input, s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
+  expect_clean_result(input, s, result);
+  // Only input vertices and Steiner points TetGen put strictly inside: none on a cut plane.
+  const auto& plane = s.prepared.planes;
+  const int axis = coordinate_axis_of(plane[0].normal);
+  for (std::size_t v = input.points.size(); v < result.mesh.points.size(); ++v)
+    for (const auto& p : plane) EXPECT_NE(result.mesh.points[v][axis], p.offset) << "a point on a cut plane";
+  // Every re-meshed tet is marked as such.
+  std::int64_t remeshed = 0;
+  for (auto piece : result.mesh.piece) remeshed += piece == -1;
+  EXPECT_EQ(remeshed, result.seam.tets_out);
+}
+
+TEST(HealSeams, WithoutHealingCapsKeepTheirInteriorPoints) {
+  const SurfaceMesh input = generate_surface("sphere", 1500);
+  Stage s = prepare(input, 3, 2.0);
+  s.options.heal = false;
   const auto& split = s.prepared.split;
   const std::size_t cap_points = split.points.size() - split.input_vertex_count - split.cut_vertex_count();
   ASSERT_GT(cap_points, 0u);
@@ -137,21 +158,21 @@ TEST(RemoveCutVertices, DenseCapsKeepTheirInteriorPoints) {
   EXPECT_GT(kept, cap_points / 2) << "most cap points lie away from the cut loops";
 }
 
-TEST(RemoveCutVertices, OnePieceChangesNothing) {
+TEST(HealSeams, OnePieceChangesNothing) {
   const SurfaceMesh input = generate_surface("sphere", 800);
   const Stage s = prepare(input, 1);
   TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   const TetMesh before = mesh;
-  const CutVertexRemovalStats stats = remove_cut_vertices(mesh, input, s.prepared.split, here(s.options));
-  EXPECT_EQ(stats.removed, 0);
-  EXPECT_EQ(stats.cavity_tets_in, 0);
-  EXPECT_EQ(stats.cavity_tets_out, 0);
+  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, true, here(s.options));
+  EXPECT_EQ(stats.cut_vertices_removed, 0);
+  EXPECT_EQ(stats.tets_in, 0);
+  EXPECT_EQ(stats.tets_out, 0);
   EXPECT_EQ(mesh.points, before.points);
   EXPECT_EQ(mesh.tets, before.tets);
   EXPECT_EQ(mesh.neighbours, before.neighbours);
 }
 
-TEST(RemoveCutVertices, UnusedInputVerticesAreDropped) {
+TEST(HealSeams, UnusedInputVerticesAreDropped) {
   // Unused input points (first, in the middle and last) are not in the output, the others keep
   // their order, and boundary_faces is the input in output numbering.
   const SurfaceMesh sphere = generate_surface("sphere", 1000);
@@ -171,7 +192,7 @@ TEST(RemoveCutVertices, UnusedInputVerticesAreDropped) {
   const MeshResult result = finish_mesh(input, s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
   for (std::size_t v = 0; v < sphere.points.size(); ++v) ASSERT_EQ(result.mesh.points[v], sphere.points[v]);
   EXPECT_EQ(result.boundary_faces, sphere.triangles);
-  EXPECT_EQ(result.removal.removed, s.prepared.split.cut_vertex_count());
+  EXPECT_EQ(result.seam.cut_vertices_removed, s.prepared.split.cut_vertex_count());
   for (const auto& p : result.mesh.points) {
     EXPECT_NE(p, (Point3{5, 5, 5}));
     EXPECT_NE(p, (Point3{0.01, 0.02, 0.03}));

@@ -1,7 +1,8 @@
-#include "partet/cut_vertex_removal.hpp"
+#include "partet/seam_healing.hpp"
 
 #include <algorithm>
 #include <string>
+#include <map>
 #include <unordered_map>
 
 #include "partet/errors.hpp"
@@ -10,11 +11,17 @@
 namespace partet {
 namespace {
 
-// The cut vertices are the ids [first, end) of the merged mesh.
-struct CutRange {
-  std::int32_t first, end;
+// The vertices to remove: the cut vertices [first, first_cap) and, when healing, the caps'
+// interior points [first_cap, end), ids of the merged mesh.
+struct Removed {
+  std::int32_t first, first_cap, end;
+  const SplitSurface& split;
   bool contains(std::int32_t v) const { return v >= first && v < end; }
-  bool touches(const Triangle& f) const { return contains(f[0]) || contains(f[1]) || contains(f[2]); }
+  bool is_cut_vertex(std::int32_t v) const { return v >= first && v < first_cap; }
+  bool touches(const Triangle& f) const { return is_cut_vertex(f[0]) || is_cut_vertex(f[1]) || is_cut_vertex(f[2]); }
+  int plane_of(std::int32_t v) const {
+    return v < first_cap ? split.cut_vertex_plane[v - first] : split.cap_point_plane[v - first_cap];
+  }
 };
 
 using FragmentParents = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
@@ -46,22 +53,22 @@ struct Part {
 // fragments of a triangle share cut vertices, so they lie in one part).
 std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<char>& in_region,
                                const std::vector<std::int32_t>& component, std::int32_t component_count,
-                               const CutRange& cut, const SplitSurface& split, const FragmentParents& parent_of) {
+                               const Removed& removed, const FragmentParents& parent_of) {
   std::vector<Part> parts(component_count);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     if (!in_region[t]) continue;
     Part& part = parts[component[t]];
     for (auto v : mesh.tets[t])
-      if (cut.contains(v)) part.planes.push_back(split.cut_vertex_plane[v - cut.first]);
+      if (removed.contains(v)) part.planes.push_back(removed.plane_of(v));
     for (int j = 0; j < 4; ++j) {
       const auto nb = mesh.neighbours[t][j];
       if (nb >= 0 && in_region[nb]) continue;
       const Triangle face = outward_face(mesh.tets[t], j);
-      if (nb < 0 && cut.touches(face)) {
+      if (nb < 0 && removed.touches(face)) {
         auto it = parent_of.find(FaceKey(face));
         if (it == parent_of.end())
           throw InternalError(
-              "cut-vertex removal: a boundary face with a cut vertex is no fragment of an input triangle");
+              "seam healing: a boundary face with a cut vertex is no fragment of an input triangle");
         part.parents.push_back(it->second);
         continue;
       }
@@ -85,31 +92,70 @@ void close_part(Part& part, const SurfaceMesh& input, std::vector<std::int32_t>&
   part.ids = renumber_locally(part.faces, scratch);
 }
 
-// Meshes every part; returns the first part that failed (-1 if none) and why.
-std::int32_t mesh_parts(std::vector<Part>& parts, const TetMesh& mesh, const SurfaceMesh& input,
-                        const SurfaceMesher& mesher, Failure& failure) {
+// Re-meshed regions by content: after a region grows, the regions it did not touch come back
+// unchanged and need no new TetGen run.
+class RegionCache {
+ public:
+  const LocalTetMesh* find(const PieceSurface& region) const {
+    auto it = meshes_.find(key(region));
+    return it == meshes_.end() ? nullptr : &it->second;
+  }
+  void keep(const PieceSurface& region, LocalTetMesh mesh) { meshes_[key(region)] = std::move(mesh); }
+
+ private:
+  static std::pair<std::vector<Point3>, std::vector<Triangle>> key(const PieceSurface& region) {
+    return {region.points, region.triangles};
+  }
+  std::map<std::pair<std::vector<Point3>, std::vector<Triangle>>, LocalTetMesh> meshes_;
+};
+
+// Meshes every part (those not in the cache in one batch); returns the parts that failed, with
+// the failure of the first.
+std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& mesh, const SurfaceMesh& input,
+                                     const RegionMesher& mesher, RegionCache& cache, Failure& failure) {
   std::vector<std::int32_t> scratch(mesh.points.size(), -1);
+  std::vector<PieceSurface> regions(parts.size()), batch;
+  std::vector<std::size_t> in_batch;
   for (std::size_t c = 0; c < parts.size(); ++c) {
     Part& part = parts[c];
     close_part(part, input, scratch);
-    std::vector<Point3> local_points(part.ids.size());
-    for (std::size_t i = 0; i < part.ids.size(); ++i) local_points[i] = mesh.points[part.ids[i]];
-    try {
-      part.mesh = mesher(local_points, part.faces);
-    } catch (const MeshingError& e) {
-      failure = e.failure;
-      return static_cast<std::int32_t>(c);
+    PieceSurface& region = regions[c];
+    region.index = static_cast<int>(c);
+    region.seam_region = true;
+    region.triangles = part.faces;
+    region.global_ids = part.ids;
+    for (auto id : part.ids) region.points.push_back(mesh.points[id]);
+    if (const LocalTetMesh* known = cache.find(region)) {
+      part.mesh = *known;
+    } else {
+      batch.push_back(region);
+      in_batch.push_back(c);
     }
   }
-  return -1;
+  std::vector<PieceOutcome> outcomes = batch.empty() ? std::vector<PieceOutcome>() : mesher(batch);
+  std::vector<std::int32_t> failed;
+  for (std::size_t i = 0; i < in_batch.size(); ++i) {
+    const std::size_t c = in_batch[i];
+    if (outcomes[i].failure) {
+      if (failed.empty()) failure = *outcomes[i].failure;
+      failed.push_back(static_cast<std::int32_t>(c));
+      continue;
+    }
+    parts[c].mesh = std::move(outcomes[i].result.mesh);
+    cache.keep(regions[c], parts[c].mesh);
+  }
+  std::sort(failed.begin(), failed.end());
+  return failed;
 }
 
-// Adds to the region every tet sharing a vertex with the failed part.
-void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component, std::int32_t failed,
+// Adds to the region every tet sharing a vertex with a failed part.
+void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component, const std::vector<std::int32_t>& failed,
                  std::vector<char>& in_region) {
+  std::vector<char> failing(failed.empty() ? 0 : static_cast<std::size_t>(failed.back()) + 1, 0);
+  for (auto c : failed) failing[c] = 1;
   std::vector<char> touched(mesh.points.size(), 0);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (component[t] == failed)
+    if (component[t] >= 0 && static_cast<std::size_t>(component[t]) < failing.size() && failing[component[t]])
       for (auto v : mesh.tets[t]) touched[v] = 1;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
     if (!in_region[t])
@@ -120,7 +166,7 @@ void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component
 // Replaces the region's tets by the parts' new tets. Tets outside the region keep their order
 // and their neighbours among themselves; faces towards the region are joined to the new tets.
 void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<Part>& parts,
-                    CutVertexRemovalStats& stats) {
+                    SeamStats& stats) {
   std::vector<char> kept(in_region.size());
   for (std::size_t t = 0; t < in_region.size(); ++t) kept[t] = !in_region[t];
   const std::vector<std::int32_t> new_index = compact_ids(kept);
@@ -132,7 +178,7 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
   std::vector<std::int32_t> seam;  // tets whose faces must be joined: kept ones next to the region, and new ones
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     if (in_region[t]) {
-      ++stats.cavity_tets_in;
+      ++stats.tets_in;
       continue;
     }
     Tet nb;
@@ -151,7 +197,7 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
     const std::int32_t base = append_local_mesh(part.mesh, part.ids, mesh.points, tets, neighbours);
     for (std::size_t r = 0; r < part.mesh.tets.size(); ++r) seam.push_back(base + static_cast<std::int32_t>(r));
     if (has_piece) piece.resize(tets.size(), -1);  // made by the re-meshing, not by a piece
-    stats.cavity_tets_out += static_cast<std::int64_t>(part.mesh.tets.size());
+    stats.tets_out += static_cast<std::int64_t>(part.mesh.tets.size());
   }
   connect_open_faces(tets, neighbours, &seam);
   mesh.tets = std::move(tets);
@@ -159,8 +205,8 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
   mesh.piece = std::move(piece);
 }
 
-// Drops unused points (the cut vertices, and input vertices no triangle uses), keeping order.
-void drop_unused_points(TetMesh& mesh, const CutRange& cut, CutVertexRemovalStats& stats) {
+// Drops unused points (the removed vertices, and input vertices no triangle uses), keeping order.
+void drop_unused_points(TetMesh& mesh, const Removed& removed, SeamStats& stats) {
   const std::vector<char> used = used_vertices(mesh.points.size(), mesh.tets);
   const std::vector<std::int32_t> new_id = compact_ids(used);
   std::vector<Point3> points;
@@ -168,12 +214,14 @@ void drop_unused_points(TetMesh& mesh, const CutRange& cut, CutVertexRemovalStat
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
     if (used[v])
       points.push_back(mesh.points[v]);
-    else if (cut.contains(static_cast<std::int32_t>(v)))
-      ++stats.removed;
+    else if (removed.is_cut_vertex(static_cast<std::int32_t>(v)))
+      ++stats.cut_vertices_removed;
+    else if (removed.contains(static_cast<std::int32_t>(v)))
+      ++stats.cap_points_removed;
   }
   for (auto& t : mesh.tets)
     for (auto& v : t) {
-      if (cut.contains(v)) throw InternalError("cut-vertex removal left a cut vertex in the mesh");
+      if (removed.contains(v)) throw InternalError("seam healing left a vertex it had to remove in the mesh");
       v = new_id[v];
     }
   mesh.points = std::move(points);
@@ -181,46 +229,52 @@ void drop_unused_points(TetMesh& mesh, const CutRange& cut, CutVertexRemovalStat
 
 }  // namespace
 
-CutVertexRemovalStats remove_cut_vertices(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
-                                          const SurfaceMesher& mesher) {
-  CutVertexRemovalStats stats;
-  const CutRange cut{split.input_vertex_count, split.input_vertex_count + split.cut_vertex_count()};
+SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, bool remove_cap_points,
+                     const RegionMesher& mesher) {
+  SeamStats stats;
+  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
+  const Removed removed{split.input_vertex_count, first_cap,
+                        first_cap + (remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0),
+                        split};
   const FragmentParents parent_of = fragment_parents(split);
 
-  // The region to re-mesh: every tet touching a cut vertex.
+  // The region to re-mesh: every tet touching a removed vertex.
   std::vector<char> in_region(mesh.tets.size(), 0);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
     for (auto v : mesh.tets[t])
-      if (cut.contains(v)) in_region[t] = 1;
+      if (removed.contains(v)) in_region[t] = 1;
 
-  // The region falls into connected parts (one per cut loop, or per group of loops that share
-  // tets), each re-meshed on its own: smaller TetGen runs, and a failure names the cut planes
-  // involved so only those need to move. A part TetGen cannot re-mesh without touching its
-  // boundary (the faces of the often flat tets around it) grows by a layer of tets and is
+  // The region falls into connected parts (one per cut, or per group of cuts that share tets),
+  // each re-meshed on its own, in parallel: smaller TetGen runs, and a failure names the cut
+  // planes involved so only those need to move. A part TetGen cannot re-mesh without touching
+  // its boundary (the faces of the often flat tets around it) grows by a layer of tets and is
   // tried again: the larger it is, the closer the job gets to meshing the input triangles alone.
   constexpr int kMaxGrowth = 3;
   std::vector<std::int32_t> component;
   std::vector<Part> parts;
+  RegionCache cache;
   for (int growth = 0;; ++growth) {
     const std::int32_t count = label_tet_regions(
         mesh.neighbours, [&](std::size_t t) { return in_region[t] != 0; }, [](std::size_t, int) { return true; },
         component);
-    parts = region_parts(mesh, in_region, component, count, cut, split, parent_of);
+    parts = region_parts(mesh, in_region, component, count, removed, parent_of);
     Failure failure;
-    const std::int32_t failed = mesh_parts(parts, mesh, input, mesher, failure);
-    if (failed < 0) break;
+    const std::vector<std::int32_t> failed = mesh_parts(parts, mesh, input, mesher, cache, failure);
+    if (failed.empty()) break;
     if (growth == kMaxGrowth) {
+      const Part& part = parts[failed.front()];
       std::string planes;
-      for (int p : parts[failed].planes) planes += (planes.empty() ? "" : ", ") + std::to_string(p);
-      failure.message = "cut-vertex removal near cut plane(s) " + planes + ": " + failure.text();
+      for (int p : part.planes) planes += (planes.empty() ? "" : ", ") + std::to_string(p);
+      failure.message = "re-meshing the seam near cut plane(s) " + planes + ": " + failure.text();
       failure.piece = -1;
-      failure.planes = parts[failed].planes;
+      failure.planes = part.planes;
       throw MeshingError(failure);
     }
     grow_region(mesh, component, failed, in_region);
   }
+  stats.regions = static_cast<std::int64_t>(parts.size());
   replace_region(mesh, in_region, parts, stats);
-  drop_unused_points(mesh, cut, stats);
+  drop_unused_points(mesh, removed, stats);
   return stats;
 }
 
