@@ -5,22 +5,23 @@
 # tets and AMIPS avg/max; writes OUTDIR/bench.csv and OUTDIR/bench.png (time and memory against K,
 # one line per input). Time it on a quiet machine: nothing else may run beside it.
 #
-# Usage: bench.sh [-r RUNS] [-n RANKS] [-k "K ..."] [-q QUALITY] [-o OUTDIR] [-t] INPUT...
+# Usage: bench.sh [-r RUNS] [-n RANKS] [-k "K ..."] [-q QUALITY] [-x "ARGS"] [-o OUTDIR] [-t] INPUT...
 #   -r  repetitions (default 3)        -n  MPI ranks (default 2; 1 runs without mpirun)
 #   -k  piece counts (default "2 4 8") -q  TetGen quality (e.g. 1.414), for both
+#   -x  more partet mesh arguments (e.g. --no-heal)
 #   -o  output directory (default bench-out)
 #   -t  skip TetGen (inputs too large for it); ratios are then left empty
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
-runs=3 ranks=2 ks="2 4 8" quality="" outdir=bench-out skip_tetgen=0
-while getopts "r:n:k:q:o:t" opt; do
+runs=3 ranks=2 ks="2 4 8" quality="" extra="" outdir=bench-out skip_tetgen=0
+while getopts "r:n:k:q:x:o:t" opt; do
   case $opt in
-    r) runs=$OPTARG ;; n) ranks=$OPTARG ;; k) ks=$OPTARG ;; q) quality=$OPTARG ;; o) outdir=$OPTARG ;;
-    t) skip_tetgen=1 ;; *) sed -n '2,14p' "$0"; exit 2 ;;
+    r) runs=$OPTARG ;; n) ranks=$OPTARG ;; k) ks=$OPTARG ;; q) quality=$OPTARG ;; x) extra=$OPTARG ;; o) outdir=$OPTARG ;;
+    t) skip_tetgen=1 ;; *) sed -n '2,15p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -ge 1 ] || { sed -n '2,14p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,15p' "$0"; exit 2; }
 mkdir -p "$outdir"
 outdir=$(realpath "$outdir")
 make_work_dir
@@ -59,7 +60,7 @@ for input in "$@"; do
     if [ "$skip_tetgen" -eq 0 ]; then (cd "$work" && timed tetgen $tg_switches "$name.off") >> "$work/tg.t"; fi
     for k in $ks; do
       read -r wall mem < <(timed "${launch[@]}" "$partet" mesh "$work/$name.off" -o "$work/out_k$k" --pieces "$k" \
-        "${partet_quality[@]}" --quiet --report "$work/report_k$k.json")
+        "${partet_quality[@]}" $extra --quiet --report "$work/report_k$k.json")
       [ "$ranks" -gt 1 ] && mem=$(largest_process "$work/report_k$k.json")
       echo "$wall $mem" >> "$work/p$k.t"
     done

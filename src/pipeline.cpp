@@ -81,8 +81,9 @@ class RetryPlan {
         !options_.tetgen.tolerance.empty())
       return false;
     options_.tetgen.tolerance = "1e-16";
-    log::warning("the input is valid but TetGen took part of it for self-intersecting or degenerate; "
-                 "retrying with a tighter tolerance");
+    log::warning(
+        "the input is valid but TetGen took part of it for self-intersecting or degenerate; "
+        "retrying with a tighter tolerance");
     return true;
   }
 
@@ -153,9 +154,8 @@ class ClosureStream {
     prepared_.planes = choose_cut_planes(input_, options_.pieces, options_.axis, options_.plane_shifts);
     if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
       log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
-                   " distinct cut positions along the cut axis; using " +
-                   std::to_string(prepared_.planes.size() + 1) + " pieces instead of " +
-                   std::to_string(options_.pieces));
+                   " distinct cut positions along the cut axis; using " + std::to_string(prepared_.planes.size() + 1) +
+                   " pieces instead of " + std::to_string(options_.pieces));
     prepared_.split = split_at_planes(input_, prepared_.planes);
   }
 
@@ -252,7 +252,8 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
     for (const auto& region : regions) scheduler.submit(region);
     return scheduler.end_round();
   };
-  result.seam = heal_seams(result.mesh, input, prepared.split, options.heal, mesher);
+  const HealOptions heal{options.heal, options.heal && !options.tetgen.quality.empty() ? 1 : 0};
+  result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
   timer.lap("seam_healing");
   result.boundary_faces = input_in_output_numbering(input);
   result.cut_vertices_inserted = prepared.split.cut_vertex_count();

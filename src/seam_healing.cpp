@@ -1,11 +1,13 @@
 #include "partet/seam_healing.hpp"
 
 #include <algorithm>
-#include <string>
 #include <map>
+#include <numeric>
+#include <string>
 #include <unordered_map>
 
 #include "partet/errors.hpp"
+#include "partet/log.hpp"
 #include "topology.hpp"
 
 namespace partet {
@@ -13,11 +15,16 @@ namespace {
 
 // The vertices to remove: the cut vertices [first, first_cap) and, when healing, the caps'
 // interior points [first_cap, end), ids of the merged mesh.
+// The vertices seam healing removes, ids [first, end): cut vertices, then cap points. A round
+// takes those of the planes given to it.
 struct Removed {
   std::int32_t first, first_cap, end;
   const SplitSurface& split;
-  bool contains(std::int32_t v) const { return v >= first && v < end; }
-  bool is_cut_vertex(std::int32_t v) const { return v >= first && v < first_cap; }
+  const std::vector<int>* round_of_plane = nullptr;  // all planes when null
+  int round = 0;
+  bool in_round(std::int32_t v) const { return !round_of_plane || (*round_of_plane)[plane_of(v)] == round; }
+  bool contains(std::int32_t v) const { return v >= first && v < end && in_round(v); }
+  bool is_cut_vertex(std::int32_t v) const { return v >= first && v < first_cap && in_round(v); }
   bool touches(const Triangle& f) const { return is_cut_vertex(f[0]) || is_cut_vertex(f[1]) || is_cut_vertex(f[2]); }
   int plane_of(std::int32_t v) const {
     return v < first_cap ? split.cut_vertex_plane[v - first] : split.cap_point_plane[v - first_cap];
@@ -47,8 +54,67 @@ struct Part {
   LocalTetMesh mesh;
 };
 
-// Splits the region into connected parts and collects each part's boundary: faces towards tets
-// outside the region, and mesh-boundary faces without a cut vertex. Mesh-boundary faces with a
+// Adds every tet sharing a vertex with the region.
+void add_layer(const TetMesh& mesh, std::vector<char>& in_region) {
+  std::vector<char> touched(mesh.points.size(), 0);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    if (in_region[t])
+      for (auto v : mesh.tets[t]) touched[v] = 1;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (auto v : mesh.tets[t])
+      if (touched[v]) in_region[t] = 1;
+}
+
+// Splits the region into parts, numbered in tet order. Removed vertices that share a tet are in
+// one part (a vertex's whole star must be re-meshed at once); tets without a removed vertex join
+// the part of a neighbour. Tets of different cuts that merely touch stay in different parts (with
+// the faces between them fixed), so a solid whose interior tets span two cuts still heals as
+// several regions, on several ranks. Returns the number of parts.
+std::int32_t label_parts(const TetMesh& mesh, const std::vector<char>& in_region, const Removed& removed,
+                         std::vector<std::int32_t>& part_of) {
+  std::vector<std::int32_t> root(static_cast<std::size_t>(removed.end - removed.first));
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](std::int32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    std::int32_t first = -1;
+    for (auto v : mesh.tets[t])
+      if (in_region[t] && removed.contains(v)) {
+        const std::int32_t r = find(v - removed.first);
+        if (first < 0)
+          first = r;
+        else
+          root[r] = first;
+      }
+  }
+  // Parts of the tets with removed vertices, then the others by breadth-first search.
+  part_of.assign(mesh.tets.size(), -1);
+  std::vector<std::int32_t> number(root.size(), -1), frontier;
+  std::int32_t count = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (auto v : mesh.tets[t])
+      if (in_region[t] && removed.contains(v)) {
+        std::int32_t& n = number[find(v - removed.first)];
+        if (n < 0) n = count++;
+        part_of[t] = n;
+        frontier.push_back(static_cast<std::int32_t>(t));
+        break;
+      }
+  for (std::size_t i = 0; i < frontier.size(); ++i)
+    for (auto nb : mesh.neighbours[frontier[i]])
+      if (nb >= 0 && in_region[nb] && part_of[nb] < 0) {
+        part_of[nb] = part_of[frontier[i]];
+        frontier.push_back(nb);
+      }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    if (in_region[t] && part_of[t] < 0) throw InternalError("seam healing: a region tet reaches no removed vertex");
+  return count;
+}
+
+// Collects each part's boundary: faces towards tets outside the part, and mesh-boundary faces
+// without a cut vertex. Mesh-boundary faces with a
 // cut vertex are fragments of split input triangles, recorded by their input triangle (all
 // fragments of a triangle share cut vertices, so they lie in one part).
 std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<char>& in_region,
@@ -62,13 +128,12 @@ std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<char>& in_
       if (removed.contains(v)) part.planes.push_back(removed.plane_of(v));
     for (int j = 0; j < 4; ++j) {
       const auto nb = mesh.neighbours[t][j];
-      if (nb >= 0 && in_region[nb]) continue;
+      if (nb >= 0 && in_region[nb] && component[nb] == component[t]) continue;
       const Triangle face = outward_face(mesh.tets[t], j);
       if (nb < 0 && removed.touches(face)) {
         auto it = parent_of.find(FaceKey(face));
         if (it == parent_of.end())
-          throw InternalError(
-              "seam healing: a boundary face with a cut vertex is no fragment of an input triangle");
+          throw InternalError("seam healing: a boundary face with a cut vertex is no fragment of an input triangle");
         part.parents.push_back(it->second);
         continue;
       }
@@ -141,6 +206,10 @@ std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& me
       failed.push_back(static_cast<std::int32_t>(c));
       continue;
     }
+    log::debug("seam region " + std::to_string(c) + ": " + std::to_string(regions[c].triangles.size()) +
+               " triangles, " + std::to_string(parts[c].planes.size()) + " cut(s) -> " +
+               std::to_string(outcomes[i].result.mesh.tets.size()) + " tets in " + std::to_string(outcomes[i].seconds) +
+               " s");
     parts[c].mesh = std::move(outcomes[i].result.mesh);
     cache.keep(regions[c], parts[c].mesh);
   }
@@ -149,8 +218,8 @@ std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& me
 }
 
 // Adds to the region every tet sharing a vertex with a failed part.
-void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component, const std::vector<std::int32_t>& failed,
-                 std::vector<char>& in_region) {
+void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component,
+                 const std::vector<std::int32_t>& failed, std::vector<char>& in_region) {
   std::vector<char> failing(failed.empty() ? 0 : static_cast<std::size_t>(failed.back()) + 1, 0);
   for (auto c : failed) failing[c] = 1;
   std::vector<char> touched(mesh.points.size(), 0);
@@ -165,8 +234,7 @@ void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component
 
 // Replaces the region's tets by the parts' new tets. Tets outside the region keep their order
 // and their neighbours among themselves; faces towards the region are joined to the new tets.
-void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<Part>& parts,
-                    SeamStats& stats) {
+void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<Part>& parts) {
   std::vector<char> kept(in_region.size());
   for (std::size_t t = 0; t < in_region.size(); ++t) kept[t] = !in_region[t];
   const std::vector<std::int32_t> new_index = compact_ids(kept);
@@ -177,10 +245,7 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
   neighbours.reserve(mesh.tets.size());
   std::vector<std::int32_t> seam;  // tets whose faces must be joined: kept ones next to the region, and new ones
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    if (in_region[t]) {
-      ++stats.tets_in;
-      continue;
-    }
+    if (in_region[t]) continue;
     Tet nb;
     bool next_to_region = false;
     for (int j = 0; j < 4; ++j) {
@@ -197,7 +262,6 @@ void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std
     const std::int32_t base = append_local_mesh(part.mesh, part.ids, mesh.points, tets, neighbours);
     for (std::size_t r = 0; r < part.mesh.tets.size(); ++r) seam.push_back(base + static_cast<std::int32_t>(r));
     if (has_piece) piece.resize(tets.size(), -1);  // made by the re-meshing, not by a piece
-    stats.tets_out += static_cast<std::int64_t>(part.mesh.tets.size());
   }
   connect_open_faces(tets, neighbours, &seam);
   mesh.tets = std::move(tets);
@@ -227,36 +291,55 @@ void drop_unused_points(TetMesh& mesh, const Removed& removed, SeamStats& stats)
   mesh.points = std::move(points);
 }
 
-}  // namespace
+// Two rounds, so that neighbouring cuts heal in different rounds: where the pieces are thin, tets
+// join the stars of two cuts, and healing both at once would be one large region on one rank.
+// Cuts that split one input triangle between them must heal together (the triangle returns
+// whole), so those form a group, and groups alternate rounds.
+std::vector<int> rounds_of_planes(const SplitSurface& split) {
+  int planes = 0;
+  for (auto p : split.cut_vertex_plane) planes = std::max(planes, p + 1);
+  for (auto p : split.cap_point_plane) planes = std::max(planes, p + 1);
+  std::vector<char> joined_to_previous(static_cast<std::size_t>(planes), 0);
+  std::unordered_map<std::int32_t, int> lowest_plane;  // input triangle -> lowest plane cutting it
+  for (std::size_t t = 0; t < split.triangles.size(); ++t)
+    for (auto v : split.triangles[t])
+      if (split.is_cut_vertex(v)) {
+        const int plane = split.cut_vertex_plane[v - split.input_vertex_count];
+        auto [it, fresh] = lowest_plane.emplace(split.parent[t], plane);
+        for (int j = std::min(it->second, plane) + 1; j <= std::max(it->second, plane); ++j) joined_to_previous[j] = 1;
+        it->second = std::min(it->second, plane);
+      }
+  std::vector<int> round(static_cast<std::size_t>(planes), 0);
+  int group = 0;
+  for (int j = 0; j < planes; ++j) {
+    if (j > 0 && !joined_to_previous[j]) ++group;
+    round[j] = group % 2;
+  }
+  return round;
+}
 
-SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, bool remove_cap_points,
-                     const RegionMesher& mesher) {
-  SeamStats stats;
-  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
-  const Removed removed{split.input_vertex_count, first_cap,
-                        first_cap + (remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0),
-                        split};
-  const FragmentParents parent_of = fragment_parents(split);
-
-  // The region to re-mesh: every tet touching a removed vertex.
+// Re-meshes the stars of the round's removed vertices (grown by options.layers). The region
+// falls into parts, each re-meshed on its own, in parallel: smaller TetGen runs, and a failure
+// names the cut planes involved so only those need to move. A part TetGen cannot re-mesh without
+// touching its boundary (the faces of the often flat tets around it) grows by a layer of tets
+// and is tried again: the larger it is, the closer the job gets to meshing the input triangles
+// alone.
+void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed, const FragmentParents& parent_of,
+                const HealOptions& options, const RegionMesher& mesher, SeamStats& stats) {
   std::vector<char> in_region(mesh.tets.size(), 0);
+  bool any = false;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
     for (auto v : mesh.tets[t])
-      if (removed.contains(v)) in_region[t] = 1;
+      if (removed.contains(v)) in_region[t] = 1, any = true;
+  if (!any) return;
+  for (int layer = 0; layer < options.layers; ++layer) add_layer(mesh, in_region);
 
-  // The region falls into connected parts (one per cut, or per group of cuts that share tets),
-  // each re-meshed on its own, in parallel: smaller TetGen runs, and a failure names the cut
-  // planes involved so only those need to move. A part TetGen cannot re-mesh without touching
-  // its boundary (the faces of the often flat tets around it) grows by a layer of tets and is
-  // tried again: the larger it is, the closer the job gets to meshing the input triangles alone.
   constexpr int kMaxGrowth = 3;
   std::vector<std::int32_t> component;
   std::vector<Part> parts;
   RegionCache cache;
   for (int growth = 0;; ++growth) {
-    const std::int32_t count = label_tet_regions(
-        mesh.neighbours, [&](std::size_t t) { return in_region[t] != 0; }, [](std::size_t, int) { return true; },
-        component);
+    const std::int32_t count = label_parts(mesh, in_region, removed, component);
     parts = region_parts(mesh, in_region, component, count, removed, parent_of);
     Failure failure;
     const std::vector<std::int32_t> failed = mesh_parts(parts, mesh, input, mesher, cache, failure);
@@ -272,9 +355,36 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
     }
     grow_region(mesh, component, failed, in_region);
   }
-  stats.regions = static_cast<std::int64_t>(parts.size());
-  replace_region(mesh, in_region, parts, stats);
-  drop_unused_points(mesh, removed, stats);
+  stats.regions += static_cast<std::int64_t>(parts.size());
+  replace_region(mesh, in_region, parts);
+}
+
+}  // namespace
+
+SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
+                     const RegionMesher& mesher) {
+  SeamStats stats;
+  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
+  const Removed all{
+      split.input_vertex_count, first_cap,
+      first_cap + (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0), split};
+  const FragmentParents parent_of = fragment_parents(split);
+  const std::vector<int> round_of_plane = rounds_of_planes(split);
+  // The piece array marks re-meshed tets (-1), so the figures count each tet once even when the
+  // second round re-meshes tets of the first.
+  const bool had_pieces = mesh.piece.size() == mesh.tets.size();
+  if (!had_pieces) mesh.piece.assign(mesh.tets.size(), 0);
+  const std::int64_t tets_before = static_cast<std::int64_t>(mesh.tets.size());
+  for (int round = 0; round < 2; ++round) {
+    Removed removed = all;
+    removed.round_of_plane = &round_of_plane;
+    removed.round = round;
+    heal_round(mesh, input, removed, parent_of, options, mesher, stats);
+  }
+  stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
+  stats.tets_in = tets_before - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
+  if (!had_pieces) std::vector<std::int32_t>().swap(mesh.piece);
+  drop_unused_points(mesh, all, stats);
   return stats;
 }
 

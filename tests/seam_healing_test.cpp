@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "partet/check.hpp"
-#include "partet/seam_healing.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
 #include "partet/merge.hpp"
 #include "partet/pipeline.hpp"
+#include "partet/seam_healing.hpp"
 #include "partet/validate.hpp"
 #include "stage_helpers.hpp"
 #include "topology.hpp"
@@ -29,10 +29,11 @@ struct Stage {
   std::vector<PieceTetMesh> results;
 };
 
-Stage prepare(const SurfaceMesh& input, int k, double density = 1.0) {
+Stage prepare(const SurfaceMesh& input, int k, double density = 1.0, const std::string& quality = "") {
   Stage s;
   s.options.pieces = k;
   s.options.density = density;
+  s.options.tetgen.quality = quality;
   s.options.run.isolate = false;
   s.prepared = prepare_pieces(input, s.options);
   for (const auto& piece : s.prepared.pieces) s.results.push_back(tetrahedralize_piece(piece, s.options.tetgen));
@@ -61,7 +62,8 @@ void expect_clean_result(const SurfaceMesh& input, const Stage& s, const MeshRes
     EXPECT_GT(result.seam.tets_out, 0);
   }
   // Healing removes the caps' interior points too.
-  if (s.options.heal) EXPECT_EQ(result.seam.cap_points_removed, static_cast<std::int64_t>(split.cap_point_plane.size()));
+  if (s.options.heal)
+    EXPECT_EQ(result.seam.cap_points_removed, static_cast<std::int64_t>(split.cap_point_plane.size()));
   // Input vertices first, same order and coordinates.
   ASSERT_GE(mesh.points.size(), input.points.size());
   for (std::size_t v = 0; v < input.points.size(); ++v) ASSERT_EQ(mesh.points[v], input.points[v]);
@@ -107,7 +109,7 @@ TEST(HealSeams, DirectCallOnWeldedMesh) {
                  v < s.prepared.split.input_vertex_count + s.prepared.split.cut_vertex_count();
         }))
       ++touching;
-  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, false, here(s.options));
+  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, HealOptions{false, 0}, here(s.options));
   EXPECT_EQ(stats.cut_vertices_removed, s.prepared.split.cut_vertex_count());
   EXPECT_EQ(stats.cap_points_removed, 0);
   EXPECT_EQ(stats.tets_in, touching);
@@ -158,12 +160,30 @@ TEST(HealSeams, WithoutHealingCapsKeepTheirInteriorPoints) {
   EXPECT_GT(kept, cap_points / 2) << "most cap points lie away from the cut loops";
 }
 
+TEST(HealSeams, WithQualityEachCutHealsOnItsOwnWithALayerOfRoom) {
+  // With a quality bound the stars grow by a layer; the cuts, far apart, still heal as separate
+  // regions (so on separate ranks), and the result is a valid mesh without cap points.
+  const SurfaceMesh input = generate_surface("sphere", 4000);
+  const Stage s = prepare(input, 3, 1.0, "1.414");
+  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  TetMesh unlayered = mesh;
+  const SeamStats layered = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 1}, here(s.options));
+  const SeamStats stars = heal_seams(unlayered, input, s.prepared.split, HealOptions{true, 0}, here(s.options));
+  EXPECT_GE(layered.regions, 2);
+  EXPECT_GT(layered.tets_in, stars.tets_in);
+  EXPECT_EQ(layered.cap_points_removed, stars.cap_points_removed);
+  const CheckReport report = check_mesh(input, mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+  const double volume = enclosed_volume(input);
+  EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
 TEST(HealSeams, OnePieceChangesNothing) {
   const SurfaceMesh input = generate_surface("sphere", 800);
   const Stage s = prepare(input, 1);
   TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   const TetMesh before = mesh;
-  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, true, here(s.options));
+  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 0}, here(s.options));
   EXPECT_EQ(stats.cut_vertices_removed, 0);
   EXPECT_EQ(stats.tets_in, 0);
   EXPECT_EQ(stats.tets_out, 0);

@@ -21,18 +21,27 @@ struct SeamStats {
   std::int64_t tets_out = 0;              // tets that replaced them
 };
 
+struct HealOptions {
+  bool remove_cap_points = true;  // also the caps' interior points (healing); else only the cut vertices
+  // Layers of tets added around the removed vertices' stars before re-meshing: the stars' outer
+  // faces were shaped by the cap, and with a quality bound TetGen needs room beyond them to
+  // grade the mesh across the plane as it would without a cut (1 when refining, else 0).
+  int layers = 0;
+};
+
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
 // seam_region set), possibly in parallel; one outcome per surface, in order.
 using RegionMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
 
 // The union of the stars of the removed vertices (the cut vertices; with remove_cap_points also
-// the caps' interior points) is re-meshed, one connected region at a time, with its boundary
+// the caps' interior points), grown by options.layers, is re-meshed, one connected region at a time, with its boundary
 // fixed, except that the split fragments of input triangles are replaced by the input triangles
-// themselves. A region that fails grows by a layer of tets (up to three times) first.
+// themselves. Vertices that share a tet are healed together; otherwise each cut heals on its own,
+// on any rank. A region that fails grows by a layer of tets (up to three times) first.
 // Afterwards the mesh has none of the removed vertices and no unused points; input vertices
 // keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
 // MeshingError of the region that failed, with the cut planes of that region.
-SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, bool remove_cap_points,
+SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
                      const RegionMesher& mesher);
 
 }  // namespace partet

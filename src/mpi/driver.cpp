@@ -63,7 +63,9 @@ auto bounded(Step step) {
 }
 
 // Every rank learns whether all ranks succeeded.
-bool agree(bool ok_here) { return bounded([&] { return all_true(ok_here, MPI_COMM_WORLD, collective_limit()); }); }
+bool agree(bool ok_here) {
+  return bounded([&] { return all_true(ok_here, MPI_COMM_WORLD, collective_limit()); });
+}
 
 void broadcast(Command command) {
   bounded([&] { return broadcast_int(command, 0, MPI_COMM_WORLD, collective_limit()); });
@@ -267,12 +269,12 @@ class RootScheduler : public PieceScheduler {
   PieceRunner runner_;  // this round's TetGen options
   int size_;
   RankStats& stats_;
-  std::map<int, PieceRecord>& records_;         // by piece index: the latest meshing of each piece
-  std::vector<const PieceSurface*> pieces_;     // submitted this round
-  std::map<int, std::size_t> position_;         // piece index -> position in pieces_
-  std::vector<std::size_t> queue_;              // positions not handed out yet
-  std::vector<PieceOutcome> outcomes_;          // by position
-  std::vector<int> idle_;                       // workers without a piece
+  std::map<int, PieceRecord>& records_;      // by piece index: the latest meshing of each piece
+  std::vector<const PieceSurface*> pieces_;  // submitted this round
+  std::map<int, std::size_t> position_;      // piece index -> position in pieces_
+  std::vector<std::size_t> queue_;           // positions not handed out yet
+  std::vector<PieceOutcome> outcomes_;       // by position
+  std::vector<int> idle_;                    // workers without a piece
   struct Busy {
     double deadline;  // when its answer is overdue
     int piece;
@@ -328,7 +330,7 @@ struct RankState {
   MeshResult result;
   CheckReport check;
   int scale_exponent = 0;  // the input is meshed scaled by 2^scale_exponent
-  OutputSet outputs;  // rank 0: the files, under temporary names until every rank agrees
+  OutputSet outputs;       // rank 0: the files, under temporary names until every rank agrees
 };
 
 // Runs a rank-0 step, turning its exception into the job's error.
@@ -356,8 +358,7 @@ void mesh_on_root(const MeshJob& job, RankState& state) {
   scale_points(state.result.mesh.points, -state.scale_exponent);
   for (CutPlane& plane : state.result.planes) plane.offset = std::ldexp(plane.offset, -state.scale_exponent);
   if (state.status.error.empty())
-    on_root(state,
-            [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
+    on_root(state, [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
 }
 
 // Test hook: PARTET_INJECT_FAILURE="worker:abort-before-agreement" makes rank 1 die after its
@@ -387,8 +388,8 @@ void finish(const MeshJob& job, RankState& state) {
     std::vector<PieceRecord> pieces;
     for (const auto& [index, record] : state.records)
       if (index < state.result.pieces) pieces.push_back(record);
-    const JobSummary summary{job, state.input, state.result, state.check, state.times, all, pieces,
-                             now_seconds() - state.start};
+    const JobSummary summary{job,         state.input, state.result, state.check,
+                             state.times, all,         pieces,       now_seconds() - state.start};
     on_root(state, [&] {
       add_report(state.outputs, summary);
       state.outputs.publish();
