@@ -13,7 +13,7 @@ packages=(
   libcli11-dev                         # command line
   nlohmann-json3-dev                   # --report FILE.json
   libgtest-dev                         # unit tests
-  time                                 # GNU time for the benchmark scripts
+  time python3                         # GNU time and JSON parsing for the benchmark scripts
 )
 
 missing=()

@@ -252,7 +252,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
     for (const auto& region : regions) scheduler.submit(region);
     return scheduler.end_round();
   };
-  const HealOptions heal{options.heal, options.heal && !options.tetgen.quality.empty() ? 1 : 0};
+  const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 1 : 0};
   result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
   timer.lap("seam_healing");
   result.boundary_faces = input_in_output_numbering(input);

@@ -54,11 +54,12 @@ struct Part {
   LocalTetMesh mesh;
 };
 
-// Adds every tet sharing a vertex with the region.
-void add_layer(const TetMesh& mesh, std::vector<char>& in_region) {
+// Adds to the region every tet sharing a vertex with a tet t for which from(t) holds.
+template <class From>
+void add_layer(const TetMesh& mesh, From from, std::vector<char>& in_region) {
   std::vector<char> touched(mesh.points.size(), 0);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (in_region[t])
+    if (from(t))
       for (auto v : mesh.tets[t]) touched[v] = 1;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
     for (auto v : mesh.tets[t])
@@ -222,14 +223,12 @@ void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component
                  const std::vector<std::int32_t>& failed, std::vector<char>& in_region) {
   std::vector<char> failing(failed.empty() ? 0 : static_cast<std::size_t>(failed.back()) + 1, 0);
   for (auto c : failed) failing[c] = 1;
-  std::vector<char> touched(mesh.points.size(), 0);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (component[t] >= 0 && static_cast<std::size_t>(component[t]) < failing.size() && failing[component[t]])
-      for (auto v : mesh.tets[t]) touched[v] = 1;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (!in_region[t])
-      for (auto v : mesh.tets[t])
-        if (touched[v]) in_region[t] = 1;
+  add_layer(
+      mesh,
+      [&](std::size_t t) {
+        return component[t] >= 0 && static_cast<std::size_t>(component[t]) < failing.size() && failing[component[t]];
+      },
+      in_region);
 }
 
 // Replaces the region's tets by the parts' new tets. Tets outside the region keep their order
@@ -332,7 +331,9 @@ void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
     for (auto v : mesh.tets[t])
       if (removed.contains(v)) in_region[t] = 1, any = true;
   if (!any) return;
-  for (int layer = 0; layer < options.layers; ++layer) add_layer(mesh, in_region);
+  for (int layer = 0; layer < options.layers; ++layer)
+    add_layer(
+        mesh, [&](std::size_t t) { return in_region[t] != 0; }, in_region);
 
   constexpr int kMaxGrowth = 3;
   std::vector<std::int32_t> component;

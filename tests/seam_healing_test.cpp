@@ -62,7 +62,7 @@ void expect_clean_result(const SurfaceMesh& input, const Stage& s, const MeshRes
     EXPECT_GT(result.seam.tets_out, 0);
   }
   // Healing removes the caps' interior points too.
-  if (s.options.heal)
+  if (heals(s.options))
     EXPECT_EQ(result.seam.cap_points_removed, static_cast<std::int64_t>(split.cap_point_plane.size()));
   // Input vertices first, same order and coordinates.
   ASSERT_GE(mesh.points.size(), input.points.size());
@@ -122,8 +122,8 @@ TEST(HealSeams, DirectCallOnWeldedMesh) {
 
 TEST(HealSeams, HealingRemovesEveryCapPoint) {
   const SurfaceMesh input = generate_surface("sphere", 1500);
-  const Stage s = prepare(input, 3, 2.0);
-  ASSERT_TRUE(s.options.heal);
+  Stage s = prepare(input, 3, 2.0);
+  s.options.heal = Heal::on;
   const MeshResult result = finish_mesh(input, s.prepared, std::vector<PieceTetMesh>(s.results), s.options);
   expect_clean_result(input, s, result);
   // Only input vertices and Steiner points TetGen put strictly inside: none on a cut plane.
@@ -140,7 +140,7 @@ TEST(HealSeams, HealingRemovesEveryCapPoint) {
 TEST(HealSeams, WithoutHealingCapsKeepTheirInteriorPoints) {
   const SurfaceMesh input = generate_surface("sphere", 1500);
   Stage s = prepare(input, 3, 2.0);
-  s.options.heal = false;
+  s.options.heal = Heal::off;
   const auto& split = s.prepared.split;
   const std::size_t cap_points = split.points.size() - split.input_vertex_count - split.cut_vertex_count();
   ASSERT_GT(cap_points, 0u);

@@ -4,22 +4,22 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <fstream>
 #include <cstdlib>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "partet/check.hpp"
-#include "partet/quality.hpp"
-#include "quality_json.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
 #include "partet/log.hpp"
 #include "partet/mpi_driver.hpp"
+#include "partet/quality.hpp"
 #include "partet/refine_surface.hpp"
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
 #include "partet/tetgen_mesher.hpp"
+#include "quality_json.hpp"
 
 namespace {
 
@@ -132,7 +132,7 @@ int launched_rank() {
 struct CommandLine {
   partet::MeshJob job;
   std::string quality, axis = "auto";
-  bool quiet = false, verbose = false;
+  bool quiet = false, verbose = false, heal = false, no_heal = false;
   std::string check_input, check_prefix, check_report;
   bool check_json = false;
   std::string shape, generate_output;
@@ -168,8 +168,12 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
                    "partitions tried before giving up (plus one per 4 pieces)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  mesh->add_flag("!--no-heal", job.options.heal,
-                 "keep the caps' interior points (remove only the cut vertices on input edges), for comparison");
+  auto* heal = mesh->add_flag(
+      "--heal", c.heal, "remove the caps' interior points too, re-meshing around every cut (default with --quality)");
+  mesh->add_flag(
+          "--no-heal", c.no_heal,
+          "keep the caps' interior points, remove only the cut vertices on input edges (default without --quality)")
+      ->excludes(heal);
   mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
   mesh->add_flag("--quiet", c.quiet, "print errors only");
@@ -259,6 +263,7 @@ int main(int argc, char** argv) {
     if (launched_rank() == 0) partet::log::error(std::string("--quality: ") + e.what());
     return 2;
   }
+  c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
   c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
   partet::log::set_level(c.quiet     ? partet::log::Level::quiet
                          : c.verbose ? partet::log::Level::verbose

@@ -1,22 +1,23 @@
 #!/usr/bin/env bash
 # Meshes INPUT with K pieces on 1, 2 and 4 (oversubscribed) ranks and requires byte-identical
 # output files, each passing `partet check`.
-# Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE K
+# Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE K [partet mesh options...]
 set -euo pipefail
 partet=$1 mpiexec=$2 input=$3 k=$4
+shift 4
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 if [[ $input == generated:* ]]; then
   "$partet" generate "${input#generated:}" --faces 4000 -o "$work/input.off" >/dev/null
   input=$work/input.off
 fi
-"$partet" mesh "$input" -o "$work/n1" --pieces "$k" --quiet
-"$mpiexec" -n 2 "$partet" mesh "$input" -o "$work/n2" --pieces "$k" --quiet
-"$mpiexec" -n 4 --oversubscribe "$partet" mesh "$input" -o "$work/n4" --pieces "$k" --quiet
+"$partet" mesh "$input" -o "$work/n1" --pieces "$k" --quiet "$@"
+"$mpiexec" -n 2 "$partet" mesh "$input" -o "$work/n2" --pieces "$k" --quiet "$@"
+"$mpiexec" -n 4 --oversubscribe "$partet" mesh "$input" -o "$work/n4" --pieces "$k" --quiet "$@"
 "$partet" check "$input" "$work/n1" | tail -n 1 | grep -q "check passed"
 for n in n2 n4; do
   for ext in node ele face neigh; do
     cmp "$work/n1.$ext" "$work/$n.$ext" || { echo "FAIL: $n.$ext differs from the 1-rank output"; exit 1; }
   done
 done
-echo "identical output on 1, 2 and 4 ranks (k=$k)"
+echo "identical output on 1, 2 and 4 ranks (k=$k $*)"
