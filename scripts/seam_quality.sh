@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Seam quality against TetGen, in the same run: for each input, `tetgen -p[q<Q>]YQ` once, then
-# `partet mesh --check --report` for every K, healed and (with -H) not healed. Prints, per run,
+# `partet mesh --check --report` for every K, healed (--heal) and (with -H) not (--no-heal). Prints, per run,
 # tets, Steiner points (output vertices that are not input vertices), AMIPS avg/max, min
 # dihedral, ratios to TetGen, the seam zone's AMIPS avg (tets touching a cut plane) against the
 # same zone of TetGen's mesh (and the rest against the rest), the seam zone's worst tet, and the
@@ -71,7 +71,7 @@ for input in "$@"; do
   for k in $ks; do
     for mode in "${heal_modes[@]}"; do
       switches=("${partet_quality[@]}")
-      [ "$mode" = no-heal ] && switches+=(--no-heal)
+      switches+=(--$mode)
       "${launch[@]}" "$partet" mesh "$work/$name.off" -o "$work/out" --pieces "$k" "${switches[@]}" \
         --check --report "$work/r.json" --quiet
       "$partet" check --json "$work/$name.off" "$work/out" > "$work/c.json"

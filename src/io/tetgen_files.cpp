@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <string_view>
 #include <vector>
 
@@ -32,53 +33,24 @@ void write_id(BufferedFile& out, const std::string& id) {
   out.newline();
 }
 
-void write_node(const std::vector<Point3>& points, const std::string& id, const std::string& path,
-                const std::string& shown) {
-  BufferedFile out(path, shown);
-  out.integer(static_cast<std::int64_t>(points.size()));
-  out.text(" 3 0 0\n");
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    out.integer(static_cast<std::int64_t>(i));
-    for (double x : points[i]) {
-      out.space();
-      out.real(x);
-    }
-    out.newline();
-  }
-  write_id(out, id);
-  out.close();
-}
-
-// .ele and .neigh share a layout: index and four integers.
-void write_quads(const std::vector<Tet>& rows, const char* header_tail, const std::string& id, const std::string& path,
-                 const std::string& shown) {
+// Every file has one layout: a header line (the count, then `header_tail`), one line per row
+// (its index, its values, then `row_tail`), and the id line.
+template <class Row>
+void write_rows(const std::vector<Row>& rows, const char* header_tail, const char* row_tail, const std::string& id,
+                const std::string& path, const std::string& shown) {
   BufferedFile out(path, shown);
   out.integer(static_cast<std::int64_t>(rows.size()));
   out.text(header_tail);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     out.integer(static_cast<std::int64_t>(i));
-    for (std::int32_t v : rows[i]) {
+    for (auto value : rows[i]) {
       out.space();
-      out.integer(v);
+      if constexpr (std::is_floating_point_v<decltype(value)>)
+        out.real(value);
+      else
+        out.integer(value);
     }
-    out.newline();
-  }
-  write_id(out, id);
-  out.close();
-}
-
-void write_face(const std::vector<Triangle>& faces, const std::string& id, const std::string& path,
-                const std::string& shown) {
-  BufferedFile out(path, shown);
-  out.integer(static_cast<std::int64_t>(faces.size()));
-  out.text(" 1\n");
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    out.integer(static_cast<std::int64_t>(i));
-    for (std::int32_t v : faces[i]) {
-      out.space();
-      out.integer(v);
-    }
-    out.text(" 1\n");
+    out.text(row_tail);
   }
   write_id(out, id);
   out.close();
@@ -353,15 +325,15 @@ std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_f
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path) {
   switch (file) {
-    case TetgenFile::node: return write_node(mesh.points, id, path, shown_path);
-    case TetgenFile::ele: return write_quads(mesh.tets, " 4 0\n", id, path, shown_path);
-    case TetgenFile::face: return write_face(boundary_faces, id, path, shown_path);
+    case TetgenFile::node: return write_rows(mesh.points, " 3 0 0\n", "\n", id, path, shown_path);
+    case TetgenFile::ele: return write_rows(mesh.tets, " 4 0\n", "\n", id, path, shown_path);
+    case TetgenFile::face: return write_rows(boundary_faces, " 1\n", " 1\n", id, path, shown_path);
     case TetgenFile::neigh:
       // A mesh may come without neighbours (e.g. straight from a merge): -1 rather than an
       // inconsistent file.
       if (mesh.neighbours.size() != mesh.tets.size())
-        return write_quads(std::vector<Tet>(mesh.tets.size(), Tet{-1, -1, -1, -1}), " 4\n", id, path, shown_path);
-      return write_quads(mesh.neighbours, " 4\n", id, path, shown_path);
+        return write_rows(std::vector<Tet>(mesh.tets.size(), Tet{-1, -1, -1, -1}), " 4\n", "\n", id, path, shown_path);
+      return write_rows(mesh.neighbours, " 4\n", "\n", id, path, shown_path);
   }
 }
 
