@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The README's second command (and CI): install, build, run the whole test suite.
-# Set PARTET_TEST_LABEL to run one label only (e.g. unit, mpi, models).
+# Set PARTET_TEST_LABEL to run one label only (e.g. unit, mpi, models). PARTET_TEST_SLURM=1 (set by
+# CI) also installs Slurm and munge, starts a private single-node Slurm and runs the cluster/
+# batch recipes in it (tests/cluster/slurm.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -11,3 +13,9 @@ args=(--test-dir build --output-on-failure -j "${PARTET_TEST_JOBS:-2}")
 # Everything but the known failures and the full robustness sweep (sweep_ci runs a part of it).
 if [ -n "${PARTET_TEST_LABEL:-}" ]; then args+=(-L "$PARTET_TEST_LABEL"); else args+=(-LE "known_failure|^sweep$"); fi
 ctest "${args[@]}"
+if [ "${PARTET_TEST_SLURM:-0}" = 1 ]; then
+  # On a shared model when ../shared is beside the checkout, else on a generated surface.
+  model=../shared/meshes/fertility.off
+  [ -f "$model" ] || model=""
+  tests/cluster/slurm.sh build/partet $model
+fi

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Nothing may assume shared memory or a shared working directory between ranks.
+#   tcp:  ranks talk over TCP only (--mca btl self,tcp); the output must be byte-identical to a
+#         1-rank run's.
+#   dirs: each rank starts in its own empty working directory; input and output are relative
+#         paths that exist only in rank 0's. The workers' directories must stay empty, and the
+#         output must again be byte-identical.
+# Usage: no_shared.sh PARTET MPIEXEC tcp|dirs
+set -euo pipefail
+partet=$1 mpiexec=$2 mode=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/rank0/out" "$work/rank1" "$work/rank2"
+"$partet" generate genus3 --faces 4000 -o "$work/rank0/input.off" > /dev/null
+"$partet" mesh "$work/rank0/input.off" -o "$work/serial" --pieces 4 --quiet
+case $mode in
+  tcp)
+    "$mpiexec" -n 2 --mca btl self,tcp "$partet" mesh "$work/rank0/input.off" -o "$work/rank0/out/m" \
+      --pieces 4 --quiet ;;
+  dirs)
+    # MPMD: one launch line per rank, each with its own working directory.
+    "$mpiexec" --oversubscribe -n 1 --wdir "$work/rank0" "$partet" mesh input.off -o out/m --pieces 4 --quiet \
+      : -n 1 --wdir "$work/rank1" "$partet" mesh input.off -o out/m --pieces 4 --quiet \
+      : -n 1 --wdir "$work/rank2" "$partet" mesh input.off -o out/m --pieces 4 --quiet
+    for r in rank1 rank2; do
+      left=$(ls -A "$work/$r")
+      [ -z "$left" ] || { echo "FAIL: a worker wrote into its working directory: $r/$left"; exit 1; }
+    done ;;
+  *) echo "unknown mode $mode"; exit 2 ;;
+esac
+for ext in node ele face neigh; do
+  cmp "$work/serial.$ext" "$work/rank0/out/m.$ext" || { echo "FAIL: .$ext differs from the 1-rank output"; exit 1; }
+done
+"$partet" check "$work/rank0/input.off" "$work/rank0/out/m" | tail -n 1
+echo "ok: $mode: identical to the 1-rank output"
