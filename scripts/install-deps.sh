@@ -12,6 +12,8 @@ packages=(
   libboost-serialization-dev           # piece and result messages
   libcli11-dev                         # command line
   nlohmann-json3-dev                   # --report FILE.json
+  zlib1g-dev                           # compressed .vtu output
+  python3-meshio gmsh                  # tests: independent readers of the mesh formats
   libgtest-dev                         # unit tests
   time python3                         # GNU time and JSON parsing for the benchmark scripts
 )

@@ -116,16 +116,6 @@ long double signed_volume6_precise(const Point3& a, const Point3& b, const Point
   return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
-double signed_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
-  double u[3], v[3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    u[k] = b[k] - a[k];
-    v[k] = c[k] - a[k];
-    w[k] = d[k] - a[k];
-  }
-  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
-}
-
 // Euler characteristic V - E + F of the input surface, counting only vertices in triangles.
 long surface_euler_characteristic(const SurfaceMesh& surface) {
   std::vector<char> used(surface.points.size(), 0);

@@ -75,8 +75,8 @@ SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* ex
 
 std::vector<std::string> output_paths(const MeshJob& job) {
   std::vector<std::string> paths;
-  for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh})
-    paths.push_back(job.output_prefix + extension(file));
+  for (MeshFormat format : job.formats)
+    for (const std::string& path : format_paths(format, job.output_prefix)) paths.push_back(path);
   if (!job.report_path.empty()) paths.push_back(job.report_path);
   return paths;
 }
@@ -100,15 +100,19 @@ CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const 
     timer.lap("check");
     if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
   }
-  add_tetgen_files(outputs, result.mesh, result.boundary_faces, job.output_prefix);
+  const MeshOutput output{result.mesh, result.boundary_faces};
+  for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix);
   timer.lap("write");
   return check;
 }
 
 std::string report_json(const JobSummary& s) {
   nlohmann::json report;
+  report["partet_version"] = PARTET_VERSION;
   report["input"] = s.job.input;
   report["output_prefix"] = s.job.output_prefix;
+  report["output_formats"] = nlohmann::json::array();
+  for (MeshFormat f : s.job.formats) report["output_formats"].push_back(mesh_format_name(f));
   report["ranks"] = s.ranks.size();
   report["pieces"] = s.result.pieces;
   report["pieces_requested"] = s.job.options.pieces;
@@ -200,8 +204,14 @@ void print_summary(const JobSummary& s) {
                   s.check.quality.amips_max);
     log::info(text);
   }
-  log::info("wrote " + s.job.output_prefix + ".node/.ele/.face/.neigh" +
-            (s.job.report_path.empty() ? "" : " and " + s.job.report_path));
+  std::string written;
+  for (MeshFormat f : s.job.formats) {
+    if (!written.empty()) written += ", ";
+    written += f == MeshFormat::tetgen ? s.job.output_prefix + ".node/.ele/.face/.neigh"
+                                       : format_paths(f, s.job.output_prefix).front();
+    if (f == MeshFormat::pvtu) written += " (with one .vtu per piece)";
+  }
+  log::info("wrote " + written + (s.job.report_path.empty() ? "" : " and " + s.job.report_path));
 }
 
 }  // namespace partet

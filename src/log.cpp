@@ -48,4 +48,14 @@ double current_rss_mb() {
   return ok ? static_cast<double>(resident) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0) : 0;
 }
 
+void log_stage(const StageTimes& times) {
+  if (times.empty()) return;
+  double total = 0;
+  for (const StageTime& t : times) total += t.seconds;
+  char line[160];
+  std::snprintf(line, sizeof line, "%s done: %.2f s (%.1f s so far, %.0f MB)", times.back().stage.c_str(),
+                times.back().seconds, total, times.back().rss_mb);
+  log::info(line);
+}
+
 }  // namespace partet

@@ -19,8 +19,12 @@
 #include "geometry.hpp"
 #include "partet/errors.hpp"
 #include "partet/validate.hpp"
+#include "partet/version.hpp"
 
 namespace partet {
+
+std::string cgal_version() { return CGAL_VERSION_STR; }
+
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;

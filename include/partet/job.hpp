@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "partet/check.hpp"
+#include "partet/mesh_formats.hpp"
 #include "partet/output_set.hpp"
 #include "partet/pipeline.hpp"
 
@@ -16,6 +17,7 @@ namespace partet {
 struct MeshJob {
   std::string input;
   std::string output_prefix;
+  std::vector<MeshFormat> formats{MeshFormat::tetgen};  // what to write at output_prefix
   std::string report_path;  // empty: no JSON report
   MeshOptions options;
   bool check_output = false;    // run check_mesh on the result before writing
@@ -60,7 +62,7 @@ void scale_points(std::vector<Point3>& points, int exponent);
 // check of the whole input when a piece fails. Throws InputError.
 SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent);
 
-// Every file the job will write: PREFIX.node .ele .face .neigh and the report.
+// Every file the job will write (as far as known before the run): each format's and the report.
 std::vector<std::string> output_paths(const MeshJob& job);
 // Before any work: refuses output paths that cannot be written or collide with each other or the
 // input (OutputError), and removes temporaries that killed runs left behind.

@@ -4,12 +4,29 @@
 // publishes a set of files atomically under their final names). Throws OutputError.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "partet/output_set.hpp"
 
 namespace partet {
+
+enum class MeshFormat { tetgen, vtu, pvtu, msh, msh_binary, medit };
+
+// Names on the command line ("tetgen", "vtu", "pvtu", "msh", "msh-binary", "medit"), in order.
+const std::vector<std::string>& mesh_format_names();
+// Throws OptionError naming the valid names.
+MeshFormat mesh_format(const std::string& name);
+std::string mesh_format_name(MeshFormat format);
+// The format an output path's extension names (.node .vtu .pvtu .msh .mesh), and the path
+// without it; false when the extension names none.
+bool split_format_extension(const std::string& path, MeshFormat& format, std::string& prefix);
+
+// The files a format writes for PREFIX, as far as they are known before the run: TetGen's four;
+// for pvtu the index, whose piece files PREFIX_p<i>.vtu and PREFIX_seams.vtu follow the mesh.
+std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix);
 
 // What the writers write.
 struct MeshOutput {
@@ -19,8 +36,10 @@ struct MeshOutput {
 
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
 // that meshed the tet, -1: re-meshed around a cut) and "region" (the connected solid it belongs
-// to, from 1). With only_piece >= 0, just that piece's tets (and the points they use).
-void write_vtu(const MeshOutput& output, const std::string& path, int only_piece = -1);
+// to, from 1). With only_piece other than kAllPieces, just the tets with that piece value (-1:
+// the re-meshed seams) and the points they use.
+constexpr int kAllPieces = std::numeric_limits<int>::min();
+void write_vtu(const MeshOutput& output, const std::string& path, int only_piece = kAllPieces);
 
 // The .pvtu index naming one .vtu per piece (as written by write_vtu(output, ..., piece)); the
 // names are stored as given (relative to the .pvtu's directory).
@@ -36,5 +55,8 @@ void write_msh(const MeshOutput& output, const std::string& path, bool binary);
 // MEDIT .mesh (ASCII, version 2): Vertices, Tetrahedra (reference = region) and Triangles
 // (reference 1: the boundary).
 void write_medit(const MeshOutput& output, const std::string& path);
+
+// Writes the format's files for PREFIX under temporary names into `set` (published together).
+void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix);
 
 }  // namespace partet

@@ -17,4 +17,7 @@ struct JobStatus {
 // Call between MPI_Init and MPI_Finalize on every rank of MPI_COMM_WORLD.
 JobStatus run_mesh_job(const MeshJob& job);
 
+// The MPI library's name and version ("Open MPI v4.1.4"); callable before MPI_Init.
+std::string library_version();
+
 }  // namespace partet::mpi

@@ -21,13 +21,20 @@ inline double now_seconds() {
 // This process's resident set size now, MB (0 where /proc is not available).
 double current_rss_mb();
 
-// Records the time since the previous lap (or construction) under a stage name.
+// Prints one progress line for a finished stage: its time, the total so far, memory.
+void log_stage(const StageTimes& times);
+
+// Records the time since the previous lap (or construction) under a stage name, and says so
+// (one line per stage, as the run goes).
 class StageTimer {
  public:
   explicit StageTimer(StageTimes* times) : times_(times), start_(now_seconds()) {}
   void lap(const std::string& stage) {
     const double now = now_seconds();
-    if (times_) times_->push_back({stage, now - start_, current_rss_mb()});
+    if (times_) {
+      times_->push_back({stage, now - start_, current_rss_mb()});
+      log_stage(*times_);
+    }
     start_ = now;
   }
 

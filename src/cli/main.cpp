@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -12,6 +13,8 @@
 #include "partet/check.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
+#include "partet/job.hpp"
+#include "partet/mesh_formats.hpp"
 #include "partet/log.hpp"
 #include "partet/mpi_driver.hpp"
 #include "partet/quality.hpp"
@@ -19,6 +22,7 @@
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
 #include "partet/tetgen_mesher.hpp"
+#include "partet/version.hpp"
 #include "quality_json.hpp"
 
 namespace {
@@ -132,6 +136,7 @@ int launched_rank() {
 struct CommandLine {
   partet::MeshJob job;
   std::string quality, axis = "auto";
+  std::vector<std::string> formats;
   bool quiet = false, verbose = false, heal = false, no_heal = false;
   std::string check_input, check_prefix, check_report;
   bool check_json = false;
@@ -145,7 +150,15 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   auto* mesh = app.add_subcommand("mesh", "tetrahedralize a closed surface (run under mpirun for several ranks)");
   auto& job = c.job;
   mesh->add_option("input", job.input, "closed triangle surface (.off .obj .ply .stl)")->required();
-  mesh->add_option("-o,--output", job.output_prefix, "output prefix: writes PREFIX.node .ele .face .neigh")->required();
+  mesh->add_option("-o,--output", job.output_prefix,
+                   "output prefix (PREFIX.node .ele .face .neigh); an extension .vtu .pvtu .msh .mesh .node "
+                   "chooses the format")
+      ->required();
+  mesh->add_option("--format", c.formats,
+                   "formats to write, comma-separated: tetgen (default), vtu, pvtu (one .vtu per piece), msh "
+                   "(Gmsh 4.1), msh-binary, medit (.mesh)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(partet::mesh_format_names()));
   mesh->add_option("-k,--pieces", job.options.pieces, "number of pieces (cut planes + 1)")
       ->check(CLI::Range(1, 1 << 20))
       ->capture_default_str();
@@ -216,6 +229,25 @@ CLI::App* add_refine_command(CLI::App& app, CommandLine& c) {
   return refine;
 }
 
+// --format, plus the format -o's extension names (unless --format already writes that file).
+void choose_formats(const std::vector<std::string>& names, partet::MeshJob& job) {
+  job.formats.clear();
+  for (const std::string& name : names) {
+    const partet::MeshFormat f = partet::mesh_format(name);
+    if (std::find(job.formats.begin(), job.formats.end(), f) == job.formats.end()) job.formats.push_back(f);
+  }
+  partet::MeshFormat from_extension;
+  std::string prefix;
+  if (partet::split_format_extension(job.output_prefix, from_extension, prefix)) {
+    job.output_prefix = prefix;
+    const std::string path = partet::format_paths(from_extension, prefix).front();
+    bool written = false;
+    for (partet::MeshFormat f : job.formats) written = written || partet::format_paths(f, prefix).front() == path;
+    if (!written) job.formats.insert(job.formats.begin(), from_extension);
+  }
+  if (job.formats.empty()) job.formats.push_back(partet::MeshFormat::tetgen);
+}
+
 int run_refine(const CommandLine& c) {
   const partet::SurfaceMesh s = partet::loop_subdivide(partet::read_surface(c.refine_input), c.loop_steps);
   partet::write_off(s, c.refine_output);
@@ -235,6 +267,8 @@ int run_generate(const CommandLine& c) {
 int main(int argc, char** argv) {
   CLI::App app{"partet: distributed boundary-preserving tetrahedral meshing around TetGen"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("partet ") + PARTET_VERSION + " (TetGen 1.5, CGAL " +
+                                        partet::cgal_version() + ", " + partet::mpi::library_version() + ")");
   CommandLine c;
   add_mesh_command(app, c);
   auto* check = add_check_command(app, c);
@@ -263,6 +297,7 @@ int main(int argc, char** argv) {
     if (launched_rank() == 0) partet::log::error(std::string("--quality: ") + e.what());
     return 2;
   }
+  choose_formats(c.formats, c.job);
   c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
   c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
   partet::log::set_level(c.quiet     ? partet::log::Level::quiet

@@ -38,10 +38,16 @@ class BufferedFile {
     reserve();
     used_ = std::to_chars(data() + used_, data() + buffer_.size(), value, std::chars_format::general, 17).ptr - data();
   }
-  void text(std::string_view s) {
-    reserve();
-    std::memcpy(data() + used_, s.data(), s.size());
-    used_ += s.size();
+  void text(std::string_view s) { bytes(s.data(), s.size()); }
+  // Any length: small runs go through the buffer, large ones straight to the file.
+  void bytes(const void* p, std::size_t n) {
+    if (buffer_.size() - used_ < n) flush();
+    if (n >= buffer_.size()) {
+      if (std::fwrite(p, 1, n, file_) != n) fail();
+      return;
+    }
+    std::memcpy(data() + used_, p, n);
+    used_ += n;
   }
   void space() { put(' '); }
   void newline() { put('\n'); }

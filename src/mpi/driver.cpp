@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -112,11 +113,19 @@ void inject_failure(int piece, int rank) {
 // stored by submission, so the result does not depend on which rank meshed what.
 class RootScheduler : public PieceScheduler {
  public:
-  RootScheduler(const MeshJob& job, int size, RankStats& stats, std::map<int, PieceRecord>& records)
-      : job_(job), runner_(job.options.tetgen, job.options.run), size_(size), stats_(stats), records_(records) {}
+  RootScheduler(const MeshJob& job, int size, RankStats& stats, std::map<int, PieceRecord>& records,
+                double job_start)
+      : job_(job),
+        runner_(job.options.tetgen, job.options.run),
+        size_(size),
+        stats_(stats),
+        records_(records),
+        job_start_(job_start) {}
 
   void begin_round(const TetgenOptions& tetgen) override {
     runner_ = PieceRunner(tetgen, job_.options.run);
+    ++rounds_;
+    done_ = 0;
     broadcast(kMeshPieces);
     pieces_.clear();
     position_.clear();
@@ -227,7 +236,32 @@ class RootScheduler : public PieceScheduler {
     own_.reset();
     stats_.tetgen_seconds += now_seconds() - own_start_;
     if (!pieces_[own_position_]->seam_region) stats_.pieces += 1;
+    report_progress(own_position_, 0);
     return true;
+  }
+
+  // One line per finished piece or seam region: "pieces 5/16 done, 41.2 s, rank 1 idle". The
+  // total is the pieces asked for in the first round (they are still being closed), the pieces
+  // submitted in later ones (retries re-mesh only the pieces that changed).
+  void report_progress(std::size_t position, int rank) {
+    ++done_;
+    const bool seams = pieces_[position]->seam_region;
+    std::size_t total = pieces_.size();
+    if (!seams && rounds_ == 1) total = std::max(total, static_cast<std::size_t>(job_.options.pieces));
+    std::string line = std::string(seams ? "seam regions " : "pieces ") + std::to_string(done_) + "/" +
+                       std::to_string(total) + " done, " + std::to_string(now_seconds() - job_start_);
+    line.erase(line.find('.') + 2);  // one decimal
+    line += " s (" + std::string(seams ? "region " : "piece ") + std::to_string(pieces_[position]->index) +
+            " on rank " + std::to_string(rank) + ")";
+    if (queue_.empty() && done_ < total) {
+      std::vector<int> idle = idle_;
+      if (!own_ && (runner_.runs_in_background() || size_ == 1)) idle.push_back(0);
+      std::sort(idle.begin(), idle.end());
+      for (std::size_t i = 0; i < idle.size(); ++i)
+        line += (i == 0 ? (idle.size() == 1 ? ", rank " : ", ranks ") : ", ") + std::to_string(idle[i]);
+      if (!idle.empty()) line += " idle";
+    }
+    log::info(line);
   }
 
   // Takes a worker's reply if one has arrived; the worker is free again.
@@ -247,6 +281,7 @@ class RootScheduler : public PieceScheduler {
     }
     idle_.push_back(worker);
     busy_.erase(worker);
+    report_progress(last_stored_, worker);
     return true;
   }
 
@@ -262,6 +297,7 @@ class RootScheduler : public PieceScheduler {
       records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
     }
     outcomes_[position] = std::move(outcome);
+    last_stored_ = position;
     --remaining_;
   }
 
@@ -284,6 +320,10 @@ class RootScheduler : public PieceScheduler {
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
   double own_start_ = 0;
+  double job_start_;              // for the progress lines
+  int rounds_ = 0;                // rounds begun
+  std::size_t done_ = 0;          // pieces or regions finished this round
+  std::size_t last_stored_ = 0;   // position of the latest outcome
 };
 
 // A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
@@ -349,7 +389,7 @@ void on_root(RankState& state, Step step) {
 // Rank 0: partition, close, mesh (on all ranks), merge, then check and write.
 void mesh_on_root(const MeshJob& job, RankState& state) {
   on_root(state, [&] {
-    RootScheduler scheduler(job, state.size, state.stats, state.records);
+    RootScheduler scheduler(job, state.size, state.stats, state.records, state.start);
     state.result = mesh_with_retries(state.input, job.options, scheduler, &state.times);
   });
   broadcast(kDone);
@@ -401,6 +441,14 @@ void finish(const MeshJob& job, RankState& state) {
 }
 
 }  // namespace
+
+std::string library_version() {
+  char text[MPI_MAX_LIBRARY_VERSION_STRING];
+  int length = 0;
+  MPI_Get_library_version(text, &length);
+  const std::string version(text, static_cast<std::size_t>(length));
+  return version.substr(0, version.find(','));
+}
 
 JobStatus run_mesh_job(const MeshJob& job) {
   RankState state;

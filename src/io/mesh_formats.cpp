@@ -1,0 +1,414 @@
+// Writers for the formats users open the mesh in: VTK XML (.vtu/.pvtu), Gmsh MSH 4.1, MEDIT.
+// Each is checked in the tests by an independent reader (meshio, gmsh).
+#include "partet/mesh_formats.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "io/buffered_file.hpp"
+#include "partet/errors.hpp"
+#include "partet/tetgen_files.hpp"
+#include "topology.hpp"
+
+namespace partet {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Shared
+
+// Connected solids, numbered from 1 in the order of their first tet (MEDIT references and VTU
+// cell data). From the neighbours when present, else from the tets.
+std::vector<std::int32_t> region_of_tets(const TetMesh& mesh) {
+  const std::vector<Tet> computed = mesh.neighbours.size() == mesh.tets.size()
+                                        ? std::vector<Tet>{}
+                                        : compute_neighbours(mesh.tets, mesh.points.size());
+  const std::vector<Tet>& neighbours = computed.empty() ? mesh.neighbours : computed;
+  std::vector<std::int32_t> label;
+  label_tet_regions(
+      neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label);
+  for (std::int32_t& l : label) ++l;
+  return label;
+}
+
+std::int32_t piece_of(const TetMesh& mesh, std::size_t t) { return mesh.piece.empty() ? -1 : mesh.piece[t]; }
+
+// Axis-aligned bounds of the points (Gmsh entities carry them).
+std::array<double, 6> bounds(const std::vector<Point3>& points) {
+  std::array<double, 6> b{0, 0, 0, 0, 0, 0};
+  if (points.empty()) return b;
+  for (int c = 0; c < 3; ++c) b[c] = b[c + 3] = points[0][c];
+  for (const Point3& p : points)
+    for (int c = 0; c < 3; ++c) {
+      b[c] = std::min(b[c], p[c]);
+      b[c + 3] = std::max(b[c + 3], p[c]);
+    }
+  return b;
+}
+
+// ---------------------------------------------------------------------------------------------
+// VTK XML
+
+// One DataArray of the appended block, already zlib-compressed in VTK's block layout: a UInt64
+// header [blocks, block size, last block size, compressed size of each block], then the blocks.
+struct CompressedArray {
+  std::string name, type;
+  int components = 1;
+  std::vector<unsigned char> bytes;
+};
+
+template <class T>
+CompressedArray compress(std::string name, std::string type, int components, const std::vector<T>& values,
+                         const std::string& shown) {
+  constexpr std::size_t kBlock = std::size_t(1) << 20;
+  const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
+  const std::size_t size = values.size() * sizeof(T);
+  const std::size_t blocks = size == 0 ? 0 : (size + kBlock - 1) / kBlock;
+  std::vector<std::uint64_t> header{blocks, kBlock, blocks == 0 ? 0 : size - (blocks - 1) * kBlock};
+  std::vector<unsigned char> data;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t length = std::min(kBlock, size - b * kBlock);
+    uLongf out = compressBound(static_cast<uLong>(length));
+    const std::size_t at = data.size();
+    data.resize(at + out);
+    if (compress2(data.data() + at, &out, raw + b * kBlock, static_cast<uLong>(length), Z_BEST_SPEED) != Z_OK)
+      throw OutputError("cannot compress the data of '" + shown + "' (zlib)");
+    data.resize(at + out);
+    header.push_back(out);
+  }
+  CompressedArray array{std::move(name), std::move(type), components, {}};
+  array.bytes.resize(header.size() * sizeof(std::uint64_t) + data.size());
+  std::memcpy(array.bytes.data(), header.data(), header.size() * sizeof(std::uint64_t));
+  std::memcpy(array.bytes.data() + header.size() * sizeof(std::uint64_t), data.data(), data.size());
+  return array;
+}
+
+// The tets of one piece value with their points renumbered, or all tets and points as they are.
+struct VtuCells {
+  std::vector<double> xyz;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types;
+  std::vector<std::int32_t> piece, region;
+};
+
+VtuCells select_cells(const MeshOutput& output, bool all, int only_piece) {
+  const TetMesh& mesh = output.mesh;
+  const std::vector<std::int32_t> region = region_of_tets(mesh);
+  std::vector<std::int64_t> new_id(all ? 0 : mesh.points.size(), -1);
+  VtuCells cells;
+  std::int64_t next = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (!all && piece_of(mesh, t) != only_piece) continue;
+    for (std::int32_t v : mesh.tets[t]) {
+      if (!all && new_id[v] < 0) {
+        new_id[v] = next++;
+        cells.xyz.insert(cells.xyz.end(), mesh.points[v].begin(), mesh.points[v].end());
+      }
+      cells.connectivity.push_back(all ? v : new_id[v]);
+    }
+    cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));
+    cells.types.push_back(10);  // VTK_TETRA
+    cells.piece.push_back(piece_of(mesh, t));
+    cells.region.push_back(region[t]);
+  }
+  if (all)
+    for (const Point3& p : mesh.points) cells.xyz.insert(cells.xyz.end(), p.begin(), p.end());
+  return cells;
+}
+
+void write_vtu_file(const VtuCells& cells, const std::string& path) {
+  const std::size_t points = cells.xyz.size() / 3, tets = cells.types.size();
+  std::vector<CompressedArray> arrays;
+  arrays.push_back(compress("Points", "Float64", 3, cells.xyz, path));
+  arrays.push_back(compress("connectivity", "Int64", 1, cells.connectivity, path));
+  arrays.push_back(compress("offsets", "Int64", 1, cells.offsets, path));
+  arrays.push_back(compress("types", "UInt8", 1, cells.types, path));
+  arrays.push_back(compress("piece", "Int32", 1, cells.piece, path));
+  arrays.push_back(compress("region", "Int32", 1, cells.region, path));
+  std::vector<std::size_t> offset(arrays.size(), 0);
+  for (std::size_t i = 1; i < arrays.size(); ++i) offset[i] = offset[i - 1] + arrays[i - 1].bytes.size();
+  auto data_array = [&](std::size_t i) {
+    return "<DataArray type=\"" + arrays[i].type + "\" Name=\"" + arrays[i].name + "\" NumberOfComponents=\"" +
+           std::to_string(arrays[i].components) + "\" format=\"appended\" offset=\"" + std::to_string(offset[i]) +
+           "\"/>\n";
+  };
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
+      "compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" +
+      std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(tets) + "\">\n<Points>\n" + data_array(0) +
+      "</Points>\n<Cells>\n" + data_array(1) + data_array(2) + data_array(3) +
+      "</Cells>\n<CellData Scalars=\"piece\">\n" + data_array(4) + data_array(5) +
+      "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
+  BufferedFile out(path);
+  out.bytes(xml.data(), xml.size());
+  for (const CompressedArray& a : arrays) out.bytes(a.bytes.data(), a.bytes.size());
+  const std::string tail = "\n</AppendedData>\n</VTKFile>\n";
+  out.bytes(tail.data(), tail.size());
+  out.close();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Gmsh MSH 4.1: one volume entity (tag 1, physical 1 "volume") holding every node and tet, one
+// surface entity (tag 1, physical 2 "boundary") holding the boundary triangles.
+
+class MshWriter {
+ public:
+  MshWriter(const MeshOutput& output, const std::string& path, bool binary)
+      : mesh_(output.mesh), boundary_(output.boundary), binary_(binary), out_(path) {}
+
+  void write() {
+    out_.text(binary_ ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
+    if (binary_) {
+      const int one = 1;  // lets readers detect the byte order
+      out_.bytes(&one, sizeof one);
+      out_.newline();
+    }
+    out_.text("$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"boundary\"\n3 1 \"volume\"\n$EndPhysicalNames\n");
+    entities();
+    nodes();
+    elements();
+    out_.close();
+  }
+
+ private:
+  // Numbers: size_t (8 bytes) or int (4 bytes) in binary, text separated by spaces otherwise.
+  void size(std::uint64_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space()); }
+  void tag(std::int32_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(v), out_.space()); }
+  void real(double v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.real(v), out_.space()); }
+  void end_line() {
+    if (!binary_) out_.newline();
+  }
+  void end_section(const char* name) {
+    if (binary_) out_.newline();
+    out_.text(name);
+  }
+
+  void entities() {
+    out_.text("$Entities\n");
+    const std::array<double, 6> box = bounds(mesh_.points);
+    size(0), size(0), size(1), size(1), end_line();
+    tag(1);  // the boundary surface
+    for (double b : box) real(b);
+    size(1), tag(2), size(0), end_line();
+    tag(1);  // the volume, bounded by it
+    for (double b : box) real(b);
+    size(1), tag(1), size(1), tag(1), end_line();
+    end_section("$EndEntities\n");
+  }
+
+  void nodes() {
+    const std::uint64_t n = mesh_.points.size();
+    out_.text("$Nodes\n");
+    size(1), size(n), size(n == 0 ? 0 : 1), size(n), end_line();
+    tag(3), tag(1), tag(0), size(n), end_line();
+    for (std::uint64_t i = 1; i <= n; ++i) size(i), end_line();
+    for (const Point3& p : mesh_.points) real(p[0]), real(p[1]), real(p[2]), end_line();
+    end_section("$EndNodes\n");
+  }
+
+  void elements() {
+    const std::uint64_t tets = mesh_.tets.size(), triangles = boundary_.size();
+    out_.text("$Elements\n");
+    size(2), size(tets + triangles), size(1), size(tets + triangles), end_line();
+    tag(2), tag(1), tag(2), size(triangles), end_line();  // 2: 3-node triangle
+    std::uint64_t id = 1;
+    for (const Triangle& f : boundary_) {
+      size(id++);
+      for (std::int32_t v : f) size(static_cast<std::uint64_t>(v) + 1);
+      end_line();
+    }
+    tag(3), tag(1), tag(4), size(tets), end_line();  // 4: 4-node tetrahedron
+    for (const Tet& t : mesh_.tets) {
+      size(id++);
+      for (std::int32_t v : t) size(static_cast<std::uint64_t>(v) + 1);
+      end_line();
+    }
+    end_section("$EndElements\n");
+  }
+
+  const TetMesh& mesh_;
+  const std::vector<Triangle>& boundary_;
+  bool binary_;
+  BufferedFile out_;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+std::vector<int> pieces_in(const MeshOutput& output) {
+  std::vector<int> pieces;
+  if (output.mesh.piece.empty()) return output.mesh.tets.empty() ? pieces : std::vector<int>{-1};
+  std::vector<char> seen;
+  bool seams = false;
+  for (std::int32_t p : output.mesh.piece) {
+    if (p < 0) {
+      seams = true;
+      continue;
+    }
+    if (static_cast<std::size_t>(p) >= seen.size()) seen.resize(static_cast<std::size_t>(p) + 1, 0);
+    seen[p] = 1;
+  }
+  if (seams) pieces.push_back(-1);
+  for (std::size_t p = 0; p < seen.size(); ++p)
+    if (seen[p]) pieces.push_back(static_cast<int>(p));
+  return pieces;
+}
+
+void write_vtu(const MeshOutput& output, const std::string& path, int only_piece) {
+  write_vtu_file(select_cells(output, only_piece == kAllPieces, only_piece), path);
+}
+
+void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<std::string>& piece_files) {
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "<PUnstructuredGrid GhostLevel=\"0\">\n"
+      "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n"
+      "<PCellData Scalars=\"piece\">\n<PDataArray type=\"Int32\" Name=\"piece\"/>\n"
+      "<PDataArray type=\"Int32\" Name=\"region\"/>\n</PCellData>\n";
+  for (const std::string& file : piece_files) xml += "<Piece Source=\"" + file + "\"/>\n";
+  xml += "</PUnstructuredGrid>\n</VTKFile>\n";
+  BufferedFile out(path);
+  out.bytes(xml.data(), xml.size());
+  out.close();
+}
+
+void write_msh(const MeshOutput& output, const std::string& path, bool binary) {
+  MshWriter(output, path, binary).write();
+}
+
+void write_medit(const MeshOutput& output, const std::string& path) {
+  const TetMesh& mesh = output.mesh;
+  const std::vector<std::int32_t> region = region_of_tets(mesh);
+  BufferedFile out(path);
+  out.text("MeshVersionFormatted 2\nDimension 3\nVertices\n");
+  out.integer(static_cast<std::int64_t>(mesh.points.size()));
+  out.newline();
+  for (const Point3& p : mesh.points) {
+    for (double c : p) out.real(c), out.space();
+    out.text("0\n");
+  }
+  out.text("Triangles\n");
+  out.integer(static_cast<std::int64_t>(output.boundary.size()));
+  out.newline();
+  for (const Triangle& f : output.boundary) {
+    for (std::int32_t v : f) out.integer(v + 1), out.space();
+    out.text("1\n");
+  }
+  out.text("Tetrahedra\n");
+  out.integer(static_cast<std::int64_t>(mesh.tets.size()));
+  out.newline();
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    for (std::int32_t v : mesh.tets[t]) out.integer(v + 1), out.space();
+    out.integer(region[t]);
+    out.newline();
+  }
+  out.text("End\n");
+  out.close();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Choosing formats and publishing their files
+
+namespace {
+
+struct FormatInfo {
+  MeshFormat format;
+  const char* name;
+  const char* extension;  // of the file -o may name
+};
+constexpr FormatInfo kFormats[] = {{MeshFormat::tetgen, "tetgen", ".node"},   {MeshFormat::vtu, "vtu", ".vtu"},
+                                   {MeshFormat::pvtu, "pvtu", ".pvtu"},        {MeshFormat::msh, "msh", ".msh"},
+                                   {MeshFormat::msh_binary, "msh-binary", ""}, {MeshFormat::medit, "medit", ".mesh"}};
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return !tail.empty() && s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string piece_file(const std::string& prefix, int piece) {
+  return prefix + (piece < 0 ? std::string("_seams.vtu") : "_p" + std::to_string(piece) + ".vtu");
+}
+
+}  // namespace
+
+const std::vector<std::string>& mesh_format_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const FormatInfo& f : kFormats) n.push_back(f.name);
+    return n;
+  }();
+  return names;
+}
+
+MeshFormat mesh_format(const std::string& name) {
+  for (const FormatInfo& f : kFormats)
+    if (name == f.name) return f.format;
+  std::string valid;
+  for (const FormatInfo& f : kFormats) valid += std::string(valid.empty() ? "" : ", ") + f.name;
+  throw OptionError("unknown mesh format '" + name + "' (known: " + valid + ")");
+}
+
+std::string mesh_format_name(MeshFormat format) {
+  for (const FormatInfo& f : kFormats)
+    if (f.format == format) return f.name;
+  return "?";
+}
+
+bool split_format_extension(const std::string& path, MeshFormat& format, std::string& prefix) {
+  for (const FormatInfo& f : kFormats)
+    if (ends_with(path, f.extension)) {
+      format = f.format;
+      prefix = path.substr(0, path.size() - std::strlen(f.extension));
+      return true;
+    }
+  return false;
+}
+
+std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix) {
+  switch (format) {
+    case MeshFormat::tetgen: {
+      std::vector<std::string> paths;
+      for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh})
+        paths.push_back(prefix + extension(file));
+      return paths;
+    }
+    case MeshFormat::vtu: return {prefix + ".vtu"};
+    case MeshFormat::pvtu: return {prefix + ".pvtu"};
+    case MeshFormat::msh: return {prefix + ".msh"};
+    case MeshFormat::msh_binary: return {prefix + ".msh"};
+    case MeshFormat::medit: return {prefix + ".mesh"};
+  }
+  return {};
+}
+
+void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix) {
+  const std::string path = format_paths(format, prefix).front();
+  switch (format) {
+    case MeshFormat::tetgen: add_tetgen_files(set, output.mesh, output.boundary, prefix); return;
+    case MeshFormat::vtu: set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); }); return;
+    case MeshFormat::msh: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); }); return;
+    case MeshFormat::msh_binary: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); }); return;
+    case MeshFormat::medit: set.add(path, [&](const std::string& tmp) { write_medit(output, tmp); }); return;
+    case MeshFormat::pvtu: {
+      // The index names its piece files relative to its own directory.
+      const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
+      std::vector<std::string> sources;
+      for (int piece : pieces_in(output)) {
+        set.add(piece_file(prefix, piece), [&](const std::string& tmp) { write_vtu(output, tmp, piece); });
+        sources.push_back(piece_file(base, piece));
+      }
+      set.add(path, [&](const std::string& tmp) { write_pvtu(output, tmp, sources); });
+      return;
+    }
+  }
+}
+
+}  // namespace partet
