@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev                   # --report FILE.json
   zlib1g-dev                           # compressed .vtu output
   python3-meshio gmsh                  # tests: independent readers of the mesh formats
+  python3-matplotlib                   # scripts/render.py pictures and the benchmark plots
   libgtest-dev                         # unit tests
   time python3                         # GNU time and JSON parsing for the benchmark scripts
 )

@@ -11,6 +11,7 @@
 #include "partet/mesh_formats.hpp"
 #include "partet/output_set.hpp"
 #include "partet/pipeline.hpp"
+#include "partet/quality.hpp"
 
 namespace partet {
 
@@ -22,7 +23,29 @@ struct MeshJob {
   MeshOptions options;
   bool check_output = false;    // run check_mesh on the result before writing
   std::string dump_pieces_dir;  // non-empty: write each piece's surface there before meshing it
+  bool compare_tetgen = false;  // afterwards, mesh the whole input with TetGen alone and compare
 };
+
+// A run's headline figures, for the comparison with TetGen alone.
+struct RunFigures {
+  bool known = false;
+  double seconds = 0;  // wall time
+  double peak_mb = 0;  // largest process (a rank or a TetGen child)
+  std::int64_t tets = 0;
+  MeshQuality quality;
+  std::string note;  // why the figures are missing
+};
+
+// partet's figures of a finished job (rank 0).
+RunFigures run_figures(const struct JobSummary& summary);
+
+// Meshes the whole input with TetGen alone (the job's switches, in a child process; nothing is
+// written), after checking that it should fit in the memory available (about 2.4 KB per face,
+// measured). Not with other TetGen runs at once.
+RunFigures tetgen_alone(const MeshJob& job);
+
+// The side-by-side table.
+void print_comparison(const RunFigures& partet, const RunFigures& tetgen, int ranks, int pieces);
 
 // What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.
 struct RankStats {

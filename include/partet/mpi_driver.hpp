@@ -12,6 +12,8 @@ struct JobStatus {
   int exit_code = 0;            // the same on every rank
   std::string error;            // on rank 0, when exit_code != 0
   bool meshing_failed = false;  // the error is a meshing failure (another partition may help)
+  RunFigures figures;           // rank 0, with MeshJob::compare_tetgen
+  int ranks = 1;
 };
 
 // Call between MPI_Init and MPI_Finalize on every rank of MPI_COMM_WORLD.

@@ -13,6 +13,7 @@
 #include "partet/check.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
+#include "partet/info.hpp"
 #include "partet/job.hpp"
 #include "partet/mesh_formats.hpp"
 #include "partet/log.hpp"
@@ -106,12 +107,22 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
   return report.ok() ? 0 : 1;
 }
 
+// This process's rank when an MPI launcher started it (before MPI_Init: from its environment).
+int launched_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
+    if (const char* value = std::getenv(name)) return std::atoi(value);
+  return 0;
+}
+
 int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
   MPI_Init(&argc, &argv);
-  int code = 1;
+  int code = 1, ranks = 1;
+  partet::RunFigures status_figures;
   try {
     const partet::mpi::JobStatus status = partet::mpi::run_mesh_job(job);
     code = status.exit_code;
+    status_figures = status.figures;
+    ranks = status.ranks;
     if (!status.error.empty()) {
       // The library's messages name no flags; what the user can change is said here.
       const bool advise = status.meshing_failed && job.options.pieces > 1;
@@ -122,14 +133,15 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
     MPI_Abort(MPI_COMM_WORLD, 1);
   }
   MPI_Finalize();
+  // After MPI_Finalize: the other ranks have exited and leave the cores to TetGen.
+  if (code == 0 && job.compare_tetgen && launched_rank() == 0) {
+    try {
+      partet::print_comparison(status_figures, partet::tetgen_alone(job), ranks, job.options.pieces);
+    } catch (const std::exception& e) {
+      partet::log::error(std::string("--compare-tetgen: ") + e.what());
+    }
+  }
   return code;
-}
-
-// This process's rank when an MPI launcher started it (before MPI_Init: from its environment).
-int launched_rank() {
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
-    if (const char* value = std::getenv(name)) return std::atoi(value);
-  return 0;
 }
 
 // What the command line asked for.
@@ -141,6 +153,8 @@ struct CommandLine {
   std::string check_input, check_prefix, check_report;
   bool check_json = false;
   std::string shape, generate_output;
+  std::string info_file;
+  bool info_json = false;
   int faces = 2000;
   std::string refine_input, refine_output;
   int loop_steps = 1;
@@ -189,6 +203,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->excludes(heal);
   mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
+  mesh->add_flag("--compare-tetgen", job.compare_tetgen,
+                 "afterwards, mesh the whole input with TetGen alone (same switches, if it fits in memory) and "
+                 "print both runs' time, memory, tets and quality side by side");
   mesh->add_flag("--quiet", c.quiet, "print errors only");
   mesh->add_flag("--verbose", c.verbose, "print more detail");
   mesh->add_option("--dump-pieces", job.dump_pieces_dir,
@@ -215,6 +232,98 @@ CLI::App* add_generate_command(CLI::App& app, CommandLine& c) {
       ->capture_default_str();
   generate->add_option("-o,--output", c.generate_output, "output .off file")->required();
   return generate;
+}
+
+CLI::App* add_info_command(CLI::App& app, CommandLine& c) {
+  auto* info = app.add_subcommand("info",
+                                  "describe a surface (counts, bounds, shells, genus, closed/manifold/oriented, "
+                                  "self-intersections) or a tet mesh (counts, volume, solids, quality)");
+  info->add_option("file", c.info_file,
+                   "a surface (.off .obj .ply .stl) or TetGen files (PREFIX, PREFIX.node or PREFIX.ele)")
+      ->required();
+  info->add_flag("--json", c.info_json, "print the description as JSON");
+  return info;
+}
+
+std::string bounds_text(const partet::Bounds& b) {
+  char text[200];
+  std::snprintf(text, sizeof text, "[%.6g, %.6g] x [%.6g, %.6g] x [%.6g, %.6g]", b.min[0], b.max[0], b.min[1],
+                b.max[1], b.min[2], b.max[2]);
+  return text;
+}
+
+nlohmann::json bounds_json(const partet::Bounds& b) { return {{"min", b.min}, {"max", b.max}}; }
+
+int print_surface_info(const std::string& path, bool json) {
+  const partet::SurfaceInfo i = partet::surface_info(partet::read_surface(path));
+  const char* yes[] = {"no", "yes"};
+  if (json) {
+    std::printf("%s\n", nlohmann::json{{"kind", "surface"}, {"vertices", i.vertices}, {"unused_vertices", i.unused_vertices},
+                                       {"faces", i.faces}, {"edges", i.edges}, {"bounds", bounds_json(i.bounds)},
+                                       {"shells", i.shells}, {"euler", i.euler}, {"genus", i.genus},
+                                       {"border_edges", i.border_edges}, {"non_manifold_edges", i.non_manifold_edges},
+                                       {"misoriented_edges", i.misoriented_edges},
+                                       {"volume", static_cast<double>(i.volume)},
+                                       {"self_intersection", i.self_intersection},
+                                       {"meshable", i.meshable()}}.dump(2).c_str());
+    return 0;
+  }
+  std::printf("surface %s: %lld vertices (%lld unused), %lld faces, %lld edges\n", path.c_str(),
+              static_cast<long long>(i.vertices), static_cast<long long>(i.unused_vertices),
+              static_cast<long long>(i.faces), static_cast<long long>(i.edges));
+  std::printf("bounds: %s\n", bounds_text(i.bounds).c_str());
+  std::printf("shells %lld, Euler characteristic %lld, genus %s\n", static_cast<long long>(i.shells),
+              static_cast<long long>(i.euler), i.genus < 0 ? "unknown (not closed, manifold and oriented)"
+                                                            : std::to_string(i.genus).c_str());
+  std::printf("closed %s (%lld border edges), manifold %s (%lld edges in 3+ faces), oriented %s (%lld edges)\n",
+              yes[i.closed()], static_cast<long long>(i.border_edges), yes[i.manifold()],
+              static_cast<long long>(i.non_manifold_edges), yes[i.oriented()],
+              static_cast<long long>(i.misoriented_edges));
+  if (i.closed() && i.oriented())
+    std::printf("enclosed volume %.9Lg (%s)\n", i.volume, i.volume > 0 ? "outward" : "inside out");
+  std::printf("self-intersections: %s\n", !i.self_intersection_checked ? "not checked (needs a closed, oriented surface)"
+                                           : i.self_intersection.empty() ? "none"
+                                                                         : i.self_intersection.c_str());
+  std::printf("meshable by partet: %s\n", yes[i.meshable()]);
+  return 0;
+}
+
+// A TetGen file set when FILE is PREFIX.node, PREFIX.ele or a PREFIX with PREFIX.node beside it.
+bool tet_mesh_prefix(const std::string& file, std::string& prefix) {
+  for (const char* ext : {".node", ".ele"}) {
+    const std::string e = ext;
+    if (file.size() > e.size() && file.compare(file.size() - e.size(), e.size(), e) == 0) {
+      prefix = file.substr(0, file.size() - e.size());
+      return true;
+    }
+  }
+  prefix = file;
+  return std::ifstream(file + ".node").good();
+}
+
+int print_tet_mesh_info(const std::string& prefix, bool json) {
+  const partet::TetMeshInfo i = partet::tet_mesh_info(partet::read_tetgen_files(prefix));
+  if (json) {
+    std::printf("%s\n", nlohmann::json{{"kind", "tet mesh"}, {"vertices", i.vertices}, {"tets", i.tets},
+                                       {"boundary_faces", i.boundary_faces}, {"solids", i.solids},
+                                       {"bounds", bounds_json(i.bounds)}, {"volume", static_cast<double>(i.volume)},
+                                       {"inverted_tets", i.inverted_tets},
+                                       {"quality", partet::quality_json(i.quality)}}.dump(2).c_str());
+    return 0;
+  }
+  std::printf("tet mesh %s: %lld vertices, %lld tets, %lld boundary faces, %lld solid%s\n", prefix.c_str(),
+              static_cast<long long>(i.vertices), static_cast<long long>(i.tets),
+              static_cast<long long>(i.boundary_faces), static_cast<long long>(i.solids), i.solids == 1 ? "" : "s");
+  std::printf("bounds: %s\n", bounds_text(i.bounds).c_str());
+  std::printf("volume %.9Lg (%lld inverted or flat tets)\n", i.volume, static_cast<long long>(i.inverted_tets));
+  std::printf("quality: %s\n", partet::quality_line(i.quality).c_str());
+  return 0;
+}
+
+int run_info(const CommandLine& c) {
+  std::string prefix;
+  return tet_mesh_prefix(c.info_file, prefix) ? print_tet_mesh_info(prefix, c.info_json)
+                                              : print_surface_info(c.info_file, c.info_json);
 }
 
 CLI::App* add_refine_command(CLI::App& app, CommandLine& c) {
@@ -274,6 +383,7 @@ int main(int argc, char** argv) {
   auto* check = add_check_command(app, c);
   auto* generate = add_generate_command(app, c);
   auto* refine = add_refine_command(app, c);
+  auto* info = add_info_command(app, c);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -287,6 +397,7 @@ int main(int argc, char** argv) {
     if (*check) return run_check(c.check_input, c.check_prefix, c.check_report, c.check_json);
     if (*generate) return run_generate(c);
     if (*refine) return run_refine(c);
+    if (*info) return run_info(c);
   } catch (const std::exception& e) {
     partet::log::error(e.what());
     return 1;

@@ -435,7 +435,9 @@ void finish(const MeshJob& job, RankState& state) {
       state.outputs.publish();
     });
     if (state.status.error.empty()) print_summary(summary);
+    if (job.compare_tetgen) state.status.figures = run_figures(summary);
   }
+  state.status.ranks = state.size;
   if (ok) ok = agree(state.status.error.empty());
   if (!ok) state.status.exit_code = 1;
 }

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# partet info: the genus, shells and checks of generated surfaces with known answers, an open
+# surface and a self-intersecting one, and a tet mesh whose volume must equal its surface's.
+# Usage: info.sh PARTET
+set -euo pipefail
+partet=$(realpath "$1")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+fail() { echo "FAIL: $*"; exit 1; }
+field() { /usr/bin/python3 -c "import json,sys; print(json.load(open('$1'))$2)"; }
+for case in "torus 1 1" "genus3 3 1" "nested 0 3" "two_spheres 0 2"; do  # nested: shell, cavity, island
+  read -r shape genus shells <<< "$case"
+  "$partet" generate "$shape" --faces 3000 -o "$shape.off" > /dev/null
+  "$partet" info "$shape.off" --json > "$shape.json"
+  [ "$(field "$shape.json" '["genus"]')" = "$genus" ] || fail "$shape: genus $(field "$shape.json" '["genus"]'), expected $genus"
+  [ "$(field "$shape.json" '["shells"]')" = "$shells" ] || fail "$shape: shells"
+  [ "$(field "$shape.json" '["meshable"]')" = "True" ] || fail "$shape: not meshable"
+  echo "ok: $shape genus $genus, $shells shell(s), meshable"
+done
+# Open: the torus without its last face.
+/usr/bin/python3 - torus.off open.off <<'PY'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+head = lines[1].split(); v, f = int(head[0]), int(head[1])
+lines[1] = f"{v} {f - 1} 0"
+del lines[2 + v + f - 1]
+open(sys.argv[2], "w").write("\n".join(lines))
+PY
+"$partet" info open.off --json > open.json
+[ "$(field open.json '["border_edges"]')" = 3 ] || fail "open: border edges $(field open.json '["border_edges"]')"
+[ "$(field open.json '["genus"]')" = -1 ] && [ "$(field open.json '["meshable"]')" = False ] || fail "open: genus or meshable"
+echo "ok: open surface: 3 border edges, genus unknown, not meshable"
+
+# Self-intersecting: two overlapping tetrahedra.
+cat > crossing.off <<'END'
+OFF
+8 8 0
+0 0 0
+1 0 0
+0 1 0
+0 0 1
+0.2 0.2 0.2
+1.2 0.2 0.2
+0.2 1.2 0.2
+0.2 0.2 1.2
+3 0 2 1
+3 0 1 3
+3 0 3 2
+3 1 2 3
+3 4 6 5
+3 4 5 7
+3 4 7 6
+3 5 6 7
+END
+"$partet" info crossing.off > crossing.txt
+grep -q "self-intersections: .*intersect" crossing.txt || { cat crossing.txt; fail "crossing: no self-intersection reported"; }
+grep -q "meshable by partet: no" crossing.txt || fail "crossing: called meshable"
+echo "ok: $(grep self-intersections crossing.txt)"
+# A tet mesh: its volume is the surface's enclosed volume; its boundary faces the input's.
+"$partet" mesh genus3.off -o m --pieces 3 --quiet
+"$partet" info m.node --json > m.json
+[ "$(field m.json '["boundary_faces"]')" = "$(field genus3.json '["faces"]')" ] || fail "mesh: boundary faces"
+[ "$(field m.json '["inverted_tets"]')" = 0 ] && [ "$(field m.json '["solids"]')" = 1 ] || fail "mesh: inverted or solids"
+/usr/bin/python3 -c "import json; a=json.load(open('m.json'))['volume']; b=json.load(open('genus3.json'))['volume']; assert abs(a-b) <= 1e-12*abs(b), (a,b)" \
+  || fail "mesh: volume differs from the surface's"
+"$partet" info m | head -n 1
+echo "ok: tet mesh volume equals the surface's, boundary faces equal the input faces"
+# --compare-tetgen: with one piece partet is TetGen alone, so the tet counts must agree exactly.
+"$partet" mesh genus3.off -o one --pieces 1 --compare-tetgen > compare.txt
+grep -q "TetGen alone" compare.txt || { cat compare.txt; fail "no comparison printed"; }
+grep -E "^partet:   tets +[0-9]+ +[0-9]+ +1.0000$" compare.txt > /dev/null || { cat compare.txt; fail "1 piece: tets differ from TetGen alone"; }
+echo "ok: --compare-tetgen: $(grep -E '^partet:   tets' compare.txt | tr -s ' ')"
