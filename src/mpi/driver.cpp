@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -201,12 +202,17 @@ class RootScheduler : public PieceScheduler {
       bytes = serialize_task(*piece, runner_.tetgen());
       busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index};
     }
+    // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
+    // while idle is noticed here, within the same limit as one stopped while meshing.
+    const double limit = piece ? std::min(kWorkerSeconds, runner_.time_limit(*piece) + kReplyGraceSeconds)
+                               : kWorkerSeconds;
     try {
-      stats_.bytes_sent +=
-          static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD, kMaxChunk, kWorkerSeconds));
+      stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD, kMaxChunk, limit));
     } catch (const Stalled&) {
-      abort_job("rank " + std::to_string(worker) + " did not take a message within " +
-                std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+      abort_job(piece ? "rank " + std::to_string(worker) + " has not answered for piece " +
+                            std::to_string(piece->index) + " within its time limit (stopped or dead?)"
+                      : "rank " + std::to_string(worker) + " did not take a message within " +
+                            std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)");
     }
   }
 
@@ -326,6 +332,13 @@ class RootScheduler : public PieceScheduler {
   std::size_t last_stored_ = 0;   // position of the latest outcome
 };
 
+// Test hook: PARTET_INJECT_FAILURE="worker:stop-when-idle" makes rank 1 stop itself (SIGSTOP)
+// after its first reply, so rank 0's next piece finds no one to take it.
+void inject_worker_stop(int rank) {
+  const char* spec = std::getenv("PARTET_INJECT_FAILURE");
+  if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") std::raise(SIGSTOP);
+}
+
 // A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   while (receive_command() == kMeshPieces) {
@@ -354,6 +367,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       AddSeconds timer{stats.send_seconds};
       stats.bytes_sent += static_cast<double>(
           bounded([&] { return send_bytes(reply, 0, kTagReply, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); }));
+      inject_worker_stop(rank);
     }
   }
 }
