@@ -246,7 +246,16 @@ RunFigures tetgen_alone(const MeshJob& job) {
   RunFigures f;
   StageTimes times;
   int exponent = 0;
-  const SurfaceMesh input = read_valid_input(job.input, times, &exponent);
+  const log::Level level = log::level();
+  log::set_level(log::Level::quiet);  // partet's own run already reported reading the input
+  SurfaceMesh input;
+  try {
+    input = read_valid_input(job.input, times, &exponent);
+  } catch (...) {
+    log::set_level(level);
+    throw;
+  }
+  log::set_level(level);
   const double need_mb = 2.4 * 1.2 * static_cast<double>(input.triangles.size()) / 1024.0;
   const double available_mb = available_memory_mb();
   if (available_mb > 0 && need_mb > available_mb) {
