@@ -242,7 +242,7 @@ std::size_t nearest_gap(const std::vector<Gap>& gaps, std::size_t target, std::s
 }  // namespace
 
 std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode,
-                                        const std::vector<int>& shifts) {
+                                        const std::vector<int>& shifts, const std::vector<double>& fractions) {
   if (k < 1) throw OptionError("the number of pieces must be at least 1 (got " + std::to_string(k) + ")");
   if (k == 1) return {};
   const Point3 axis = cut_axis(surface, mode);
@@ -252,7 +252,11 @@ std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAx
   if (gaps.size() + 1 < static_cast<std::size_t>(k)) k = static_cast<int>(gaps.size()) + 1;
   const std::size_t n = a.size();
   const std::size_t base_window = std::max<std::size_t>(2, n / (static_cast<std::size_t>(k) * 25));
-  auto target_of = [&](int j) { return (n * static_cast<std::size_t>(j) + k / 2) / static_cast<std::size_t>(k); };
+  const bool given = fractions.size() + 1 == static_cast<std::size_t>(k);
+  auto target_of = [&](int j) {
+    if (given) return std::min(n - 1, std::max<std::size_t>(1, static_cast<std::size_t>(fractions[j - 1] * n + 0.5)));
+    return (n * static_cast<std::size_t>(j) + k / 2) / static_cast<std::size_t>(k);
+  };
   auto shift_of = [&](int j) { return j - 1 < static_cast<int>(shifts.size()) ? shifts[j - 1] : 0; };
   // Leave enough usable gaps for the planes still to come.
   auto last_of = [&](int j) { return gaps.size() - static_cast<std::size_t>(k - 1 - j) - 1; };

@@ -1,6 +1,7 @@
 #include "partet/pipeline.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <optional>
 #include <unordered_map>
 
@@ -152,11 +153,86 @@ class ClosureStream {
   // 1. Partition.
   void partition() {
     prepared_.planes = choose_cut_planes(input_, options_.pieces, options_.axis, options_.plane_shifts);
+    if (options_.balance == Balance::triangles && static_cast<int>(prepared_.planes.size()) + 1 == options_.pieces &&
+        options_.pieces > 2)
+      prepared_.planes = balanced_by_triangles(prepared_.planes);
     if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
       log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
                    " distinct cut positions along the cut axis; using " + std::to_string(prepared_.planes.size() + 1) +
                    " pieces instead of " + std::to_string(options_.pieces));
     prepared_.split = split_at_planes(input_, prepared_.planes);
+  }
+
+  // 1b. Moves the planes so that the pieces' triangles, caps included, are about equal: a cap
+  // belongs to both pieces beside it, and a cap across a thick part of the model adds many
+  // triangles to two pieces. The caps are measured (a trial closure) and assumed to keep their
+  // size where the planes move; each piece then gets the share of the input that makes its
+  // total equal. Two such steps, keeping the best partition measured. (At K = 2 both pieces
+  // have the one cap: nothing to do.)
+  std::vector<CutPlane> balanced_by_triangles(std::vector<CutPlane> planes) const {
+    std::vector<CutPlane> best = planes;
+    double best_ratio = 0;
+    for (int step = 0; step < 3; ++step) {
+      const TrialSizes sizes = measure(planes);
+      if (step == 0 || sizes.largest_ratio() < best_ratio) best = planes, best_ratio = sizes.largest_ratio();
+      log::debug(format_balance(step, sizes.largest_ratio()));
+      const std::vector<double> fractions = sizes.equalizing_fractions();
+      if (step == 2 || fractions.empty()) break;
+      planes = choose_cut_planes(input_, static_cast<int>(planes.size()) + 1, options_.axis, options_.plane_shifts,
+                                 fractions);
+      if (planes.size() != best.size()) break;
+    }
+    return best;
+  }
+
+  // Triangles of each piece's share of the input, and of each cap (cap[j + 1]: plane j's).
+  struct TrialSizes {
+    std::vector<double> input, cap;
+    double total(int i) const { return input[i] + cap[i] + cap[i + 1]; }
+    double mean() const {
+      double sum = 0;
+      for (std::size_t i = 0; i < input.size(); ++i) sum += total(static_cast<int>(i));
+      return sum / static_cast<double>(input.size());
+    }
+    double largest_ratio() const {
+      double largest = 0;
+      for (std::size_t i = 0; i < input.size(); ++i) largest = std::max(largest, total(static_cast<int>(i)));
+      return largest / mean();
+    }
+    // Cumulative input fractions below each plane that make every total equal; empty when the
+    // caps alone would fill a piece.
+    std::vector<double> equalizing_fractions() const {
+      const int k = static_cast<int>(input.size());
+      double all = 0;
+      for (double v : input) all += v;
+      const double each = mean();
+      std::vector<double> fractions;
+      double below = 0;
+      for (int i = 0; i < k; ++i) {
+        const double part = each - cap[i] - cap[i + 1];
+        if (part < 0.1 * each) return {};
+        below += part;
+        if (i + 1 < k) fractions.push_back(below / all);
+      }
+      return fractions;
+    }
+  };
+
+  TrialSizes measure(const std::vector<CutPlane>& planes) const {
+    const int k = static_cast<int>(planes.size()) + 1;
+    SplitSurface trial = split_at_planes(input_, planes);
+    const std::vector<Cap> caps = build_caps(trial, planes, options_.density);
+    TrialSizes sizes{std::vector<double>(static_cast<std::size_t>(k), 0),
+                     std::vector<double>(static_cast<std::size_t>(k + 1), 0)};
+    for (int j = 0; j + 1 < k; ++j) sizes.cap[static_cast<std::size_t>(j) + 1] = static_cast<double>(caps[j].triangles.size());
+    for (std::int32_t p : trial.piece) sizes.input[p] += 1;
+    return sizes;
+  }
+
+  static std::string format_balance(int step, double ratio) {
+    char text[96];
+    std::snprintf(text, sizeof text, "balancing triangles, step %d: the largest piece has %.3f x the mean", step, ratio);
+    return text;
   }
 
   // 2. Closure, piece by piece; `ready` gets each piece as soon as it is closed.

@@ -29,9 +29,10 @@ Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode);
 // to pass through no vertex. When the vertices have fewer than k distinct positions along the
 // axis, fewer planes are returned (one per usable gap). Throws OptionError if k < 1.
 // shifts[j] > 0 moves plane j to its (shifts[j]+1)-th widest nearby gap (used to retry a cut
-// that caused trouble).
+// that caused trouble). fractions (k-1 increasing values in (0, 1)), when given, replace the
+// equal split: plane j goes where a fraction fractions[j] of the vertices lies below it.
 std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode = CutAxis::coordinate_near_pca,
-                                        const std::vector<int>& shifts = {});
+                                        const std::vector<int>& shifts = {}, const std::vector<double>& fractions = {});
 
 // Piece (slab) of a point: the number of planes it lies above, decided exactly.
 // Only valid for points on no plane.

@@ -23,8 +23,15 @@ namespace partet {
 // healing against 58 s of meshing), while the cap points improve those tets.
 enum class Heal { automatic, on, off };
 
+// What the cut planes balance between the pieces.
+enum class Balance {
+  vertices,   // equal input vertex counts
+  triangles,  // equal triangles including the caps (measured from a first closure, then closed again)
+};
+
 struct MeshOptions {
   int pieces = 2;
+  Balance balance = Balance::vertices;
   double density = 0.25;  // chosen by scripts/density_sweep.sh: best AMIPS avg and max on every model tried
   CutAxis axis = CutAxis::coordinate_near_pca;
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
