@@ -20,7 +20,7 @@ parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("mesh")
 parser.add_argument("png")
 parser.add_argument("--cut", choices="xyz",
-                    help="normal of the cutting plane (default: the longest axis across the pieces' planes, so "
+                    help="normal of the cutting plane (default: the shortest axis across the pieces' planes, so "
                          "every piece and seam is cut open)")
 parser.add_argument("--keep", default="below", choices=["below", "above"])
 parser.add_argument("--view", nargs=2, type=float, metavar=("ELEV", "AZIM"),
@@ -39,7 +39,7 @@ else:
     pieces_at = piece >= 0
     follow = [abs(np.corrcoef(centroid[pieces_at, a], piece[pieces_at])[0, 1]) if extent[a] > 0 else 0 for a in range(3)]
     stacking = int(np.nanargmax(follow))
-    axis = max((a for a in range(3) if a != stacking), key=lambda a: extent[a])
+    axis = min((a for a in range(3) if a != stacking), key=lambda a: extent[a])  # the largest cut face
 middle = 0.5 * (points[:, axis].min() + points[:, axis].max())
 kept = centroid[:, axis] < middle if args.keep == "below" else centroid[:, axis] > middle
 
