@@ -183,7 +183,7 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   mesh->add_option("-q,--quality", c.quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
   mesh->add_option("--balance", c.balance,
                    "what the cut planes balance: vertices (input vertex counts) or triangles (each piece's "
-                   "triangles with its caps, measured by a first closure; costs a second closure)")
+                   "triangles with its caps, measured by up to three trial closures, which cost time)")
       ->check(CLI::IsMember({"vertices", "triangles"}))
       ->capture_default_str();
   mesh->add_option(
@@ -206,7 +206,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
           "--no-heal", c.no_heal,
           "keep the caps' interior points, remove only the cut vertices on input edges (default without --quality)")
       ->excludes(heal);
-  mesh->add_option("--report", job.report_path, "write stage timings and counts as JSON");
+  mesh->add_option("--report", job.report_path,
+                   "write a JSON report: stage times and memory, per-rank and per-piece figures, counts, retries, "
+                   "cut planes (with --check also the quality, overall and at the seams)");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
   mesh->add_flag("--compare-tetgen", job.compare_tetgen,
                  "afterwards, mesh the whole input with TetGen alone (same switches, if it fits in memory) and "
