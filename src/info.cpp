@@ -13,19 +13,6 @@
 namespace partet {
 namespace {
 
-Bounds bounds_of(const std::vector<Point3>& points, const std::vector<char>* used = nullptr) {
-  Bounds b;
-  bool first = true;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (used && !(*used)[i]) continue;
-    for (int c = 0; c < 3; ++c) {
-      b.min[c] = first ? points[i][c] : std::min(b.min[c], points[i][c]);
-      b.max[c] = first ? points[i][c] : std::max(b.max[c], points[i][c]);
-    }
-    first = false;
-  }
-  return b;
-}
 
 // Union-find over vertices: shells are the components of the faces.
 struct Components {
@@ -78,6 +65,20 @@ void count_shells(const SurfaceMesh& s, const std::vector<char>& used, SurfaceIn
 }
 
 }  // namespace
+
+Bounds bounds_of(const std::vector<Point3>& points, const std::vector<char>* used) {
+  Bounds b;
+  bool first = true;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (used && !(*used)[i]) continue;
+    for (int c = 0; c < 3; ++c) {
+      b.min[c] = first ? points[i][c] : std::min(b.min[c], points[i][c]);
+      b.max[c] = first ? points[i][c] : std::max(b.max[c], points[i][c]);
+    }
+    first = false;
+  }
+  return b;
+}
 
 SurfaceInfo surface_info(const SurfaceMesh& surface) {
   SurfaceInfo info;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
+#include <numeric>
 #include <nlohmann/json.hpp>
 
 #include "partet/errors.hpp"
@@ -16,6 +17,7 @@
 #include "partet/tetgen_files.hpp"
 #include "partet/validate.hpp"
 #include "quality_json.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
@@ -246,16 +248,10 @@ RunFigures tetgen_alone(const MeshJob& job) {
   RunFigures f;
   StageTimes times;
   int exponent = 0;
-  const log::Level level = log::level();
-  log::set_level(log::Level::quiet);  // partet's own run already reported reading the input
-  SurfaceMesh input;
-  try {
-    input = read_valid_input(job.input, times, &exponent);
-  } catch (...) {
-    log::set_level(level);
-    throw;
-  }
-  log::set_level(level);
+  const SurfaceMesh input = [&] {
+    const log::ScopedLevel quiet(log::Level::quiet);  // partet's own run already reported reading it
+    return read_valid_input(job.input, times, &exponent);
+  }();
   const double need_mb = 2.4 * 1.2 * static_cast<double>(input.triangles.size()) / 1024.0;
   const double available_mb = available_memory_mb();
   if (available_mb > 0 && need_mb > available_mb) {
@@ -267,7 +263,7 @@ RunFigures tetgen_alone(const MeshJob& job) {
   whole.points = input.points;
   whole.triangles = input.triangles;
   whole.global_ids.resize(input.points.size());
-  for (std::size_t i = 0; i < whole.global_ids.size(); ++i) whole.global_ids[i] = static_cast<std::int32_t>(i);
+  std::iota(whole.global_ids.begin(), whole.global_ids.end(), 0);
   const double start = now_seconds();
   const PieceOutcome outcome = PieceRunner(job.options.tetgen, job.options.run).mesh(whole);
   if (outcome.failure) {
@@ -275,13 +271,12 @@ RunFigures tetgen_alone(const MeshJob& job) {
     return f;
   }
   f.known = true;
-  f.seconds = (now_seconds() - start) + times.front().seconds + times.back().seconds;  // with read, validate
+  f.seconds = now_seconds() - start;
+  for (const StageTime& t : times) f.seconds += t.seconds;  // reading and validating count too
   f.peak_mb = outcome.memory_mb;  // the TetGen process (this one also holds partet's own run)
   TetMesh mesh;
   mesh.points = input.points;
-  mesh.points.insert(mesh.points.end(), outcome.result.mesh.steiner_points.begin(),
-                     outcome.result.mesh.steiner_points.end());
-  mesh.tets = outcome.result.mesh.tets;
+  append_local_mesh(outcome.result.mesh, whole.global_ids, mesh.points, mesh.tets, mesh.neighbours);
   f.tets = static_cast<std::int64_t>(mesh.tets.size());
   f.quality = mesh_quality(mesh);
   return f;

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "partet/mesh_types.hpp"
 #include "partet/quality.hpp"
@@ -14,6 +15,9 @@ namespace partet {
 struct Bounds {
   Point3 min{0, 0, 0}, max{0, 0, 0};
 };
+
+// Axis-aligned bounds of the points (of those with used[i], when given); all zero when none.
+Bounds bounds_of(const std::vector<Point3>& points, const std::vector<char>* used = nullptr);
 
 struct SurfaceInfo {
   std::int64_t vertices = 0, unused_vertices = 0, faces = 0, edges = 0;

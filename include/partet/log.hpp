@@ -9,6 +9,18 @@ enum class Level { quiet, normal, verbose };
 
 void set_level(Level level);
 Level level();
+
+// Another level for one scope, the previous one restored when it ends.
+class ScopedLevel {
+ public:
+  explicit ScopedLevel(Level scoped) : saved_(level()) { set_level(scoped); }
+  ~ScopedLevel() { set_level(saved_); }
+  ScopedLevel(const ScopedLevel&) = delete;
+  ScopedLevel& operator=(const ScopedLevel&) = delete;
+
+ private:
+  Level saved_;
+};
 // Lines from ranks other than 0 say which rank they come from ("partet[rank 1]: ...").
 void set_rank(int rank);
 

@@ -14,6 +14,7 @@
 
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
+#include "partet/info.hpp"
 #include "partet/tetgen_files.hpp"
 #include "topology.hpp"
 
@@ -38,19 +39,6 @@ std::vector<std::int32_t> region_of_tets(const TetMesh& mesh) {
 }
 
 std::int32_t piece_of(const TetMesh& mesh, std::size_t t) { return mesh.piece.empty() ? -1 : mesh.piece[t]; }
-
-// Axis-aligned bounds of the points (Gmsh entities carry them).
-std::array<double, 6> bounds(const std::vector<Point3>& points) {
-  std::array<double, 6> b{0, 0, 0, 0, 0, 0};
-  if (points.empty()) return b;
-  for (int c = 0; c < 3; ++c) b[c] = b[c + 3] = points[0][c];
-  for (const Point3& p : points)
-    for (int c = 0; c < 3; ++c) {
-      b[c] = std::min(b[c], p[c]);
-      b[c + 3] = std::max(b[c + 3], p[c]);
-    }
-  return b;
-}
 
 // ---------------------------------------------------------------------------------------------
 // VTK XML
@@ -97,9 +85,8 @@ struct VtuCells {
   std::vector<std::int32_t> piece, region;
 };
 
-VtuCells select_cells(const MeshOutput& output, bool all, int only_piece) {
+VtuCells select_cells(const MeshOutput& output, const std::vector<std::int32_t>& region, bool all, int only_piece) {
   const TetMesh& mesh = output.mesh;
-  const std::vector<std::int32_t> region = region_of_tets(mesh);
   std::vector<std::int64_t> new_id(all ? 0 : mesh.points.size(), -1);
   VtuCells cells;
   std::int64_t next = 0;
@@ -182,6 +169,10 @@ class MshWriter {
   void size(std::uint64_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space()); }
   void tag(std::int32_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(v), out_.space()); }
   void real(double v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.real(v), out_.space()); }
+  void box_reals(const Bounds& b) {
+    for (double v : b.min) real(v);
+    for (double v : b.max) real(v);
+  }
   void end_line() {
     if (!binary_) out_.newline();
   }
@@ -192,13 +183,13 @@ class MshWriter {
 
   void entities() {
     out_.text("$Entities\n");
-    const std::array<double, 6> box = bounds(mesh_.points);
+    const Bounds box = bounds_of(mesh_.points);
     size(0), size(0), size(1), size(1), end_line();
     tag(1);  // the boundary surface
-    for (double b : box) real(b);
+    box_reals(box);
     size(1), tag(2), size(0), end_line();
     tag(1);  // the volume, bounded by it
-    for (double b : box) real(b);
+    box_reals(box);
     size(1), tag(1), size(1), tag(1), end_line();
     end_section("$EndEntities\n");
   }
@@ -263,7 +254,7 @@ std::vector<int> pieces_in(const MeshOutput& output) {
 }
 
 void write_vtu(const MeshOutput& output, const std::string& path, int only_piece) {
-  write_vtu_file(select_cells(output, only_piece == kAllPieces, only_piece), path);
+  write_vtu_file(select_cells(output, region_of_tets(output.mesh), only_piece == kAllPieces, only_piece), path);
 }
 
 void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<std::string>& piece_files) {
@@ -401,8 +392,10 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
       // The index names its piece files relative to its own directory.
       const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
       std::vector<std::string> sources;
+      const std::vector<std::int32_t> region = region_of_tets(output.mesh);  // once for all the files
       for (int piece : pieces_in(output)) {
-        set.add(piece_file(prefix, piece), [&](const std::string& tmp) { write_vtu(output, tmp, piece); });
+        set.add(piece_file(prefix, piece),
+                [&](const std::string& tmp) { write_vtu_file(select_cells(output, region, false, piece), tmp); });
         sources.push_back(piece_file(base, piece));
       }
       set.add(path, [&](const std::string& tmp) { write_pvtu(output, tmp, sources); });

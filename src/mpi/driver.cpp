@@ -277,17 +277,18 @@ class RootScheduler : public PieceScheduler {
     MPI_Iprobe(MPI_ANY_SOURCE, kTagReply, MPI_COMM_WORLD, &arrived, &status);
     if (!arrived) return false;
     const int worker = status.MPI_SOURCE;
+    std::size_t position = 0;
     {
       AddSeconds timer{stats_.receive_seconds};
       const std::string reply = recv_bytes(worker, kTagReply, MPI_COMM_WORLD);
       stats_.bytes_received += static_cast<double>(reply.size());
       PieceOutcome outcome = deserialize_outcome(reply);
-      const int index = outcome.failure ? outcome.failure->piece : outcome.result.index;
-      store(position_.at(index), std::move(outcome));
+      position = position_.at(outcome.failure ? outcome.failure->piece : outcome.result.index);
+      store(position, std::move(outcome));
     }
     idle_.push_back(worker);
     busy_.erase(worker);
-    report_progress(last_stored_, worker);
+    report_progress(position, worker);
     return true;
   }
 
@@ -303,7 +304,6 @@ class RootScheduler : public PieceScheduler {
       records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
     }
     outcomes_[position] = std::move(outcome);
-    last_stored_ = position;
     --remaining_;
   }
 
@@ -329,7 +329,6 @@ class RootScheduler : public PieceScheduler {
   double job_start_;              // for the progress lines
   int rounds_ = 0;                // rounds begun
   std::size_t done_ = 0;          // pieces or regions finished this round
-  std::size_t last_stored_ = 0;   // position of the latest outcome
 };
 
 // Test hook: PARTET_INJECT_FAILURE="worker:stop-when-idle" makes rank 1 stop itself (SIGSTOP)
