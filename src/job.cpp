@@ -12,6 +12,7 @@
 
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
+#include "partet/piece_cost.hpp"
 #include "partet/piece_runner.hpp"
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
@@ -133,6 +134,9 @@ std::string report_json(const JobSummary& s) {
   report["stage_seconds"]["send"] = s.ranks[0].send_seconds;
   report["stage_seconds"]["gather"] = s.ranks[0].receive_seconds;
   report["total_seconds"] = s.total_seconds;
+  // Work done while pieces were still being meshed (inside the tetgen stage's time): welding
+  // each piece's result as it arrived. stage_seconds.merge is what was left after the last one.
+  report["overlapped_seconds"] = {{"merge", s.result.merge_seconds_overlapped}};
   report["counts"] = {{"input_vertices", s.input.points.size()},
                       {"input_faces", s.input.triangles.size()},
                       {"cut_vertices_inserted", s.result.cut_vertices_inserted},
@@ -146,10 +150,17 @@ std::string report_json(const JobSummary& s) {
   for (const auto& r : s.result.retries)
     report["retries"].push_back({{"attempt", r.attempt}, {"reason", r.reason}, {"planes_moved", r.planes}});
   report["piece"] = nlohmann::json::array();
+  report["balance"] = s.job.options.balance == Balance::cost ? "cost" : "vertices";
+  // What the planes balanced, for comparing with the times (scripts/piece_cost.sh).
+  const std::vector<double> estimate = estimated_piece_costs(s.input, s.result.planes, s.job.options.density);
   for (const PieceRecord& p : s.pieces)
-    report["piece"].push_back(
-        {{"index", p.index}, {"rank", p.rank}, {"triangles", p.triangles}, {"tetgen_seconds", p.seconds},
-         {"tetgen_mb", p.memory_mb}});
+    report["piece"].push_back({{"index", p.index},
+                               {"rank", p.rank},
+                               {"triangles", p.triangles},
+                               {"estimated_cost", static_cast<std::size_t>(p.index) < estimate.size() ? estimate[p.index] : 0.0},
+                               {"tets", p.tets},
+                               {"tetgen_seconds", p.seconds},
+                               {"tetgen_mb", p.memory_mb}});
   for (std::size_t r = 0; r < s.ranks.size(); ++r) {
     const RankStats& stats = s.ranks[r];
     std::vector<int> pieces;

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <optional>
 #include <unordered_map>
 
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
 #include "partet/merge.hpp"
+#include "partet/piece_cost.hpp"
 #include "partet/validate.hpp"
 #include "topology.hpp"
 
@@ -53,12 +55,20 @@ class ResultCache {
   std::unordered_map<std::uint64_t, Entry> entries_;
 };
 
+// Where the planes go for these options: the fractions of the vertices below each plane that
+// balance the pieces' estimated costs, or none (equal vertex counts).
+std::vector<double> plane_fractions(const SurfaceMesh& input, const MeshOptions& options) {
+  if (options.balance != Balance::cost) return {};
+  return cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, options.density);
+}
+
 // The sequence of partitions tried: which cut planes move after each failure, and how the caps
 // get coarser.
 class RetryPlan {
  public:
   explicit RetryPlan(const MeshOptions& options)
       : options_(options),
+        first_options_(options),
         // More pieces, more cuts that can cause trouble: a few more attempts per four pieces
         // (cheap, since a retry re-meshes only the pieces it changed).
         attempts_(std::max(1, options.max_attempts) + (std::max(options.pieces, 1) - 1) / 4) {
@@ -67,6 +77,12 @@ class RetryPlan {
 
   const MeshOptions& options() const { return options_; }
   int attempt() const { return attempt_; }
+  // Where the planes aim, computed once per cut axis with the caps first asked for: retries lower
+  // the cap density, but must move only the planes they name.
+  const std::vector<double>& fractions(const SurfaceMesh& input) {
+    if (!fractions_known_) fractions_ = plane_fractions(input, first_options_), fractions_known_ = true;
+    return fractions_;
+  }
   bool last() const { return attempt_ + 1 >= attempts_; }
   std::vector<int> all_planes() const {
     std::vector<int> planes(options_.plane_shifts.size());
@@ -125,12 +141,16 @@ class RetryPlan {
   // coordinate axis nearest the PCA axis instead (exactly planar caps), from fresh planes.
   void fall_back_to_coordinate_axis() {
     if (options_.axis != CutAxis::pca || attempt_ < attempts_ / 2) return;
-    options_.axis = CutAxis::coordinate_near_pca;
+    options_.axis = first_options_.axis = CutAxis::coordinate_near_pca;
     std::fill(options_.plane_shifts.begin(), options_.plane_shifts.end(), 0);
+    fractions_known_ = false;
     log::warning("the PCA cut planes kept failing; cutting along the coordinate axis nearest to it instead");
   }
 
   MeshOptions options_;
+  MeshOptions first_options_;  // as asked for, on the current axis
+  std::vector<double> fractions_;
+  bool fractions_known_ = false;
   int attempts_;
   int attempt_ = 0;
   std::vector<RetryRecord> records_;
@@ -142,97 +162,23 @@ void add_planes_around(int p, std::size_t piece_count, std::vector<int>& planes)
   if (static_cast<std::size_t>(p) + 1 < piece_count) planes.push_back(p);
 }
 
-// Partition and closure of one attempt, streamed: each piece is submitted as soon as the caps on
-// both its sides exist (unless an earlier attempt meshed the same piece). Returns the outcomes in
-// piece order once all are in.
+// Partition and closure of one attempt, streamed: close() hands each piece on as soon as the caps
+// on both its sides exist.
 class ClosureStream {
  public:
   ClosureStream(const SurfaceMesh& input, const MeshOptions& options, PreparedPieces& prepared)
       : input_(input), options_(options), prepared_(prepared) {}
 
-  // 1. Partition.
-  void partition() {
-    prepared_.planes = choose_cut_planes(input_, options_.pieces, options_.axis, options_.plane_shifts);
-    if (options_.balance == Balance::triangles && static_cast<int>(prepared_.planes.size()) + 1 == options_.pieces &&
-        options_.pieces > 2)
-      prepared_.planes = balanced_by_triangles(prepared_.planes);
+  // 1. Partition: the planes go where the pieces' estimated costs are equal (fractions of the
+  // vertices below each plane, from cost_balanced_fractions) or, when fractions is empty, where
+  // their vertex counts are.
+  void partition(const std::vector<double>& fractions) {
+    prepared_.planes = choose_cut_planes(input_, options_.pieces, options_.axis, options_.plane_shifts, fractions);
     if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
       log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
                    " distinct cut positions along the cut axis; using " + std::to_string(prepared_.planes.size() + 1) +
                    " pieces instead of " + std::to_string(options_.pieces));
     prepared_.split = split_at_planes(input_, prepared_.planes);
-  }
-
-  // 1b. Moves the planes so that the pieces' triangles, caps included, are about equal: a cap
-  // belongs to both pieces beside it, and a cap across a thick part of the model adds many
-  // triangles to two pieces. The caps are measured (a trial closure) and assumed to keep their
-  // size where the planes move; each piece then gets the share of the input that makes its
-  // total equal. Two such steps, keeping the best partition measured. (At K = 2 both pieces
-  // have the one cap: nothing to do.)
-  std::vector<CutPlane> balanced_by_triangles(std::vector<CutPlane> planes) const {
-    std::vector<CutPlane> best = planes;
-    double best_ratio = 0;
-    for (int step = 0; step < 3; ++step) {
-      const TrialSizes sizes = measure(planes);
-      if (step == 0 || sizes.largest_ratio() < best_ratio) best = planes, best_ratio = sizes.largest_ratio();
-      log::debug(format_balance(step, sizes.largest_ratio()));
-      const std::vector<double> fractions = sizes.equalizing_fractions();
-      if (step == 2 || fractions.empty()) break;
-      planes = choose_cut_planes(input_, static_cast<int>(planes.size()) + 1, options_.axis, options_.plane_shifts,
-                                 fractions);
-      if (planes.size() != best.size()) break;
-    }
-    return best;
-  }
-
-  // Triangles of each piece's share of the input, and of each cap (cap[j + 1]: plane j's).
-  struct TrialSizes {
-    std::vector<double> input, cap;
-    double total(int i) const { return input[i] + cap[i] + cap[i + 1]; }
-    double mean() const {
-      double sum = 0;
-      for (std::size_t i = 0; i < input.size(); ++i) sum += total(static_cast<int>(i));
-      return sum / static_cast<double>(input.size());
-    }
-    double largest_ratio() const {
-      double largest = 0;
-      for (std::size_t i = 0; i < input.size(); ++i) largest = std::max(largest, total(static_cast<int>(i)));
-      return largest / mean();
-    }
-    // Cumulative input fractions below each plane that make every total equal; empty when the
-    // caps alone would fill a piece.
-    std::vector<double> equalizing_fractions() const {
-      const int k = static_cast<int>(input.size());
-      double all = 0;
-      for (double v : input) all += v;
-      const double each = mean();
-      std::vector<double> fractions;
-      double below = 0;
-      for (int i = 0; i < k; ++i) {
-        const double part = each - cap[i] - cap[i + 1];
-        if (part < 0.1 * each) return {};
-        below += part;
-        if (i + 1 < k) fractions.push_back(below / all);
-      }
-      return fractions;
-    }
-  };
-
-  TrialSizes measure(const std::vector<CutPlane>& planes) const {
-    const int k = static_cast<int>(planes.size()) + 1;
-    SplitSurface trial = split_at_planes(input_, planes);
-    const std::vector<Cap> caps = build_caps(trial, planes, options_.density);
-    TrialSizes sizes{std::vector<double>(static_cast<std::size_t>(k), 0),
-                     std::vector<double>(static_cast<std::size_t>(k + 1), 0)};
-    for (int j = 0; j + 1 < k; ++j) sizes.cap[static_cast<std::size_t>(j) + 1] = static_cast<double>(caps[j].triangles.size());
-    for (std::int32_t p : trial.piece) sizes.input[p] += 1;
-    return sizes;
-  }
-
-  static std::string format_balance(int step, double ratio) {
-    char text[96];
-    std::snprintf(text, sizeof text, "balancing triangles, step %d: the largest piece has %.3f x the mean", step, ratio);
-    return text;
   }
 
   // 2. Closure, piece by piece; `ready` gets each piece as soon as it is closed.
@@ -261,37 +207,64 @@ class ClosureStream {
   PreparedPieces& prepared_;
 };
 
-// Meshes one attempt's pieces as they are closed; outcomes in piece order. A closure failure
-// still ends the scheduler's round (other ranks are waiting in it) before it propagates.
-std::vector<PieceOutcome> close_and_mesh(const SurfaceMesh& input, const MeshOptions& options, PreparedPieces& prepared,
-                                         const ResultCache& cache, PieceScheduler& scheduler, StageTimes* times) {
+// One attempt's meshing: the pieces that did not fail, welded as they arrived, and the failures.
+struct MeshedAttempt {
+  Welder welder;
+  std::vector<std::optional<Failure>> failures;  // by piece
+  double weld_seconds = 0;                        // welding while other pieces were still meshed
+};
+
+// Meshes one attempt's pieces as they are closed and welds each result as it arrives. A closure
+// failure still ends the scheduler's round (other ranks are waiting in it) before it propagates;
+// so does a welding error, after the round.
+MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& options, const std::vector<double>& fractions,
+                             PreparedPieces& prepared, const ResultCache& cache, PieceScheduler& scheduler,
+                             StageTimes* times) {
   StageTimer timer(times);
   ClosureStream stream(input, options, prepared);
-  stream.partition();
+  stream.partition(fractions);
   timer.lap("partition");
-  std::vector<PieceOutcome> outcomes;
-  std::vector<std::size_t> submitted;
+  std::vector<PieceTetMesh> reused;  // results of earlier attempts
+  std::vector<int> submitted;        // the piece of each submission
   scheduler.begin_round(options.tetgen);
   try {
     stream.close([&](const PieceSurface& piece) {
-      outcomes.emplace_back();
       if (auto cached = cache.find(piece)) {
-        outcomes.back().result = std::move(*cached);
+        reused.push_back(std::move(*cached));
       } else {
         scheduler.submit(piece);
-        submitted.push_back(outcomes.size() - 1);
+        submitted.push_back(piece.index);
       }
       scheduler.progress();
     });
   } catch (...) {
-    scheduler.end_round();
+    scheduler.end_round_all();
     throw;
   }
   timer.lap("closure");
-  std::vector<PieceOutcome> fresh = scheduler.end_round();
+  MeshedAttempt attempt{Welder(prepared.split, prepared.pieces), std::vector<std::optional<Failure>>(prepared.pieces.size())};
+  std::exception_ptr weld_error;
+  auto take = [&](int piece, PieceOutcome&& outcome) {
+    if (outcome.failure) {
+      attempt.failures[piece] = outcome.failure;
+      return;
+    }
+    const double start = now_seconds();
+    try {
+      if (!weld_error) attempt.welder.add(std::move(outcome.result));
+    } catch (...) {
+      weld_error = std::current_exception();
+    }
+    attempt.weld_seconds += now_seconds() - start;
+  };
+  for (PieceTetMesh& result : reused) {
+    const int piece = result.index;
+    take(piece, PieceOutcome{std::move(result), std::nullopt});
+  }
+  scheduler.end_round([&](std::size_t position, PieceOutcome&& outcome) { take(submitted[position], std::move(outcome)); });
   timer.lap("tetgen");
-  for (std::size_t i = 0; i < fresh.size(); ++i) outcomes[submitted[i]] = std::move(fresh[i]);
-  return outcomes;
+  if (weld_error) std::rethrow_exception(weld_error);
+  return attempt;
 }
 
 // Input vertices keep their order in the output; the ones no triangle uses are dropped.
@@ -309,24 +282,23 @@ PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& optio
   StageTimer timer(times);
   PreparedPieces prepared;
   ClosureStream stream(input, options, prepared);
-  stream.partition();
+  stream.partition(plane_fractions(input, options));
   timer.lap("partition");
   stream.close([](const PieceSurface&) {});
   timer.lap("closure");
   return prepared;
 }
 
-MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
   StageTimer timer(times);
   MeshResult result;
-  result.mesh = weld(prepared.split.points, prepared.pieces, std::move(results));
-  timer.lap("merge");
+  result.mesh = std::move(welded);
   // The regions around the seams are meshed like pieces, on every rank.
   const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
     scheduler.begin_round(options.tetgen);
     for (const auto& region : regions) scheduler.submit(region);
-    return scheduler.end_round();
+    return scheduler.end_round_all();
   };
   const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 1 : 0};
   result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
@@ -341,10 +313,13 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
 
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
                        const MeshOptions& options, StageTimes* times) {
+  StageTimer timer(times);
+  TetMesh welded = weld(prepared.split, prepared.pieces, std::move(results));
+  timer.lap("merge");
   BatchScheduler here([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
     return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
   });
-  return finish_mesh(input, prepared, std::move(results), options, here, times);
+  return finish_mesh(input, prepared, std::move(welded), options, here, times);
 }
 
 std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner) {
@@ -364,25 +339,25 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     std::vector<int> planes_to_move;
     try {
       PreparedPieces prepared;
-      std::vector<PieceOutcome> outcomes = close_and_mesh(input, plan.options(), prepared, cache, scheduler, times);
-      for (std::size_t p = 0; p < outcomes.size(); ++p) {
-        if (!outcomes[p].failure) continue;
-        if (!failure) failure = outcomes[p].failure;
-        add_planes_around(static_cast<int>(p), outcomes.size(), planes_to_move);
+      MeshedAttempt attempt = close_and_mesh(input, plan.options(), plan.fractions(input), prepared, cache, scheduler, times);
+      for (std::size_t p = 0; p < attempt.failures.size(); ++p) {
+        if (!attempt.failures[p]) continue;
+        if (!failure) failure = attempt.failures[p];
+        add_planes_around(static_cast<int>(p), attempt.failures.size(), planes_to_move);
       }
       if (!failure) {
         cache.clear();
-        std::vector<PieceTetMesh> results;
-        results.reserve(outcomes.size());
-        for (auto& o : outcomes) results.push_back(std::move(o.result));
-        std::vector<PieceOutcome>().swap(outcomes);
-        MeshResult result = finish_mesh(input, prepared, std::move(results), plan.options(), scheduler, times);
+        StageTimer timer(times);
+        TetMesh welded = attempt.welder.finish();
+        timer.lap("merge");
+        MeshResult result = finish_mesh(input, prepared, std::move(welded), plan.options(), scheduler, times);
         result.retries = plan.take_records();
+        result.merge_seconds_overlapped = attempt.weld_seconds;
         return result;
       }
       if (!plan.last())  // keep the good results for the next attempt
-        for (std::size_t p = 0; p < outcomes.size(); ++p)
-          if (!outcomes[p].failure) cache.keep(prepared.pieces[p], std::move(outcomes[p].result));
+        for (std::size_t p = 0; p < attempt.failures.size(); ++p)
+          if (!attempt.failures[p]) cache.keep(prepared.pieces[p], attempt.welder.take_back(static_cast<int>(p)));
     } catch (const InputError&) {
       throw;
     } catch (const OptionError&) {

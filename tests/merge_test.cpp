@@ -34,7 +34,7 @@ Welded weld_shape(const std::string& name, int faces, int k, double density = 1.
   w.input = generate_surface(name, faces);
   w.prepared = prepare_pieces(w.input, options);
   for (const auto& piece : w.prepared.pieces) w.results.push_back(tetrahedralize_piece(piece, options.tetgen));
-  w.mesh = weld(w.prepared.split.points, w.prepared.pieces, std::vector<PieceTetMesh>(w.results));
+  w.mesh = weld(w.prepared.split, w.prepared.pieces, std::vector<PieceTetMesh>(w.results));
   return w;
 }
 
@@ -130,10 +130,60 @@ TEST(Weld, CapFacesJoinTetsOfNeighbouringPieces) {
   EXPECT_EQ(cross, 2 * static_cast<std::size_t>(w.prepared.cap_triangles));
 }
 
-TEST(Weld, MismatchedResultThrows) {
-  Welded w = weld_shape("sphere", 500, 2);
-  std::swap(w.results[0], w.results[1]);
-  EXPECT_THROW(weld(w.prepared.split.points, w.prepared.pieces, std::move(w.results)), InternalError);
+void expect_same_mesh(const TetMesh& a, const TetMesh& b) {
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.tets, b.tets);
+  EXPECT_EQ(a.neighbours, b.neighbours);
+  EXPECT_EQ(a.piece, b.piece);
+}
+
+// Results welded as they arrive, in any order, give the mesh of welding them in piece order.
+TEST(Welder, ArrivalOrderDoesNotMatter) {
+  const Welded w = weld_shape("torus", 3000, 4, 1.0, "1.5");
+  for (const std::vector<int>& order : {std::vector<int>{3, 1, 0, 2}, std::vector<int>{2, 3, 1, 0}}) {
+    Welder welder(w.prepared.split, w.prepared.pieces);
+    for (int p : order) {
+      EXPECT_FALSE(welder.has(p));
+      welder.add(PieceTetMesh(w.results[p]));
+      EXPECT_TRUE(welder.has(p));
+    }
+    expect_same_mesh(welder.finish(), w.mesh);
+  }
+}
+
+// A retry keeps the pieces it does not change: a welded piece comes back exactly as it was.
+TEST(Welder, TakeBackRestoresTheResult) {
+  const Welded w = weld_shape("torus", 3000, 3, 1.0, "1.5");
+  Welder welder(w.prepared.split, w.prepared.pieces);
+  for (const auto& r : w.results) welder.add(PieceTetMesh(r));
+  for (int p = 0; p < 3; ++p) {
+    const PieceTetMesh back = welder.take_back(p);
+    EXPECT_EQ(back.index, w.results[p].index);
+    EXPECT_EQ(back.surface_point_count, w.results[p].surface_point_count);
+    EXPECT_EQ(back.mesh.steiner_points, w.results[p].mesh.steiner_points);
+    EXPECT_EQ(back.mesh.tets, w.results[p].mesh.tets);
+    EXPECT_EQ(back.mesh.neighbours, w.results[p].mesh.neighbours);
+    EXPECT_FALSE(welder.has(p));
+  }
+}
+
+TEST(Welder, MismatchedMissingOrRepeatedResultThrows) {
+  const Welded w = weld_shape("sphere", 500, 2);
+  {
+    Welder welder(w.prepared.split, w.prepared.pieces);
+    PieceTetMesh wrong = w.results[0];
+    wrong.surface_point_count += 1;  // not piece 0's surface
+    EXPECT_THROW(welder.add(std::move(wrong)), InternalError);
+    PieceTetMesh unknown = w.results[0];
+    unknown.index = 7;
+    EXPECT_THROW(welder.add(std::move(unknown)), InternalError);
+  }
+  {
+    Welder welder(w.prepared.split, w.prepared.pieces);
+    welder.add(PieceTetMesh(w.results[1]));
+    EXPECT_THROW(welder.add(PieceTetMesh(w.results[1])), InternalError);
+    EXPECT_THROW(welder.finish(), InternalError);  // piece 0 never came
+  }
 }
 
 }  // namespace

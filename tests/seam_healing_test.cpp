@@ -99,7 +99,7 @@ TEST(HealSeams, FinishMeshOnGeneratedShapes) {
 TEST(HealSeams, DirectCallOnWeldedMesh) {
   const SurfaceMesh input = generate_surface("torus", 1500);
   const Stage s = prepare(input, 3);
-  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  TetMesh mesh = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   const std::size_t tets_before = mesh.tets.size();
   // Tets touching a cut vertex: exactly the cavity.
   std::int64_t touching = 0;
@@ -165,7 +165,7 @@ TEST(HealSeams, WithQualityEachCutHealsOnItsOwnWithALayerOfRoom) {
   // regions (so on separate ranks), and the result is a valid mesh without cap points.
   const SurfaceMesh input = generate_surface("sphere", 4000);
   const Stage s = prepare(input, 3, 1.0, "1.414");
-  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  TetMesh mesh = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   TetMesh unlayered = mesh;
   const SeamStats layered = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 1}, here(s.options));
   const SeamStats stars = heal_seams(unlayered, input, s.prepared.split, HealOptions{true, 0}, here(s.options));
@@ -181,7 +181,7 @@ TEST(HealSeams, WithQualityEachCutHealsOnItsOwnWithALayerOfRoom) {
 TEST(HealSeams, OnePieceChangesNothing) {
   const SurfaceMesh input = generate_surface("sphere", 800);
   const Stage s = prepare(input, 1);
-  TetMesh mesh = weld(s.prepared.split.points, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  TetMesh mesh = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   const TetMesh before = mesh;
   const SeamStats stats = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 0}, here(s.options));
   EXPECT_EQ(stats.cut_vertices_removed, 0);

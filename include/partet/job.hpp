@@ -65,6 +65,7 @@ struct PieceRecord {
   int index = 0;
   int rank = 0;
   std::int64_t triangles = 0;  // of the piece's closed surface
+  std::int64_t tets = 0;       // TetGen made
   double seconds = 0;          // wall time of its meshing, where it ran
   double memory_mb = 0;        // peak memory its meshing added (TetGen's own, in a child process)
 };

@@ -25,13 +25,13 @@ enum class Heal { automatic, on, off };
 
 // What the cut planes balance between the pieces.
 enum class Balance {
-  vertices,   // equal input vertex counts
-  triangles,  // equal triangles including the caps (measured from a first closure, then closed again)
+  cost,      // equal estimated TetGen cost: triangles, caps included (piece_cost.hpp)
+  vertices,  // equal input vertex counts
 };
 
 struct MeshOptions {
   int pieces = 2;
-  Balance balance = Balance::vertices;
+  Balance balance = Balance::cost;
   double density = 0.25;  // chosen by scripts/density_sweep.sh: best AMIPS avg and max on every model tried
   CutAxis axis = CutAxis::coordinate_near_pca;
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
@@ -75,11 +75,13 @@ struct MeshResult {
   std::int64_t cap_triangles = 0;
   int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)
   std::vector<RetryRecord> retries;
+  double merge_seconds_overlapped = 0;  // welding done while the last pieces were being meshed
 };
 
 // 3. Where the pieces of an attempt are meshed: this process, or the ranks of an MPI job. The
 // pipeline submits each piece as soon as it is closed (so meshing overlaps the closure of the
-// next ones), calls progress() between its own steps, and collects the outcomes at the end.
+// next ones), calls progress() between its own steps, and takes each outcome as it arrives (so
+// welding overlaps the meshing of the last pieces).
 class PieceScheduler {
  public:
   virtual ~PieceScheduler() = default;
@@ -89,8 +91,20 @@ class PieceScheduler {
   virtual void submit(const PieceSurface& piece) = 0;
   // Hands out work and takes in results without waiting.
   virtual void progress() {}
-  // Waits for every submitted piece; their outcomes in submission order.
-  virtual std::vector<PieceOutcome> end_round() = 0;
+  // Waits for every submitted piece, handing each outcome to `arrived` as soon as it is in, with
+  // its position in submission order. Must not throw from arrived (the other ranks wait in the
+  // round).
+  using Arrived = std::function<void(std::size_t position, PieceOutcome&& outcome)>;
+  virtual void end_round(const Arrived& arrived) = 0;
+  // The same, returning the outcomes in submission order.
+  std::vector<PieceOutcome> end_round_all() {
+    std::vector<PieceOutcome> outcomes;
+    end_round([&](std::size_t position, PieceOutcome&& outcome) {
+      if (outcomes.size() <= position) outcomes.resize(position + 1);
+      outcomes[position] = std::move(outcome);
+    });
+    return outcomes;
+  }
 };
 
 // Meshes every piece with the runner, one after another.
@@ -103,10 +117,10 @@ class BatchScheduler : public PieceScheduler {
   explicit BatchScheduler(PieceMesher mesher) : mesher_(std::move(mesher)) {}
   void begin_round(const TetgenOptions& tetgen) override { tetgen_ = tetgen; }
   void submit(const PieceSurface& piece) override { pieces_.push_back(piece); }
-  std::vector<PieceOutcome> end_round() override {
+  void end_round(const Arrived& arrived) override {
     std::vector<PieceOutcome> outcomes = mesher_(pieces_, tetgen_);
     pieces_.clear();
-    return outcomes;
+    for (std::size_t i = 0; i < outcomes.size(); ++i) arrived(i, std::move(outcomes[i]));
   }
 
  private:
@@ -115,12 +129,12 @@ class BatchScheduler : public PieceScheduler {
   std::vector<PieceSurface> pieces_;
 };
 
-// 4-5. Weld the pieces' meshes (consumed: each is freed once welded, so rank 0 never holds the
-// pieces and the merged mesh in full at once) and heal the seams, the regions around them meshed
-// by the scheduler (in parallel). results must be ordered by piece index.
-MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+// 5. Heal the seams of the welded mesh, the regions around them meshed by the scheduler (in
+// parallel).
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
-// The same, with the regions meshed in this process, one after another.
+// 4-5. Weld the pieces' meshes (consumed: each is freed once welded; ordered by piece index) and
+// heal the seams, the regions meshed in this process, one after another.
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
                        const MeshOptions& options, StageTimes* times = nullptr);
 

@@ -147,7 +147,7 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
 // What the command line asked for.
 struct CommandLine {
   partet::MeshJob job;
-  std::string quality, axis = "auto", balance = "vertices";
+  std::string quality, axis = "auto", balance = "cost";
   std::vector<std::string> formats;
   bool quiet = false, verbose = false, heal = false, no_heal = false;
   std::string check_input, check_prefix, check_report;
@@ -182,9 +182,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->capture_default_str();
   mesh->add_option("-q,--quality", c.quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
   mesh->add_option("--balance", c.balance,
-                   "what the cut planes balance: vertices (input vertex counts) or triangles (each piece's "
-                   "triangles with its caps, measured by up to three trial closures, which cost time)")
-      ->check(CLI::IsMember({"vertices", "triangles"}))
+                   "what the cut planes balance: cost (each piece's estimated TetGen cost: its triangles, "
+                   "caps included) or vertices (input vertex counts)")
+      ->check(CLI::IsMember({"cost", "vertices"}))
       ->capture_default_str();
   mesh->add_option(
           "--axis", c.axis,
@@ -417,7 +417,7 @@ int main(int argc, char** argv) {
   }
   choose_formats(c.formats, c.job);
   c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
-  c.job.options.balance = c.balance == "triangles" ? partet::Balance::triangles : partet::Balance::vertices;
+  c.job.options.balance = c.balance == "vertices" ? partet::Balance::vertices : partet::Balance::cost;
   c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
   partet::log::set_level(c.quiet     ? partet::log::Level::quiet
                          : c.verbose ? partet::log::Level::verbose

@@ -132,6 +132,7 @@ class RootScheduler : public PieceScheduler {
     position_.clear();
     queue_.clear();
     outcomes_.clear();
+    arrived_.clear();
     idle_.clear();
     for (int w = 1; w < size_; ++w) idle_.push_back(w);
     remaining_ = 0;
@@ -154,17 +155,24 @@ class RootScheduler : public PieceScheduler {
     dispatch();
   }
 
-  std::vector<PieceOutcome> end_round() override {
+  void end_round(const Arrived& arrived) override {
     std::stable_sort(queue_.begin(), queue_.end(), [&](std::size_t a, std::size_t b) {
       return pieces_[a]->triangles.size() > pieces_[b]->triangles.size();
     });
     const bool root_meshes = runner_.runs_in_background() || size_ == 1;
+    deliver(arrived);  // the outcomes that came in during the closure
     while (remaining_ > 0) {
       dispatch();
       if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
       bool progress = receive_reply();
       if (own_ && own_->poll(0)) progress = finish_own_piece();
       check_workers_answer();
+      if (progress) {
+        // Free ranks (this one too) get their next piece before the outcome is taken in.
+        dispatch();
+        if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
+        deliver(arrived);
+      }
       // Idle: sleep in the kernel (on the child's pipe when there is one) between looks at
       // MPI, so this process leaves its core to the TetGen processes.
       if (!progress) {
@@ -175,7 +183,7 @@ class RootScheduler : public PieceScheduler {
       }
     }
     for (int w = 1; w < size_; ++w) send_piece(w, nullptr);  // round over
-    return std::move(outcomes_);
+    deliver(arrived);
   }
 
  private:
@@ -185,6 +193,12 @@ class RootScheduler : public PieceScheduler {
       idle_.pop_back();
       send_piece(worker, pieces_[take_next()]);
     }
+  }
+
+  // Hands the outcomes stored since the last call to the pipeline.
+  void deliver(const Arrived& arrived) {
+    for (std::size_t position : arrived_) arrived(position, std::move(outcomes_[position]));
+    arrived_.clear();
   }
 
   std::size_t take_next() {
@@ -295,15 +309,17 @@ class RootScheduler : public PieceScheduler {
   // Where each piece (not seam region) was meshed, for the report.
   void record(const PieceSurface& piece, int rank) {
     if (!piece.seam_region)
-      records_[piece.index] = {piece.index, rank, static_cast<std::int64_t>(piece.triangles.size()), 0, 0};
+      records_[piece.index] = {piece.index, rank, static_cast<std::int64_t>(piece.triangles.size()), 0, 0, 0};
   }
 
   void store(std::size_t position, PieceOutcome&& outcome) {
     if (!pieces_[position]->seam_region) {
       records_[pieces_[position]->index].seconds = outcome.seconds;
       records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
+      records_[pieces_[position]->index].tets = static_cast<std::int64_t>(outcome.result.mesh.tets.size());
     }
     outcomes_[position] = std::move(outcome);
+    arrived_.push_back(position);
     --remaining_;
   }
 
@@ -315,7 +331,8 @@ class RootScheduler : public PieceScheduler {
   std::vector<const PieceSurface*> pieces_;  // submitted this round
   std::map<int, std::size_t> position_;      // piece index -> position in pieces_
   std::vector<std::size_t> queue_;           // positions not handed out yet
-  std::vector<PieceOutcome> outcomes_;       // by position
+  std::vector<PieceOutcome> outcomes_;       // by position, until delivered
+  std::vector<std::size_t> arrived_;         // positions stored but not delivered yet
   std::vector<int> idle_;                    // workers without a piece
   struct Busy {
     double deadline;  // when its answer is overdue
