@@ -118,10 +118,7 @@ TetMesh Welder::finish() {
 
 TetMesh weld(const SplitSurface& split, const std::vector<PieceSurface>& pieces, std::vector<PieceTetMesh>&& results) {
   Welder welder(split, pieces);
-  for (auto& result : results) {
-    welder.add(std::move(result));
-    result = PieceTetMesh();
-  }
+  for (auto& result : results) welder.add(std::move(result));
   return welder.finish();
 }
 

@@ -57,9 +57,9 @@ class ResultCache {
 
 // Where the planes go for these options: the fractions of the vertices below each plane that
 // balance the pieces' estimated costs, or none (equal vertex counts).
-std::vector<double> plane_fractions(const SurfaceMesh& input, const MeshOptions& options) {
+std::vector<double> plane_fractions(const SurfaceMesh& input, const MeshOptions& options, double density) {
   if (options.balance != Balance::cost) return {};
-  return cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, options.density);
+  return cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, density);
 }
 
 // The sequence of partitions tried: which cut planes move after each failure, and how the caps
@@ -68,7 +68,7 @@ class RetryPlan {
  public:
   explicit RetryPlan(const MeshOptions& options)
       : options_(options),
-        first_options_(options),
+        first_density_(options.density),
         // More pieces, more cuts that can cause trouble: a few more attempts per four pieces
         // (cheap, since a retry re-meshes only the pieces it changed).
         attempts_(std::max(1, options.max_attempts) + (std::max(options.pieces, 1) - 1) / 4) {
@@ -80,7 +80,7 @@ class RetryPlan {
   // Where the planes aim, computed once per cut axis with the caps first asked for: retries lower
   // the cap density, but must move only the planes they name.
   const std::vector<double>& fractions(const SurfaceMesh& input) {
-    if (!fractions_known_) fractions_ = plane_fractions(input, first_options_), fractions_known_ = true;
+    if (!fractions_known_) fractions_ = plane_fractions(input, options_, first_density_), fractions_known_ = true;
     return fractions_;
   }
   bool last() const { return attempt_ + 1 >= attempts_; }
@@ -141,14 +141,14 @@ class RetryPlan {
   // coordinate axis nearest the PCA axis instead (exactly planar caps), from fresh planes.
   void fall_back_to_coordinate_axis() {
     if (options_.axis != CutAxis::pca || attempt_ < attempts_ / 2) return;
-    options_.axis = first_options_.axis = CutAxis::coordinate_near_pca;
+    options_.axis = CutAxis::coordinate_near_pca;
     std::fill(options_.plane_shifts.begin(), options_.plane_shifts.end(), 0);
     fractions_known_ = false;
     log::warning("the PCA cut planes kept failing; cutting along the coordinate axis nearest to it instead");
   }
 
   MeshOptions options_;
-  MeshOptions first_options_;  // as asked for, on the current axis
+  double first_density_;  // the cap density asked for
   std::vector<double> fractions_;
   bool fractions_known_ = false;
   int attempts_;
@@ -282,7 +282,7 @@ PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& optio
   StageTimer timer(times);
   PreparedPieces prepared;
   ClosureStream stream(input, options, prepared);
-  stream.partition(plane_fractions(input, options));
+  stream.partition(plane_fractions(input, options, options.density));
   timer.lap("partition");
   stream.close([](const PieceSurface&) {});
   timer.lap("closure");

@@ -160,19 +160,13 @@ class RootScheduler : public PieceScheduler {
       return pieces_[a]->triangles.size() > pieces_[b]->triangles.size();
     });
     const bool root_meshes = runner_.runs_in_background() || size_ == 1;
-    deliver(arrived);  // the outcomes that came in during the closure
     while (remaining_ > 0) {
       dispatch();
       if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
+      deliver(arrived);  // once every free rank (this one too) has its next piece
       bool progress = receive_reply();
       if (own_ && own_->poll(0)) progress = finish_own_piece();
       check_workers_answer();
-      if (progress) {
-        // Free ranks (this one too) get their next piece before the outcome is taken in.
-        dispatch();
-        if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
-        deliver(arrived);
-      }
       // Idle: sleep in the kernel (on the child's pipe when there is one) between looks at
       // MPI, so this process leaves its core to the TetGen processes.
       if (!progress) {
