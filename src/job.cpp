@@ -146,6 +146,18 @@ std::string report_json(const JobSummary& s) {
                       {"cap_triangles", s.result.cap_triangles},
                       {"output_vertices", s.result.mesh.points.size()},
                       {"output_tets", s.result.mesh.tets.size()}};
+  const PolishStats& polish = s.result.polish;
+  report["polish"] = {{"enabled", polishes(s.job.options)},
+                      {"poor_tets_before", polish.poor_before},
+                      {"poor_tets_after", polish.poor_after},
+                      {"regions", polish.regions},
+                      {"regions_improved", polish.improved},
+                      {"tets_replaced", polish.tets_in},
+                      {"tets_new", polish.tets_out},
+                      {"min_dihedral_deg_before", polish.min_dihedral_before},
+                      {"min_dihedral_deg_after", polish.min_dihedral_after},
+                      {"amips_max_before", polish.amips_max_before},
+                      {"amips_max_after", polish.amips_max_after}};
   report["retries"] = nlohmann::json::array();
   for (const auto& r : s.result.retries)
     report["retries"].push_back({{"attempt", r.attempt}, {"reason", r.reason}, {"planes_moved", r.planes}});
@@ -212,6 +224,14 @@ void print_summary(const JobSummary& s) {
   double worst = 0;
   for (const auto& r : s.ranks) worst = std::max({worst, r.peak_rss_mb, r.tetgen_child_peak_rss_mb});
   log::info(stages + format("; peak RSS %.0f MB (largest process)", worst));
+  const PolishStats& polish = s.result.polish;
+  if (polish.poor_before > 0)
+    log::info(format("polish: %lld poor tets -> %lld (%lld of %lld neighbourhoods kept); min dihedral %.2f -> %.2f deg, "
+                     "AMIPS max %.1f -> %.1f",
+                     static_cast<long long>(polish.poor_before), static_cast<long long>(polish.poor_after),
+                     static_cast<long long>(polish.improved), static_cast<long long>(polish.regions),
+                     polish.min_dihedral_before, polish.min_dihedral_after, polish.amips_max_before,
+                     polish.amips_max_after));
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
   if (s.job.check_output) {
     char text[96];

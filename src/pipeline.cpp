@@ -294,15 +294,28 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   StageTimer timer(times);
   MeshResult result;
   result.mesh = std::move(welded);
-  // The regions around the seams are meshed like pieces, on every rank.
-  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
-    scheduler.begin_round(options.tetgen);
+  // The regions around the seams and the polish's neighbourhoods are meshed like pieces, on
+  // every rank.
+  auto mesh_regions = [&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+    scheduler.begin_round(tetgen);
     for (const auto& region : regions) scheduler.submit(region);
     return scheduler.end_round_all();
   };
-  const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 1 : 0};
+  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
+    return mesh_regions(regions, options.tetgen);
+  };
+  const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
   result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
   timer.lap("seam_healing");
+  if (polishes(options)) {
+    const PolishMesher polisher = [&](const std::vector<PieceSurface>& regions, const std::string& optimization) {
+      TetgenOptions tetgen = options.tetgen;
+      tetgen.optimization = optimization;
+      return mesh_regions(regions, tetgen);
+    };
+    result.polish = polish_poor_tets(result.mesh, PolishOptions(), polisher);
+    timer.lap("polish");
+  }
   result.boundary_faces = input_in_output_numbering(input);
   result.cut_vertices_inserted = prepared.split.cut_vertex_count();
   result.planes = prepared.planes;

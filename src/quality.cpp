@@ -111,6 +111,20 @@ double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Poi
   return trace / std::cbrt(det_j * det_j);
 }
 
+TetShape tet_shape(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  const Point3* p[4] = {&a, &b, &c, &d};
+  TetMeasures m{};
+  dihedral_cosines(p, m);
+  return {amips_energy(a, b, c, d), std::acos(m.largest_cos) * 180 / kPi};
+}
+
+double amips_lower_bound(double dihedral_deg) {
+  if (!(dihedral_deg > 0)) return std::numeric_limits<double>::infinity();
+  const double half_regular = std::atan(std::sqrt(0.5));  // half of acos(1/3), the regular tet's angle
+  const double k = std::tan(half_regular) / std::tan(std::min(dihedral_deg, 70.0) * kPi / 360);
+  return 1.5 * std::cbrt(2.0) * std::pow((k * k + 1) / k, 2.0 / 3.0);
+}
+
 MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size_t)>& include) {
   static const double kCos5 = std::cos(5 * kPi / 180), kCos175 = std::cos(175 * kPi / 180);
   MeshQuality q;

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <set>
 #include <string>
 #include <unordered_map>
 
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
+#include "tet_region.hpp"
 #include "topology.hpp"
 
 namespace partet {
@@ -47,24 +49,11 @@ FragmentParents fragment_parents(const SplitSurface& split) {
 
 // One connected part of the region: the closed surface around it and its new tets.
 struct Part {
-  std::vector<Triangle> faces;        // its boundary, global ids, then local ids once closed
+  std::vector<Triangle> faces;        // its boundary, global ids
   std::vector<std::int32_t> parents;  // input triangles replacing its boundary fragments
   std::vector<int> planes;            // cut planes of its cut vertices
-  std::vector<std::int32_t> ids;      // local id -> global id
-  LocalTetMesh mesh;
+  RegionMesh remeshed;
 };
-
-// Adds to the region every tet sharing a vertex with a tet t for which from(t) holds.
-template <class From>
-void add_layer(const TetMesh& mesh, From from, std::vector<char>& in_region) {
-  std::vector<char> touched(mesh.points.size(), 0);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (from(t))
-      for (auto v : mesh.tets[t]) touched[v] = 1;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (auto v : mesh.tets[t])
-      if (touched[v]) in_region[t] = 1;
-}
 
 // Splits the region into parts, numbered in tet order. Removed vertices that share a tet are in
 // one part (a vertex's whole star must be re-meshed at once); tets without a removed vertex join
@@ -150,12 +139,13 @@ void sort_unique(std::vector<T>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-// Closes a part's boundary with its input triangles and numbers it locally.
-void close_part(Part& part, const SurfaceMesh& input, std::vector<std::int32_t>& scratch) {
+// Closes a part's boundary with its input triangles; its surface for TetGen.
+PieceSurface close_part(Part& part, const TetMesh& mesh, const SurfaceMesh& input, int index,
+                        std::vector<std::int32_t>& scratch) {
   sort_unique(part.parents);
   for (auto f : part.parents) part.faces.push_back(input.triangles[f]);
   sort_unique(part.planes);
-  part.ids = renumber_locally(part.faces, scratch);
+  return region_surface(part.faces, mesh, index, part.remeshed.ids, scratch);
 }
 
 // Re-meshed regions by content: after a region grows, the regions it did not touch come back
@@ -184,15 +174,9 @@ std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& me
   std::vector<std::size_t> in_batch;
   for (std::size_t c = 0; c < parts.size(); ++c) {
     Part& part = parts[c];
-    close_part(part, input, scratch);
-    PieceSurface& region = regions[c];
-    region.index = static_cast<int>(c);
-    region.seam_region = true;
-    region.triangles = part.faces;
-    region.global_ids = part.ids;
-    for (auto id : part.ids) region.points.push_back(mesh.points[id]);
+    PieceSurface& region = regions[c] = close_part(part, mesh, input, static_cast<int>(c), scratch);
     if (const LocalTetMesh* known = cache.find(region)) {
-      part.mesh = *known;
+      part.remeshed.mesh = *known;
     } else {
       batch.push_back(region);
       in_batch.push_back(c);
@@ -211,8 +195,8 @@ std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& me
                " triangles, " + std::to_string(parts[c].planes.size()) + " cut(s) -> " +
                std::to_string(outcomes[i].result.mesh.tets.size()) + " tets in " + std::to_string(outcomes[i].seconds) +
                " s");
-    parts[c].mesh = std::move(outcomes[i].result.mesh);
-    cache.keep(regions[c], parts[c].mesh);
+    parts[c].remeshed.mesh = std::move(outcomes[i].result.mesh);
+    cache.keep(regions[c], parts[c].remeshed.mesh);
   }
   std::sort(failed.begin(), failed.end());
   return failed;
@@ -231,70 +215,24 @@ void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component
       in_region);
 }
 
-// Replaces the region's tets by the parts' new tets. Tets outside the region keep their order
-// and their neighbours among themselves; faces towards the region are joined to the new tets.
-void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<Part>& parts) {
-  std::vector<char> kept(in_region.size());
-  for (std::size_t t = 0; t < in_region.size(); ++t) kept[t] = !in_region[t];
-  const std::vector<std::int32_t> new_index = compact_ids(kept);
-  std::vector<Tet> tets, neighbours;
-  std::vector<std::int32_t> piece;
-  const bool has_piece = mesh.piece.size() == mesh.tets.size();
-  tets.reserve(mesh.tets.size());
-  neighbours.reserve(mesh.tets.size());
-  std::vector<std::int32_t> seam;  // tets whose faces must be joined: kept ones next to the region, and new ones
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    if (in_region[t]) continue;
-    Tet nb;
-    bool next_to_region = false;
-    for (int j = 0; j < 4; ++j) {
-      const auto old = mesh.neighbours[t][j];
-      nb[j] = old >= 0 ? new_index[old] : -1;
-      next_to_region = next_to_region || (old >= 0 && in_region[old]);
-    }
-    if (next_to_region) seam.push_back(static_cast<std::int32_t>(tets.size()));
-    tets.push_back(mesh.tets[t]);
-    neighbours.push_back(nb);
-    if (has_piece) piece.push_back(mesh.piece[t]);
-  }
-  for (const Part& part : parts) {
-    const std::int32_t base = append_local_mesh(part.mesh, part.ids, mesh.points, tets, neighbours);
-    for (std::size_t r = 0; r < part.mesh.tets.size(); ++r) seam.push_back(base + static_cast<std::int32_t>(r));
-    if (has_piece) piece.resize(tets.size(), -1);  // made by the re-meshing, not by a piece
-  }
-  connect_open_faces(tets, neighbours, &seam);
-  mesh.tets = std::move(tets);
-  mesh.neighbours = std::move(neighbours);
-  mesh.piece = std::move(piece);
-}
-
-// Drops unused points (the removed vertices, and input vertices no triangle uses), keeping order.
-void drop_unused_points(TetMesh& mesh, const Removed& removed, SeamStats& stats) {
-  const std::vector<char> used = used_vertices(mesh.points.size(), mesh.tets);
-  const std::vector<std::int32_t> new_id = compact_ids(used);
-  std::vector<Point3> points;
-  points.reserve(mesh.points.size());
-  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
-    if (used[v])
-      points.push_back(mesh.points[v]);
-    else if (removed.is_cut_vertex(static_cast<std::int32_t>(v)))
+// Counts the removed vertices gone from the mesh and drops them (and input vertices no
+// triangle uses), keeping order.
+void drop_removed_points(TetMesh& mesh, const Removed& removed, SeamStats& stats) {
+  const std::vector<char> used = drop_unused_points(mesh);
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    const auto id = static_cast<std::int32_t>(v);
+    if (used[v] && removed.contains(id)) throw InternalError("seam healing left a vertex it had to remove in the mesh");
+    if (used[v]) continue;
+    if (removed.is_cut_vertex(id))
       ++stats.cut_vertices_removed;
-    else if (removed.contains(static_cast<std::int32_t>(v)))
+    else if (removed.contains(id))
       ++stats.cap_points_removed;
   }
-  for (auto& t : mesh.tets)
-    for (auto& v : t) {
-      if (removed.contains(v)) throw InternalError("seam healing left a vertex it had to remove in the mesh");
-      v = new_id[v];
-    }
-  mesh.points = std::move(points);
 }
 
-// Two rounds, so that neighbouring cuts heal in different rounds: where the pieces are thin, tets
-// join the stars of two cuts, and healing both at once would be one large region on one rank.
-// Cuts that split one input triangle between them must heal together (the triangle returns
-// whole), so those form a group, and groups alternate rounds.
-std::vector<int> rounds_of_planes(const SplitSurface& split) {
+// Groups of cuts that must heal together: cuts that split one input triangle between them (the
+// triangle returns whole).
+std::vector<int> groups_of_planes(const SplitSurface& split) {
   int planes = 0;
   for (auto p : split.cut_vertex_plane) planes = std::max(planes, p + 1);
   for (auto p : split.cap_point_plane) planes = std::max(planes, p + 1);
@@ -308,12 +246,90 @@ std::vector<int> rounds_of_planes(const SplitSurface& split) {
         for (int j = std::min(it->second, plane) + 1; j <= std::max(it->second, plane); ++j) joined_to_previous[j] = 1;
         it->second = std::min(it->second, plane);
       }
-  std::vector<int> round(static_cast<std::size_t>(planes), 0);
-  int group = 0;
-  for (int j = 0; j < planes; ++j) {
-    if (j > 0 && !joined_to_previous[j]) ++group;
-    round[j] = group % 2;
+  std::vector<int> group(static_cast<std::size_t>(planes), 0);
+  for (int j = 1; j < planes; ++j) group[j] = group[j - 1] + (joined_to_previous[j] ? 0 : 1);
+  return group;
+}
+
+// How the groups' stars lie: the pairs that meet (a tet has removed vertices of both: thin
+// pieces), and each group's star size in tets.
+struct GroupStars {
+  std::set<std::pair<int, int>> meet;
+  std::vector<std::int64_t> tets;
+};
+
+GroupStars group_stars(const TetMesh& mesh, const Removed& removed, const std::vector<int>& group, int groups) {
+  GroupStars stars;
+  stars.tets.assign(static_cast<std::size_t>(groups), 0);
+  for (const Tet& t : mesh.tets) {
+    int found[4], count = 0;
+    for (auto v : t)
+      if (removed.contains(v)) found[count++] = group[removed.plane_of(v)];
+    for (int i = 0; i < count; ++i) {
+      bool first = true;
+      for (int j = 0; j < i; ++j) first = first && found[j] != found[i];
+      if (first) ++stars.tets[found[i]];
+      for (int j = 0; j < count; ++j)
+        if (found[i] < found[j]) stars.meet.emplace(found[i], found[j]);
+    }
   }
+  return stars;
+}
+
+// The largest part the stars form (tets of removed vertices sharing a tet join one part), with
+// the stars of different groups allowed to join or not.
+std::int64_t largest_star_part(const TetMesh& mesh, const Removed& removed, const std::vector<int>& group,
+                               bool across_groups) {
+  std::vector<std::int32_t> root(static_cast<std::size_t>(removed.end - removed.first));
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](std::int32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  auto group_of = [&](std::int32_t v) { return group[removed.plane_of(v)]; };
+  for (const Tet& t : mesh.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (removed.contains(t[i]) && removed.contains(t[j]) && (across_groups || group_of(t[i]) == group_of(t[j])))
+          root[find(t[i] - removed.first)] = find(t[j] - removed.first);
+  std::vector<std::int64_t> tets(root.size(), 0);
+  for (const Tet& t : mesh.tets)
+    for (auto v : t)
+      if (removed.contains(v)) {
+        ++tets[find(v - removed.first)];
+        break;
+      }
+  return tets.empty() ? 0 : *std::max_element(tets.begin(), tets.end());
+}
+
+// The round each cut heals in. The regions of different cuts are separate parts, meshed in
+// parallel, so all cuts heal in one round unless the stars of groups meet (a tet has removed
+// vertices of both: thin pieces) in a way that makes one part larger than any cut's alone
+// (where two cuts pass close through an ear, that small part does not count).
+// Then groups take, largest star first, the first round no group they meet has taken, so the
+// largest regions heal in the first round beside the others, not alone in a later one.
+std::vector<int> rounds_of_planes(const TetMesh& mesh, const Removed& removed, const SplitSurface& split,
+                                  int& round_count) {
+  const std::vector<int> group = groups_of_planes(split);
+  const int groups = group.empty() ? 0 : group.back() + 1;
+  const GroupStars stars = group_stars(mesh, removed, group, groups);
+  round_count = groups > 0 ? 1 : 0;
+  if (largest_star_part(mesh, removed, group, true) <= largest_star_part(mesh, removed, group, false))
+    return std::vector<int>(group.size(), 0);
+  std::vector<int> order(static_cast<std::size_t>(groups));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return stars.tets[a] > stars.tets[b]; });
+  std::vector<int> round_of_group(static_cast<std::size_t>(groups), -1);
+  for (int g : order) {
+    std::set<int> taken;
+    for (int h = 0; h < groups; ++h)
+      if (round_of_group[h] >= 0 && stars.meet.count({std::min(g, h), std::max(g, h)})) taken.insert(round_of_group[h]);
+    round_of_group[g] = 0;
+    while (taken.count(round_of_group[g])) ++round_of_group[g];
+    round_count = std::max(round_count, round_of_group[g] + 1);
+  }
+  std::vector<int> round(group.size());
+  for (std::size_t j = 0; j < group.size(); ++j) round[j] = round_of_group[group[j]];
   return round;
 }
 
@@ -331,9 +347,7 @@ void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
     for (auto v : mesh.tets[t])
       if (removed.contains(v)) in_region[t] = 1, any = true;
   if (!any) return;
-  for (int layer = 0; layer < options.layers; ++layer)
-    add_layer(
-        mesh, [&](std::size_t t) { return in_region[t] != 0; }, in_region);
+  for (int layer = 0; layer < options.layers; ++layer) add_face_layer(mesh, in_region);
 
   constexpr int kMaxGrowth = 3;
   std::vector<std::int32_t> component;
@@ -357,7 +371,10 @@ void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
     grow_region(mesh, component, failed, in_region);
   }
   stats.regions += static_cast<std::int64_t>(parts.size());
-  replace_region(mesh, in_region, parts);
+  std::vector<RegionMesh> remeshed;
+  remeshed.reserve(parts.size());
+  for (Part& part : parts) remeshed.push_back(std::move(part.remeshed));
+  replace_region(mesh, in_region, remeshed);
 }
 
 }  // namespace
@@ -370,13 +387,14 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
       split.input_vertex_count, first_cap,
       first_cap + (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0), split};
   const FragmentParents parent_of = fragment_parents(split);
-  const std::vector<int> round_of_plane = rounds_of_planes(split);
+  int rounds = 0;
+  const std::vector<int> round_of_plane = rounds_of_planes(mesh, all, split, rounds);
   // The piece array marks re-meshed tets (-1), so the figures count each tet once even when the
   // second round re-meshes tets of the first.
   const bool had_pieces = mesh.piece.size() == mesh.tets.size();
   if (!had_pieces) mesh.piece.assign(mesh.tets.size(), 0);
   const std::int64_t tets_before = static_cast<std::int64_t>(mesh.tets.size());
-  for (int round = 0; round < 2; ++round) {
+  for (int round = 0; round < rounds; ++round) {
     Removed removed = all;
     removed.round_of_plane = &round_of_plane;
     removed.round = round;
@@ -385,7 +403,7 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
   stats.tets_in = tets_before - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
   if (!had_pieces) std::vector<std::int32_t>().swap(mesh.piece);
-  drop_unused_points(mesh, all, stats);
+  drop_removed_points(mesh, all, stats);
   return stats;
 }
 

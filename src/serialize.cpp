@@ -125,10 +125,11 @@ PieceSurface deserialize_piece(std::string_view bytes) {
 }
 
 std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
-  return encode(piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size(), [&](auto& ar) {
+  const std::size_t bytes = piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
+  return encode(bytes, [&](auto& ar) {
     save_piece(ar, piece);
     const std::int32_t seam_region = piece.seam_region ? 1 : 0;
-    ar << tetgen.quality << tetgen.tolerance << seam_region;
+    ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region;
   });
 }
 
@@ -136,7 +137,7 @@ PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
   return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
     load_piece(ar, piece);
     std::int32_t seam_region = 0;
-    ar >> tetgen.quality >> tetgen.tolerance >> seam_region;
+    ar >> tetgen.quality >> tetgen.tolerance >> tetgen.optimization >> seam_region;
     piece.seam_region = seam_region != 0;
   });
 }

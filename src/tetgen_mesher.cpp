@@ -81,6 +81,7 @@ RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle
   std::string switches = "pYzQn";
   if (!options.quality.empty()) switches += "q" + options.quality;
   if (!options.tolerance.empty()) switches += "T" + options.tolerance;
+  if (!options.optimization.empty()) switches += "O" + options.optimization;
   try {
     tetrahedralize(switches.data(), &in, &out);
   } catch (int code) {

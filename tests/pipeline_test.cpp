@@ -155,6 +155,27 @@ TEST(MeshSurface, CapDensity) {
   expect_meshes(generate_surface("nested", 2000), options_for(2, 2.0));
 }
 
+// Caps without interior points (--density 0) and no quality bound: no output vertex lies on a
+// cut plane except input vertices (the planes are coordinate planes, so "on" is exact), and the
+// mesh has about TetGen's own tets.
+TEST(MeshSurface, CapsWithoutPointsLeaveNoPointOnACut) {
+  for (const char* name : {"genus3", "nested"}) {
+    SCOPED_TRACE(name);
+    const SurfaceMesh s = generate_surface(name, 4000);
+    const MeshResult r = expect_meshes(s, options_for(4, 0.0));
+    ASSERT_EQ(r.planes.size(), 3u);
+    EXPECT_EQ(r.seam.cap_points_removed, 0);
+    for (std::size_t v = s.points.size(); v < r.mesh.points.size(); ++v)
+      for (const CutPlane& plane : r.planes)
+        EXPECT_NE(r.mesh.points[v][0] * plane.normal[0] + r.mesh.points[v][1] * plane.normal[1] +
+                      r.mesh.points[v][2] * plane.normal[2],
+                  plane.offset)
+            << "output vertex " << v << " lies on a cut plane";
+    const std::size_t tetgen_tets = mesh_closed_surface(s.points, s.triangles, TetgenOptions()).tets.size();
+    EXPECT_LE(static_cast<double>(r.mesh.tets.size()), 1.05 * static_cast<double>(tetgen_tets));
+  }
+}
+
 TEST(MeshSurface, PcaAxisAndQuality) {
   MeshOptions o = options_for(3);
   o.axis = CutAxis::pca;

@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <limits>
+#include <random>
 
 namespace partet {
 namespace {
@@ -43,6 +46,35 @@ TEST(Quality, FlatTetIsInfinitelyBad) {
   EXPECT_GT(q.max_dihedral_deg, 175);
   EXPECT_EQ(q.below_5deg, 1);
   EXPECT_EQ(q.above_175deg, 1);
+}
+
+// The bound the polish scan relies on: no tet with a dihedral angle below theta has an AMIPS
+// energy below amips_lower_bound(theta). Random tets, squashed along random axes so that slivers,
+// needles, caps and wedges all occur.
+TEST(Quality, AmipsLowerBoundHoldsForEveryShape) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> gauss;
+  std::uniform_int_distribution<int> squash(0, 4);
+  const double scales[] = {1, 1, 0.1, 0.01, 0.001};
+  int slivers = 0;
+  double tightest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 100000; ++i) {
+    const Point3 scale = {scales[squash(random)], scales[squash(random)], scales[squash(random)]};
+    std::array<Point3, 4> p;
+    for (auto& q : p) q = {gauss(random) * scale[0], gauss(random) * scale[1], gauss(random) * scale[2]};
+    if (std::isinf(amips_energy(p[0], p[1], p[2], p[3]))) std::swap(p[0], p[1]);
+    const TetShape s = tet_shape(p[0], p[1], p[2], p[3]);
+    if (std::isinf(s.amips) || !(s.min_dihedral_deg > 1e-6)) continue;
+    const double bound = amips_lower_bound(s.min_dihedral_deg);
+    ASSERT_GE(s.amips, bound * (1 - 1e-12)) << "min dihedral " << s.min_dihedral_deg;
+    tightest = std::min(tightest, s.amips / bound);
+    slivers += s.min_dihedral_deg < 5;
+  }
+  EXPECT_GT(slivers, 1000);
+  EXPECT_LT(tightest, 1.01);  // and it is nearly attained: a useful bound, not a loose one
+  EXPECT_NEAR(amips_lower_bound(5), 12.13, 0.01);
+  EXPECT_NEAR(amips_lower_bound(std::acos(1.0 / 3.0) * 180 / M_PI), 3.0, 0.01);  // the regular tet
+  EXPECT_TRUE(std::isinf(amips_lower_bound(0)));
 }
 
 TEST(Quality, SubsetAndSeamZone) {

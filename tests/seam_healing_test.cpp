@@ -161,13 +161,13 @@ TEST(HealSeams, WithoutHealingCapsKeepTheirInteriorPoints) {
 }
 
 TEST(HealSeams, WithQualityEachCutHealsOnItsOwnWithALayerOfRoom) {
-  // With a quality bound the stars grow by a layer; the cuts, far apart, still heal as separate
+  // With a quality bound the stars grow by two layers; the cuts, far apart, still heal as separate
   // regions (so on separate ranks), and the result is a valid mesh without cap points.
   const SurfaceMesh input = generate_surface("sphere", 4000);
   const Stage s = prepare(input, 3, 1.0, "1.414");
   TetMesh mesh = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
   TetMesh unlayered = mesh;
-  const SeamStats layered = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 1}, here(s.options));
+  const SeamStats layered = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 2}, here(s.options));
   const SeamStats stars = heal_seams(unlayered, input, s.prepared.split, HealOptions{true, 0}, here(s.options));
   EXPECT_GE(layered.regions, 2);
   EXPECT_GT(layered.tets_in, stars.tets_in);

@@ -70,6 +70,23 @@ TEST(Serialize, RealPiecesAndResultsRoundTrip) {
   }
 }
 
+TEST(Serialize, TaskCarriesEveryTetgenOption) {
+  const Real r = real_pieces();
+  PieceSurface region = r.prepared.pieces[0];
+  region.seam_region = true;
+  TetgenOptions sent;
+  sent.quality = "1.414/10";
+  sent.tolerance = "1e-16";
+  sent.optimization = "9/7";
+  TetgenOptions received;
+  const PieceSurface back = deserialize_task(serialize_task(region, sent), received);
+  expect_same(back, region);
+  EXPECT_TRUE(back.seam_region);
+  EXPECT_EQ(received.quality, sent.quality);
+  EXPECT_EQ(received.tolerance, sent.tolerance);
+  EXPECT_EQ(received.optimization, sent.optimization);
+}
+
 TEST(Serialize, SpecialValuesAndNegativeIds) {
   PieceSurface piece;
   piece.index = 2147483647;

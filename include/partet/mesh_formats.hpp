@@ -35,9 +35,9 @@ struct MeshOutput {
 };
 
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
-// that meshed the tet, -1: re-meshed around a cut) and "region" (the connected solid it belongs
+// that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it belongs
 // to, from 1). With only_piece other than kAllPieces, just the tets with that piece value (-1:
-// the re-meshed seams) and the points they use.
+// the re-meshed tets) and the points they use.
 constexpr int kAllPieces = std::numeric_limits<int>::min();
 void write_vtu(const MeshOutput& output, const std::string& path, int only_piece = kAllPieces);
 

@@ -30,7 +30,7 @@ struct TetMesh {
   std::vector<Tet> tets;
   std::vector<Tet> neighbours;
   // Optional (empty, or one entry per tet): the piece whose TetGen run made the tet; -1 for the
-  // tets re-meshed around the cuts.
+  // tets re-meshed after the merge (around the cuts, or by the polish).
   std::vector<std::int32_t> piece;
 };
 

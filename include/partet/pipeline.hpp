@@ -10,6 +10,7 @@
 #include "partet/partition.hpp"
 #include "partet/piece.hpp"
 #include "partet/piece_runner.hpp"
+#include "partet/polish.hpp"
 #include "partet/seam_healing.hpp"
 #include "partet/stage_timer.hpp"
 #include "partet/tetgen_mesher.hpp"
@@ -37,6 +38,7 @@ struct MeshOptions {
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
   int max_attempts = 6;           // partitions tried before giving up, plus one per 4 pieces beyond the first
   Heal heal = Heal::automatic;
+  bool polish = true;  // re-mesh the neighbourhoods of poor tets (with a quality bound only)
   TetgenOptions tetgen;
   RunOptions run;
 };
@@ -45,6 +47,10 @@ struct MeshOptions {
 inline bool heals(const MeshOptions& options) {
   return options.heal == Heal::on || (options.heal == Heal::automatic && !options.tetgen.quality.empty());
 }
+
+// Whether these options polish the poor tets: only with a quality bound, since without one
+// TetGen's tets are left as Delaunay made them on purpose and most are "poor".
+inline bool polishes(const MeshOptions& options) { return options.polish && !options.tetgen.quality.empty(); }
 
 // One attempt's partition and closure.
 struct PreparedPieces {
@@ -71,6 +77,7 @@ struct MeshResult {
   std::vector<CutPlane> planes;          // the cut planes used (around them: the seam zone)
   std::vector<Triangle> boundary_faces;  // the input triangles, in output numbering
   SeamStats seam;
+  PolishStats polish;
   std::int64_t cut_vertices_inserted = 0;
   std::int64_t cap_triangles = 0;
   int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)

@@ -32,6 +32,21 @@ MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size
 // flat or inverted one).
 double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
 
+// The two measures by which the polish picks its tets: the AMIPS energy and the smallest
+// dihedral angle (degrees; 0 for a flat or degenerate tet).
+struct TetShape {
+  double amips;
+  double min_dihedral_deg;
+};
+TetShape tet_shape(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
+// The least AMIPS energy of a tet with a dihedral angle below `dihedral_deg` (or above 180 deg
+// minus it): such a tet is the regular tet (face normals 70.53 deg apart as lines) under a map
+// of condition number k >= tan(35.26 deg) / tan(dihedral / 2), and AMIPS >= 1.5 cbrt(2)
+// ((k^2 + 1) / k)^(2/3). Lets a scan skip the dihedral angles of tets below this energy
+// (12.1 for 5 deg).
+double amips_lower_bound(double dihedral_deg);
+
 // The seam zone: the tets that cross or touch a cut plane (where two pieces met).
 std::vector<char> seam_zone(const TetMesh& mesh, const std::vector<CutPlane>& planes);
 

@@ -14,6 +14,9 @@ struct TetgenOptions {
   // "" = TetGen's default; else TetGen's -T (the tolerance of its coplanarity test). A retry uses
   // a tiny one when TetGen calls a valid input self-intersecting (very thin solids).
   std::string tolerance;
+  // "" = TetGen's default (level 2, every scheme); else TetGen's -O value "LEVEL/SCHEMES". The
+  // polish uses the most thorough one, "9/7", on small neighbourhoods only.
+  std::string optimization;
 };
 
 // Checks a quality bound before it reaches TetGen: "R" or "R/ANGLE", plain decimal numbers with

@@ -149,7 +149,7 @@ struct CommandLine {
   partet::MeshJob job;
   std::string quality, axis = "auto", balance = "cost";
   std::vector<std::string> formats;
-  bool quiet = false, verbose = false, heal = false, no_heal = false;
+  bool quiet = false, verbose = false, heal = false, no_heal = false, no_polish = false;
   std::string check_input, check_prefix, check_report;
   bool check_json = false;
   std::string shape, generate_output;
@@ -206,6 +206,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
           "--no-heal", c.no_heal,
           "keep the caps' interior points, remove only the cut vertices on input edges (default without --quality)")
       ->excludes(heal);
+  mesh->add_flag("--no-polish", c.no_polish,
+                 "with --quality, do not re-mesh the neighbourhoods of the poorest tets (dihedral angle < 5 deg or "
+                 "AMIPS > 30) after healing");
   mesh->add_option("--report", job.report_path,
                    "write a JSON report: stage times and memory, per-rank and per-piece figures, counts, retries, "
                    "cut planes (with --check also the quality, overall and at the seams)");
@@ -417,6 +420,7 @@ int main(int argc, char** argv) {
   }
   choose_formats(c.formats, c.job);
   c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
+  c.job.options.polish = !c.no_polish;
   c.job.options.balance = c.balance == "vertices" ? partet::Balance::vertices : partet::Balance::cost;
   c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
   partet::log::set_level(c.quiet     ? partet::log::Level::quiet

@@ -24,7 +24,10 @@ namespace {
 
 constexpr int kTagPiece = 1;
 constexpr int kTagReply = 2;
-constexpr int kIdleMilliseconds = 5;  // how long rank 0 sleeps between looks at MPI when idle
+// How long rank 0 sleeps between looks at MPI when idle: the pause doubles from the shortest to
+// the longest while nothing happens, so replies to small regions (seams, polish) are taken at
+// once and long pieces still leave the core to the TetGen processes.
+constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
 enum Command : int { kDone = 0, kMeshPieces = 1 };
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
@@ -160,6 +163,7 @@ class RootScheduler : public PieceScheduler {
       return pieces_[a]->triangles.size() > pieces_[b]->triangles.size();
     });
     const bool root_meshes = runner_.runs_in_background() || size_ == 1;
+    std::chrono::microseconds idle = kShortestIdle;
     while (remaining_ > 0) {
       dispatch();
       if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
@@ -167,20 +171,27 @@ class RootScheduler : public PieceScheduler {
       bool progress = receive_reply();
       if (own_ && own_->poll(0)) progress = finish_own_piece();
       check_workers_answer();
-      // Idle: sleep in the kernel (on the child's pipe when there is one) between looks at
-      // MPI, so this process leaves its core to the TetGen processes.
-      if (!progress) {
-        if (own_)
-          own_->poll(kIdleMilliseconds);
-        else
-          std::this_thread::sleep_for(std::chrono::milliseconds(kIdleMilliseconds));
-      }
+      if (progress)
+        idle = kShortestIdle;
+      else
+        idle = sleep_idle(idle);
     }
     for (int w = 1; w < size_; ++w) send_piece(w, nullptr);  // round over
     deliver(arrived);
   }
 
  private:
+  // Sleeps in the kernel (on the child's pipe when there is one, which wakes it when the child
+  // is done) between looks at MPI; returns the next pause.
+  std::chrono::microseconds sleep_idle(std::chrono::microseconds pause) {
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(pause);
+    if (own_ && ms.count() > 0)
+      own_->poll(static_cast<int>(ms.count()));
+    else
+      std::this_thread::sleep_for(pause);
+    return std::min(pause * 2, kLongestIdle);
+  }
+
   void dispatch() {
     while (!idle_.empty() && !queue_.empty()) {
       const int worker = idle_.back();
