@@ -138,10 +138,10 @@ TetShape shape_in(const RegionMesh& batch, const TetMesh& mesh, const Tet& t) {
 
 // Neighbourhoods are meshed in batches, one TetGen run per batch with one shell per
 // neighbourhood: a run's fixed cost (a process forked from a large one, a message) is ten times
-// what meshing one neighbourhood costs. Batches close at this many triangles, so there are still
-// several to spread over the ranks when there are many neighbourhoods. Made in neighbourhood
-// order, so they do not depend on the number of ranks.
-constexpr std::size_t kBatchTriangles = 10000;
+// what meshing one neighbourhood costs. Batches close at this many triangles, so that several
+// spread over the ranks when there is much to re-mesh. Made in neighbourhood order, so they do
+// not depend on the number of ranks.
+constexpr std::size_t kBatchTriangles = 4000;
 
 std::vector<std::vector<std::size_t>> batches_of(const std::vector<Neighbourhood>& parts) {
   std::vector<std::vector<std::size_t>> batches;
@@ -152,6 +152,15 @@ std::vector<std::vector<std::size_t>> batches_of(const std::vector<Neighbourhood
     triangles += parts[c].faces.size();
   }
   return batches;
+}
+
+// A batch fails as a whole when one of its neighbourhoods does: its halves are tried next, so
+// the one that fails is found in a few rounds rather than one run per neighbourhood.
+void split_in_halves(const std::vector<std::size_t>& batch, std::vector<std::vector<std::size_t>>& next) {
+  if (batch.size() < 2) return;
+  const auto middle = batch.begin() + static_cast<std::ptrdiff_t>(batch.size() / 2);
+  next.emplace_back(batch.begin(), middle);
+  next.emplace_back(middle, batch.end());
 }
 
 // A batch's surface: the boundaries of its neighbourhoods, numbered together. `face_part` gets
@@ -224,7 +233,7 @@ bool keep_better(const std::vector<std::size_t>& batch, const std::vector<Neighb
   return any;
 }
 
-// Re-meshes every neighbourhood (in batches; those of a batch that fails, one by one) and keeps
+// Re-meshes every neighbourhood (in batches; a batch that fails, in halves) and keeps
 // those that got better. Returns their new tets; in_region is cleared where a neighbourhood is
 // not kept.
 std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>& parts,
@@ -236,7 +245,7 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
   std::vector<RegionMesh> better;
   std::vector<std::int32_t> scratch(mesh.points.size(), -1);
   std::vector<std::vector<std::size_t>> batches = batches_of(parts);
-  for (int pass = 0; pass < 2 && !batches.empty(); ++pass) {
+  while (!batches.empty()) {
     std::vector<PieceSurface> surfaces(batches.size());
     std::vector<RegionMesh> results(batches.size());
     std::vector<std::vector<std::size_t>> face_part(batches.size());
@@ -246,7 +255,7 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
     std::vector<std::vector<std::size_t>> failed;
     for (std::size_t b = 0; b < batches.size(); ++b) {
       if (outcomes[b].failure) {
-        for (auto c : batches[b]) failed.push_back({c});
+        split_in_halves(batches[b], failed);
         continue;
       }
       results[b].mesh = std::move(outcomes[b].result.mesh);

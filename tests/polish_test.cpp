@@ -114,7 +114,7 @@ TEST(Polish, FailedNeighbourhoodsKeepTheirTets) {
   };
   const PolishStats stats = polish_poor_tets(mesh, strict(), failing);
   EXPECT_GT(stats.regions, 0);
-  EXPECT_GT(calls, 1);  // a failed batch is tried again one neighbourhood at a time
+  EXPECT_GT(calls, 1);  // a failed batch is tried again in halves
   EXPECT_EQ(stats.improved, 0);
   EXPECT_EQ(stats.poor_after, stats.poor_before);
   EXPECT_EQ(mesh.points, original.points);
