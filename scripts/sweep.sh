@@ -16,7 +16,8 @@ make_work_dir
 # One run: prints "model axis k result retries".
 run_one() {
   local model=$1 axis=$2 k=$3 out
-  out=$(mktemp -d -p "$work")
+  # Without its work directory (the sweep was stopped) a run must not write elsewhere.
+  out=$(mktemp -d -p "$work") || { echo "$(basename "$model" .off) $axis $k FAIL 0 no work directory"; return; }
   if timeout "${PARTET_TIMEOUT:-600}" "$partet" mesh "$model" -o "$out/m" --pieces "$k" --axis "$axis" \
        --report "$out/r.json" > "$out/log" 2>&1 && "$partet" check "$model" "$out/m" > "$out/check" 2>&1; then
     echo "$(basename "$model" .off) $axis $k ok $(grep -c '"attempt"' "$out/r.json")"
