@@ -305,11 +305,8 @@ PolishStats polish_poor_tets(TetMesh& mesh, const PolishOptions& options, const 
   stats.min_dihedral_before = stats.min_dihedral_after = worst.min_dihedral_deg;
   stats.amips_max_before = stats.amips_max_after = worst.amips;
   if (stats.poor_before == 0) return stats;
-  const bool had_pieces = mesh.piece.size() == mesh.tets.size();
-  if (!had_pieces) mesh.piece.assign(mesh.tets.size(), 0);
   for (int attempt = 0; attempt < options.attempts && stats.poor_after > 0; ++attempt)
     polish_attempt(mesh, options, is_poor, attempt, mesher, poor, stats);
-  if (!had_pieces) std::vector<std::int32_t>().swap(mesh.piece);
   drop_unused_points(mesh);
   mark_poor(mesh, is_poor, options, poor, worst);
   stats.min_dihedral_after = worst.min_dihedral_deg;

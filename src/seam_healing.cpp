@@ -33,6 +33,27 @@ struct Removed {
   }
 };
 
+// Sets of removed vertices (union-find): the stars that must be re-meshed together.
+class RemovedSets {
+ public:
+  explicit RemovedSets(const Removed& removed)
+      : first_(removed.first), root_(static_cast<std::size_t>(removed.end - removed.first)) {
+    std::iota(root_.begin(), root_.end(), 0);
+  }
+  std::size_t size() const { return root_.size(); }
+  // The set of removed vertex v, as an index below size().
+  std::int32_t find(std::int32_t v) {
+    std::int32_t x = v - first_;
+    while (root_[x] != x) x = root_[x] = root_[root_[x]];
+    return x;
+  }
+  void join(std::int32_t a, std::int32_t b) { root_[find(a)] = find(b); }
+
+ private:
+  std::int32_t first_;
+  std::vector<std::int32_t> root_;
+};
+
 using FragmentParents = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
 
 // Each split fragment of an input triangle (a triangle with a cut vertex), by its input triangle.
@@ -62,31 +83,25 @@ struct Part {
 // several regions, on several ranks. Returns the number of parts.
 std::int32_t label_parts(const TetMesh& mesh, const std::vector<char>& in_region, const Removed& removed,
                          std::vector<std::int32_t>& part_of) {
-  std::vector<std::int32_t> root(static_cast<std::size_t>(removed.end - removed.first));
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](std::int32_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
+  RemovedSets sets(removed);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     std::int32_t first = -1;
     for (auto v : mesh.tets[t])
       if (in_region[t] && removed.contains(v)) {
-        const std::int32_t r = find(v - removed.first);
         if (first < 0)
-          first = r;
+          first = v;
         else
-          root[r] = first;
+          sets.join(v, first);
       }
   }
   // Parts of the tets with removed vertices, then the others by breadth-first search.
   part_of.assign(mesh.tets.size(), -1);
-  std::vector<std::int32_t> number(root.size(), -1), frontier;
+  std::vector<std::int32_t> number(sets.size(), -1), frontier;
   std::int32_t count = 0;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
     for (auto v : mesh.tets[t])
       if (in_region[t] && removed.contains(v)) {
-        std::int32_t& n = number[find(v - removed.first)];
+        std::int32_t& n = number[sets.find(v)];
         if (n < 0) n = count++;
         part_of[t] = n;
         frontier.push_back(static_cast<std::int32_t>(t));
@@ -252,54 +267,53 @@ std::vector<int> groups_of_planes(const SplitSurface& split) {
 }
 
 // How the groups' stars lie: the pairs that meet (a tet has removed vertices of both: thin
-// pieces), and each group's star size in tets.
+// pieces), each group's star size in tets, and the largest part (tets sharing removed vertices)
+// the stars form when meeting groups heal together, and when each group heals alone.
 struct GroupStars {
   std::set<std::pair<int, int>> meet;
   std::vector<std::int64_t> tets;
+  std::int64_t largest_part_together = 0, largest_part_alone = 0;
 };
+
+// The size in tets of the largest set, each star tet counted in the set of its first removed
+// vertex.
+std::int64_t largest_part(const TetMesh& mesh, const std::vector<std::int32_t>& star_tets, const Removed& removed,
+                          RemovedSets& sets) {
+  std::vector<std::int64_t> tets(sets.size(), 0);
+  std::int64_t largest = 0;
+  for (auto t : star_tets)
+    for (auto v : mesh.tets[t])
+      if (removed.contains(v)) {
+        largest = std::max(largest, ++tets[sets.find(v)]);
+        break;
+      }
+  return largest;
+}
 
 GroupStars group_stars(const TetMesh& mesh, const Removed& removed, const std::vector<int>& group, int groups) {
   GroupStars stars;
   stars.tets.assign(static_cast<std::size_t>(groups), 0);
-  for (const Tet& t : mesh.tets) {
-    int found[4], count = 0;
-    for (auto v : t)
-      if (removed.contains(v)) found[count++] = group[removed.plane_of(v)];
+  RemovedSets together(removed), alone(removed);
+  std::vector<std::int32_t> star_tets;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    std::int32_t found[4];
+    int found_group[4], count = 0;
+    for (auto v : mesh.tets[t])
+      if (removed.contains(v)) found[count] = v, found_group[count++] = group[removed.plane_of(v)];
+    if (count > 0) star_tets.push_back(static_cast<std::int32_t>(t));
     for (int i = 0; i < count; ++i) {
-      bool first = true;
-      for (int j = 0; j < i; ++j) first = first && found[j] != found[i];
-      if (first) ++stars.tets[found[i]];
+      bool first_of_group = true;
+      for (int j = 0; j < i; ++j)
+        if (found_group[j] == found_group[i]) first_of_group = false, alone.join(found[i], found[j]);
+      if (first_of_group) ++stars.tets[found_group[i]];
+      if (i > 0) together.join(found[i], found[0]);
       for (int j = 0; j < count; ++j)
-        if (found[i] < found[j]) stars.meet.emplace(found[i], found[j]);
+        if (found_group[i] < found_group[j]) stars.meet.emplace(found_group[i], found_group[j]);
     }
   }
+  stars.largest_part_together = largest_part(mesh, star_tets, removed, together);
+  stars.largest_part_alone = largest_part(mesh, star_tets, removed, alone);
   return stars;
-}
-
-// The largest part the stars form (tets of removed vertices sharing a tet join one part), with
-// the stars of different groups allowed to join or not.
-std::int64_t largest_star_part(const TetMesh& mesh, const Removed& removed, const std::vector<int>& group,
-                               bool across_groups) {
-  std::vector<std::int32_t> root(static_cast<std::size_t>(removed.end - removed.first));
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](std::int32_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
-  auto group_of = [&](std::int32_t v) { return group[removed.plane_of(v)]; };
-  for (const Tet& t : mesh.tets)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j)
-        if (removed.contains(t[i]) && removed.contains(t[j]) && (across_groups || group_of(t[i]) == group_of(t[j])))
-          root[find(t[i] - removed.first)] = find(t[j] - removed.first);
-  std::vector<std::int64_t> tets(root.size(), 0);
-  for (const Tet& t : mesh.tets)
-    for (auto v : t)
-      if (removed.contains(v)) {
-        ++tets[find(v - removed.first)];
-        break;
-      }
-  return tets.empty() ? 0 : *std::max_element(tets.begin(), tets.end());
 }
 
 // The round each cut heals in. The regions of different cuts are separate parts, meshed in
@@ -314,8 +328,7 @@ std::vector<int> rounds_of_planes(const TetMesh& mesh, const Removed& removed, c
   const int groups = group.empty() ? 0 : group.back() + 1;
   const GroupStars stars = group_stars(mesh, removed, group, groups);
   round_count = groups > 0 ? 1 : 0;
-  if (largest_star_part(mesh, removed, group, true) <= largest_star_part(mesh, removed, group, false))
-    return std::vector<int>(group.size(), 0);
+  if (stars.largest_part_together <= stars.largest_part_alone) return std::vector<int>(group.size(), 0);
   std::vector<int> order(static_cast<std::size_t>(groups));
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return stars.tets[a] > stars.tets[b]; });
