@@ -85,16 +85,14 @@ std::int64_t mark_poor(const TetMesh& mesh, const PoorTest& is_poor, const Polis
   return count;
 }
 
-// The poor tets after replace_region: the kept tets (first, in order) keep their flags, the
-// new ones (appended) are measured. Returns how many are poor.
-std::int64_t carry_poor_flags(const TetMesh& mesh, const PoorTest& is_poor, const std::vector<char>& replaced,
+// The poor tets after replace_region: kept tets keep their flags (moved with them), the new
+// ones are measured. Returns how many are poor.
+std::int64_t carry_poor_flags(const TetMesh& mesh, const PoorTest& is_poor, const Replacement& where,
                               std::vector<char>& poor) {
   Worst ignored;
-  std::size_t kept = 0;
-  for (std::size_t t = 0; t < replaced.size(); ++t)
-    if (!replaced[t]) poor[kept++] = poor[t];
+  for (const auto& [from, to] : where.moved) poor[to] = poor[from];
   poor.resize(mesh.tets.size());
-  for (std::size_t t = kept; t < mesh.tets.size(); ++t) poor[t] = is_poor(mesh, mesh.tets[t], ignored);
+  for (auto t : where.new_tets) poor[t] = is_poor(mesh, mesh.tets[t], ignored);
   return std::count(poor.begin(), poor.end(), 1);
 }
 
@@ -290,8 +288,8 @@ void polish_attempt(TetMesh& mesh, const PolishOptions& options, const PoorTest&
   const std::vector<RegionMesh> better =
       remesh_and_keep_better(parts, part_of, mesh, options, optimization_of(attempt), mesher, in_region, stats);
   if (better.empty()) return;
-  replace_region(mesh, in_region, better);
-  stats.poor_after = carry_poor_flags(mesh, is_poor, in_region, poor);
+  const Replacement where = replace_region(mesh, in_region, better);
+  stats.poor_after = carry_poor_flags(mesh, is_poor, where, poor);
 }
 
 }  // namespace

@@ -1,57 +1,36 @@
 #include "partet/seam_healing.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
-#include <numeric>
-#include <set>
 #include <string>
 #include <unordered_map>
 
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
+#include "partet/stage_timer.hpp"
+#include "seam_rounds.hpp"
 #include "tet_region.hpp"
 #include "topology.hpp"
 
 namespace partet {
 namespace {
 
-// The vertices to remove: the cut vertices [first, first_cap) and, when healing, the caps'
-// interior points [first_cap, end), ids of the merged mesh.
-// The vertices seam healing removes, ids [first, end): cut vertices, then cap points. A round
-// takes those of the planes given to it.
+// The vertices seam healing removes, ids [first, end) of the merged mesh: the cut vertices
+// [first, first_cap), then (when healing) the caps' interior points. A round takes those
+// selected for it.
 struct Removed {
   std::int32_t first, first_cap, end;
   const SplitSurface& split;
-  const std::vector<int>* round_of_plane = nullptr;  // all planes when null
-  int round = 0;
-  bool in_round(std::int32_t v) const { return !round_of_plane || (*round_of_plane)[plane_of(v)] == round; }
+  const std::vector<char>* selected = nullptr;  // by v - first; all when null
+  bool in_round(std::int32_t v) const { return !selected || (*selected)[v - first]; }
   bool contains(std::int32_t v) const { return v >= first && v < end && in_round(v); }
   bool is_cut_vertex(std::int32_t v) const { return v >= first && v < first_cap && in_round(v); }
   bool touches(const Triangle& f) const { return is_cut_vertex(f[0]) || is_cut_vertex(f[1]) || is_cut_vertex(f[2]); }
   int plane_of(std::int32_t v) const {
     return v < first_cap ? split.cut_vertex_plane[v - first] : split.cap_point_plane[v - first_cap];
   }
-};
-
-// Sets of removed vertices (union-find): the stars that must be re-meshed together.
-class RemovedSets {
- public:
-  explicit RemovedSets(const Removed& removed)
-      : first_(removed.first), root_(static_cast<std::size_t>(removed.end - removed.first)) {
-    std::iota(root_.begin(), root_.end(), 0);
-  }
-  std::size_t size() const { return root_.size(); }
-  // The set of removed vertex v, as an index below size().
-  std::int32_t find(std::int32_t v) {
-    std::int32_t x = v - first_;
-    while (root_[x] != x) x = root_[x] = root_[root_[x]];
-    return x;
-  }
-  void join(std::int32_t a, std::int32_t b) { root_[find(a)] = find(b); }
-
- private:
-  std::int32_t first_;
-  std::vector<std::int32_t> root_;
+  std::size_t size() const { return static_cast<std::size_t>(end - first); }
 };
 
 using FragmentParents = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
@@ -81,13 +60,14 @@ struct Part {
 // the part of a neighbour. Tets of different cuts that merely touch stay in different parts (with
 // the faces between them fixed), so a solid whose interior tets span two cuts still heals as
 // several regions, on several ranks. Returns the number of parts.
-std::int32_t label_parts(const TetMesh& mesh, const std::vector<char>& in_region, const Removed& removed,
+std::int32_t label_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
+                         const std::vector<char>& in_region, const Removed& removed,
                          std::vector<std::int32_t>& part_of) {
-  RemovedSets sets(removed);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+  VertexSets sets(removed.first, removed.size());
+  for (auto t : region) {
     std::int32_t first = -1;
     for (auto v : mesh.tets[t])
-      if (in_region[t] && removed.contains(v)) {
+      if (removed.contains(v)) {
         if (first < 0)
           first = v;
         else
@@ -98,13 +78,13 @@ std::int32_t label_parts(const TetMesh& mesh, const std::vector<char>& in_region
   part_of.assign(mesh.tets.size(), -1);
   std::vector<std::int32_t> number(sets.size(), -1), frontier;
   std::int32_t count = 0;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  for (auto t : region)
     for (auto v : mesh.tets[t])
-      if (in_region[t] && removed.contains(v)) {
+      if (removed.contains(v)) {
         std::int32_t& n = number[sets.find(v)];
         if (n < 0) n = count++;
         part_of[t] = n;
-        frontier.push_back(static_cast<std::int32_t>(t));
+        frontier.push_back(t);
         break;
       }
   for (std::size_t i = 0; i < frontier.size(); ++i)
@@ -113,8 +93,7 @@ std::int32_t label_parts(const TetMesh& mesh, const std::vector<char>& in_region
         part_of[nb] = part_of[frontier[i]];
         frontier.push_back(nb);
       }
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (in_region[t] && part_of[t] < 0) throw InternalError("seam healing: a region tet reaches no removed vertex");
+  if (frontier.size() != region.size()) throw InternalError("seam healing: a region tet reaches no removed vertex");
   return count;
 }
 
@@ -122,12 +101,11 @@ std::int32_t label_parts(const TetMesh& mesh, const std::vector<char>& in_region
 // without a cut vertex. Mesh-boundary faces with a
 // cut vertex are fragments of split input triangles, recorded by their input triangle (all
 // fragments of a triangle share cut vertices, so they lie in one part).
-std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<char>& in_region,
-                               const std::vector<std::int32_t>& component, std::int32_t component_count,
-                               const Removed& removed, const FragmentParents& parent_of) {
+std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
+                               const std::vector<char>& in_region, const std::vector<std::int32_t>& component,
+                               std::int32_t component_count, const Removed& removed, const FragmentParents& parent_of) {
   std::vector<Part> parts(component_count);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    if (!in_region[t]) continue;
+  for (auto t : region) {
     Part& part = parts[component[t]];
     for (auto v : mesh.tets[t])
       if (removed.contains(v)) part.planes.push_back(removed.plane_of(v));
@@ -206,10 +184,11 @@ std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& me
       failed.push_back(static_cast<std::int32_t>(c));
       continue;
     }
+    std::string planes;
+    for (int p : parts[c].planes) planes += (planes.empty() ? "" : ",") + std::to_string(p);
     log::debug("seam region " + std::to_string(c) + ": " + std::to_string(regions[c].triangles.size()) +
-               " triangles, " + std::to_string(parts[c].planes.size()) + " cut(s) -> " +
-               std::to_string(outcomes[i].result.mesh.tets.size()) + " tets in " + std::to_string(outcomes[i].seconds) +
-               " s");
+               " triangles, cut(s) " + planes + " -> " + std::to_string(outcomes[i].result.mesh.tets.size()) +
+               " tets in " + std::to_string(outcomes[i].seconds) + " s");
     parts[c].remeshed.mesh = std::move(outcomes[i].result.mesh);
     cache.keep(regions[c], parts[c].remeshed.mesh);
   }
@@ -266,85 +245,52 @@ std::vector<int> groups_of_planes(const SplitSurface& split) {
   return group;
 }
 
-// How the groups' stars lie: the pairs that meet (a tet has removed vertices of both: thin
-// pieces), each group's star size in tets, and the largest part (tets sharing removed vertices)
-// the stars form when meeting groups heal together, and when each group heals alone.
-struct GroupStars {
-  std::set<std::pair<int, int>> meet;
-  std::vector<std::int64_t> tets;
-  std::int64_t largest_part_together = 0, largest_part_alone = 0;
-};
-
-// The size in tets of the largest set, each star tet counted in the set of its first removed
-// vertex.
-std::int64_t largest_part(const TetMesh& mesh, const std::vector<std::int32_t>& star_tets, const Removed& removed,
-                          RemovedSets& sets) {
-  std::vector<std::int64_t> tets(sets.size(), 0);
-  std::int64_t largest = 0;
-  for (auto t : star_tets)
+// The round's region: the stars of its removed vertices (among `candidates`, ascending) grown by
+// `layers` layers of tets across their faces. Marks it in `in_region`; returns it ascending.
+std::vector<std::int32_t> round_region(const TetMesh& mesh, const Removed& removed,
+                                       const std::vector<std::int32_t>& candidates, int layers,
+                                       std::vector<char>& in_region) {
+  in_region.assign(mesh.tets.size(), 0);
+  std::vector<std::int32_t> region;
+  for (auto t : candidates)
     for (auto v : mesh.tets[t])
       if (removed.contains(v)) {
-        largest = std::max(largest, ++tets[sets.find(v)]);
+        in_region[t] = 1;
+        region.push_back(t);
         break;
       }
-  return largest;
+  for (std::size_t layer = 0, begin = 0; layer < static_cast<std::size_t>(layers); ++layer) {
+    const std::size_t end = region.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (auto nb : mesh.neighbours[region[i]])
+        if (nb >= 0 && !in_region[nb]) in_region[nb] = 1, region.push_back(nb);
+    begin = end;
+  }
+  std::sort(region.begin(), region.end());
+  return region;
 }
 
-GroupStars group_stars(const TetMesh& mesh, const Removed& removed, const std::vector<int>& group, int groups) {
-  GroupStars stars;
-  stars.tets.assign(static_cast<std::size_t>(groups), 0);
-  RemovedSets together(removed), alone(removed);
-  std::vector<std::int32_t> star_tets;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    std::int32_t found[4];
-    int found_group[4], count = 0;
-    for (auto v : mesh.tets[t])
-      if (removed.contains(v)) found[count] = v, found_group[count++] = group[removed.plane_of(v)];
-    if (count > 0) star_tets.push_back(static_cast<std::int32_t>(t));
-    for (int i = 0; i < count; ++i) {
-      bool first_of_group = true;
-      for (int j = 0; j < i; ++j)
-        if (found_group[j] == found_group[i]) first_of_group = false, alone.join(found[i], found[j]);
-      if (first_of_group) ++stars.tets[found_group[i]];
-      if (i > 0) together.join(found[i], found[0]);
-      for (int j = 0; j < count; ++j)
-        if (found_group[i] < found_group[j]) stars.meet.emplace(found_group[i], found_group[j]);
-    }
-  }
-  stars.largest_part_together = largest_part(mesh, star_tets, removed, together);
-  stars.largest_part_alone = largest_part(mesh, star_tets, removed, alone);
-  return stars;
+// The tets marked in `in_region`, ascending.
+std::vector<std::int32_t> marked_tets(const std::vector<char>& in_region) {
+  std::vector<std::int32_t> region;
+  for (std::size_t t = 0; t < in_region.size(); ++t)
+    if (in_region[t]) region.push_back(static_cast<std::int32_t>(t));
+  return region;
 }
 
-// The round each cut heals in. The regions of different cuts are separate parts, meshed in
-// parallel, so all cuts heal in one round unless the stars of groups meet (a tet has removed
-// vertices of both: thin pieces) in a way that makes one part larger than any cut's alone
-// (where two cuts pass close through an ear, that small part does not count).
-// Then groups take, largest star first, the first round no group they meet has taken, so the
-// largest regions heal in the first round beside the others, not alone in a later one.
-std::vector<int> rounds_of_planes(const TetMesh& mesh, const Removed& removed, const SplitSurface& split,
-                                  int& round_count) {
-  const std::vector<int> group = groups_of_planes(split);
-  const int groups = group.empty() ? 0 : group.back() + 1;
-  const GroupStars stars = group_stars(mesh, removed, group, groups);
-  round_count = groups > 0 ? 1 : 0;
-  if (stars.largest_part_together <= stars.largest_part_alone) return std::vector<int>(group.size(), 0);
-  std::vector<int> order(static_cast<std::size_t>(groups));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return stars.tets[a] > stars.tets[b]; });
-  std::vector<int> round_of_group(static_cast<std::size_t>(groups), -1);
-  for (int g : order) {
-    std::set<int> taken;
-    for (int h = 0; h < groups; ++h)
-      if (round_of_group[h] >= 0 && stars.meet.count({std::min(g, h), std::max(g, h)})) taken.insert(round_of_group[h]);
-    round_of_group[g] = 0;
-    while (taken.count(round_of_group[g])) ++round_of_group[g];
-    round_count = std::max(round_count, round_of_group[g] + 1);
+// Seconds rank 0 spends on a round's steps, for --verbose: the bookkeeping around TetGen is
+// serial, so it is worth watching.
+struct RoundClock {
+  double last = now_seconds();
+  std::string steps;
+  void lap(const char* step) {
+    const double now = now_seconds();
+    char text[64];
+    std::snprintf(text, sizeof text, "%s%s %.3f s", steps.empty() ? "" : ", ", step, now - last);
+    steps += text;
+    last = now;
   }
-  std::vector<int> round(group.size());
-  for (std::size_t j = 0; j < group.size(); ++j) round[j] = round_of_group[group[j]];
-  return round;
-}
+};
 
 // Re-meshes the stars of the round's removed vertices (grown by options.layers). The region
 // falls into parts, each re-meshed on its own, in parallel: smaller TetGen runs, and a failure
@@ -353,24 +299,24 @@ std::vector<int> rounds_of_planes(const TetMesh& mesh, const Removed& removed, c
 // and is tried again: the larger it is, the closer the job gets to meshing the input triangles
 // alone.
 void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed, const FragmentParents& parent_of,
-                const HealOptions& options, const RegionMesher& mesher, SeamStats& stats) {
-  std::vector<char> in_region(mesh.tets.size(), 0);
-  bool any = false;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (auto v : mesh.tets[t])
-      if (removed.contains(v)) in_region[t] = 1, any = true;
-  if (!any) return;
-  for (int layer = 0; layer < options.layers; ++layer) add_face_layer(mesh, in_region);
+                const std::vector<std::int32_t>& candidates, const HealOptions& options, const RegionMesher& mesher,
+                SeamStats& stats, RoundClock& clock) {
+  std::vector<char> in_region;
+  std::vector<std::int32_t> region = round_region(mesh, removed, candidates, options.layers, in_region);
+  if (region.empty()) return;
+  clock.lap("region");
 
   constexpr int kMaxGrowth = 3;
   std::vector<std::int32_t> component;
   std::vector<Part> parts;
   RegionCache cache;
   for (int growth = 0;; ++growth) {
-    const std::int32_t count = label_parts(mesh, in_region, removed, component);
-    parts = region_parts(mesh, in_region, component, count, removed, parent_of);
+    const std::int32_t count = label_parts(mesh, region, in_region, removed, component);
+    parts = region_parts(mesh, region, in_region, component, count, removed, parent_of);
+    clock.lap("parts");
     Failure failure;
     const std::vector<std::int32_t> failed = mesh_parts(parts, mesh, input, mesher, cache, failure);
+    clock.lap("meshing");
     if (failed.empty()) break;
     if (growth == kMaxGrowth) {
       const Part& part = parts[failed.front()];
@@ -382,12 +328,16 @@ void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
       throw MeshingError(failure);
     }
     grow_region(mesh, component, failed, in_region);
+    region = marked_tets(in_region);
   }
   stats.regions += static_cast<std::int64_t>(parts.size());
   std::vector<RegionMesh> remeshed;
   remeshed.reserve(parts.size());
   for (Part& part : parts) remeshed.push_back(std::move(part.remeshed));
   replace_region(mesh, in_region, remeshed);
+  clock.lap("splice");
+  log::debug("seam healing round: " + std::to_string(parts.size()) + " regions of " + std::to_string(region.size()) +
+             " tets; " + clock.steps);
 }
 
 }  // namespace
@@ -400,18 +350,26 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
       split.input_vertex_count, first_cap,
       first_cap + (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0), split};
   const FragmentParents parent_of = fragment_parents(split);
-  int rounds = 0;
-  const std::vector<int> round_of_plane = rounds_of_planes(mesh, all, split, rounds);
-  // The piece array marks re-meshed tets (-1), so the figures count each tet once even when the
-  // second round re-meshes tets of the first.
+  const std::vector<int> group_of_plane = groups_of_planes(split);
+  // The piece array marks re-meshed tets (-1), so the figures count each tet once even when a
+  // later round re-meshes tets of an earlier one.
   const bool had_pieces = mesh.piece.size() == mesh.tets.size();
   if (!had_pieces) mesh.piece.assign(mesh.tets.size(), 0);
   const std::int64_t tets_before = static_cast<std::int64_t>(mesh.tets.size());
-  for (int round = 0; round < rounds; ++round) {
-    Removed removed = all;
-    removed.round_of_plane = &round_of_plane;
-    removed.round = round;
-    heal_round(mesh, input, removed, parent_of, options, mesher, stats);
+  // The group of cuts of each vertex still to remove (-1 once removed).
+  std::vector<int> group_left(all.size());
+  for (std::size_t v = 0; v < group_left.size(); ++v)
+    group_left[v] = group_of_plane[all.plane_of(all.first + static_cast<std::int32_t>(v))];
+  Removed healing = all;
+  for (;;) {
+    RoundClock clock;
+    const SeamRound round = plan_seam_round(mesh, all.first, group_left);
+    clock.lap("plan");
+    if (std::find(round.heals.begin(), round.heals.end(), 1) == round.heals.end()) break;
+    healing.selected = &round.heals;
+    heal_round(mesh, input, healing, parent_of, round.star_tets, options, mesher, stats, clock);
+    for (std::size_t v = 0; v < round.heals.size(); ++v)
+      if (round.heals[v]) group_left[v] = -1;
   }
   stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
   stats.tets_in = tets_before - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);

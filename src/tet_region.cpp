@@ -4,17 +4,8 @@
 
 namespace partet {
 
-void add_face_layer(const TetMesh& mesh, std::vector<char>& in_region) {
-  std::vector<char> grown = in_region;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (in_region[t])
-      for (auto nb : mesh.neighbours[t])
-        if (nb >= 0) grown[nb] = 1;
-  in_region.swap(grown);
-}
-
-PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index,
-                            std::vector<std::int32_t>& ids, std::vector<std::int32_t>& scratch) {
+PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index, std::vector<std::int32_t>& ids,
+                            std::vector<std::int32_t>& scratch) {
   PieceSurface region;
   region.index = index;
   region.seam_region = true;
@@ -26,39 +17,91 @@ PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, in
   return region;
 }
 
-void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<RegionMesh>& parts) {
-  std::vector<char> kept(in_region.size());
-  for (std::size_t t = 0; t < in_region.size(); ++t) kept[t] = !in_region[t];
-  const std::vector<std::int32_t> new_index = compact_ids(kept);
+namespace {
+
+// Opens the faces of the kept tets towards the region (joined again to the new tets later) and
+// flags those tets; returns the region's slots, ascending.
+std::vector<std::int32_t> detach_region(TetMesh& mesh, const std::vector<char>& in_region, std::vector<char>& on_seam) {
+  std::vector<std::int32_t> freed;
+  for (std::size_t t = 0; t < in_region.size(); ++t) {
+    if (!in_region[t]) continue;
+    freed.push_back(static_cast<std::int32_t>(t));
+    for (auto nb : mesh.neighbours[t])
+      if (nb >= 0 && !in_region[nb]) {
+        for (auto& back : mesh.neighbours[nb])
+          if (back == static_cast<std::int32_t>(t)) back = -1;
+        on_seam[nb] = 1;
+      }
+  }
+  return freed;
+}
+
+// Moves tet `from` to slot `to`, and its neighbours' references with it.
+void move_tet(TetMesh& mesh, std::vector<char>& on_seam, std::int32_t from, std::int32_t to) {
+  mesh.tets[to] = mesh.tets[from];
+  mesh.neighbours[to] = mesh.neighbours[from];
+  if (!mesh.piece.empty()) mesh.piece[to] = mesh.piece[from];
+  on_seam[to] = on_seam[from];
+  for (auto nb : mesh.neighbours[to])
+    if (nb >= 0)
+      for (auto& back : mesh.neighbours[nb])
+        if (back == from) back = to;
+}
+
+}  // namespace
+
+Replacement replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<RegionMesh>& parts) {
+  if (mesh.piece.size() != mesh.tets.size()) mesh.piece.clear();
+  std::vector<char> on_seam(mesh.tets.size(), 0);
+  const std::vector<std::int32_t> freed = detach_region(mesh, in_region, on_seam);
+  // 1. The new tets, numbered 0.. over all parts (their Steiner points appended to the mesh).
   std::vector<Tet> tets, neighbours;
-  std::vector<std::int32_t> piece;
-  const bool has_piece = mesh.piece.size() == mesh.tets.size();
-  tets.reserve(mesh.tets.size());
-  neighbours.reserve(mesh.tets.size());
-  std::vector<std::int32_t> seam;  // tets whose faces must be joined: kept ones next to the region, and new ones
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    if (in_region[t]) continue;
-    Tet nb;
-    bool next_to_region = false;
-    for (int j = 0; j < 4; ++j) {
-      const auto old = mesh.neighbours[t][j];
-      nb[j] = old >= 0 ? new_index[old] : -1;
-      next_to_region = next_to_region || (old >= 0 && in_region[old]);
-    }
-    if (next_to_region) seam.push_back(static_cast<std::int32_t>(tets.size()));
-    tets.push_back(mesh.tets[t]);
-    neighbours.push_back(nb);
-    if (has_piece) piece.push_back(mesh.piece[t]);
+  for (const RegionMesh& part : parts) append_local_mesh(part.mesh, part.ids, mesh.points, tets, neighbours);
+  // 2. They take the region's slots, in order, then new ones at the end.
+  Replacement where;
+  where.new_tets.resize(tets.size());
+  const std::size_t end = mesh.tets.size();
+  for (std::size_t i = 0; i < tets.size(); ++i)
+    where.new_tets[i] = static_cast<std::int32_t>(i < freed.size() ? freed[i] : end + (i - freed.size()));
+  if (tets.size() > freed.size()) {
+    const std::size_t size = end + (tets.size() - freed.size());
+    mesh.tets.resize(size);
+    mesh.neighbours.resize(size);
+    if (!mesh.piece.empty()) mesh.piece.resize(size);
+    on_seam.resize(size);
   }
-  for (const RegionMesh& part : parts) {
-    const std::int32_t base = append_local_mesh(part.mesh, part.ids, mesh.points, tets, neighbours);
-    for (std::size_t r = 0; r < part.mesh.tets.size(); ++r) seam.push_back(base + static_cast<std::int32_t>(r));
-    if (has_piece) piece.resize(tets.size(), -1);  // made by the re-meshing, not by a piece
+  for (std::size_t i = 0; i < tets.size(); ++i) {
+    const std::int32_t slot = where.new_tets[i];
+    mesh.tets[slot] = tets[i];
+    for (int j = 0; j < 4; ++j)
+      mesh.neighbours[slot][j] = neighbours[i][j] >= 0 ? where.new_tets[neighbours[i][j]] : -1;
+    if (!mesh.piece.empty()) mesh.piece[slot] = -1;  // made by the re-meshing, not by a piece
+    on_seam[slot] = 1;
   }
-  connect_open_faces(tets, neighbours, &seam);
-  mesh.tets = std::move(tets);
-  mesh.neighbours = std::move(neighbours);
-  mesh.piece = std::move(piece);
+  // 3. Region slots left over take the last kept tets, so the arrays stay dense.
+  std::vector<char> vacant(mesh.tets.size(), 0);
+  for (std::size_t i = tets.size(); i < freed.size(); ++i) vacant[freed[i]] = 1;
+  std::size_t size = mesh.tets.size();
+  for (std::size_t i = tets.size(); i < freed.size(); ++i) {
+    const std::int32_t to = freed[i];
+    while (size > 0 && vacant[size - 1]) --size;
+    if (static_cast<std::size_t>(to) >= size) break;
+    const auto from = static_cast<std::int32_t>(size - 1);
+    move_tet(mesh, on_seam, from, to);
+    where.moved.emplace_back(from, to);
+    vacant[to] = 0;
+    --size;
+  }
+  while (size > 0 && vacant[size - 1]) --size;
+  mesh.tets.resize(size);
+  mesh.neighbours.resize(size);
+  if (!mesh.piece.empty()) mesh.piece.resize(size);
+  // 4. Join the new tets to each other's parts and to the kept tets around them.
+  std::vector<std::int32_t> seam;
+  for (std::size_t t = 0; t < size; ++t)
+    if (on_seam[t]) seam.push_back(static_cast<std::int32_t>(t));
+  connect_open_faces(mesh.tets, mesh.neighbours, &seam);
+  return where;
 }
 
 std::vector<char> drop_unused_points(TetMesh& mesh) {

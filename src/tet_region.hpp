@@ -3,6 +3,7 @@
 // to TetGen as a surface, splice the new tets in, drop the points no tet uses any more.
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
@@ -22,9 +23,6 @@ void add_layer(const TetMesh& mesh, From from, std::vector<char>& in_region) {
       if (touched[v]) in_region[t] = 1;
 }
 
-// Adds to the region every tet sharing a face with one of its tets.
-void add_face_layer(const TetMesh& mesh, std::vector<char>& in_region);
-
 // One part of a region once re-meshed: its new tets in local numbering, and the global id of
 // each of its local surface points.
 struct RegionMesh {
@@ -36,13 +34,22 @@ struct RegionMesh {
 // numbered locally and `ids` receives the global id of each local point. `scratch` has one
 // entry per mesh point, all -1, and is left that way. The surface is marked as a region: it may
 // pinch at vertices, so TetGen's regions are classified and the piece topology check is skipped.
-PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index,
-                            std::vector<std::int32_t>& ids, std::vector<std::int32_t>& scratch);
+PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index, std::vector<std::int32_t>& ids,
+                            std::vector<std::int32_t>& scratch);
 
-// Replaces the region's tets by the parts' new tets (appended, their Steiner points too). Tets
-// outside the region keep their order and their neighbours among themselves; faces towards the
-// region are joined to the new tets. New tets get piece -1.
-void replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<RegionMesh>& parts);
+// Where replace_region put the tets: the slot of each new tet (in the parts' order), and the
+// kept tets it moved into slots left over (from, to, in that order), so per-tet data can follow.
+struct Replacement {
+  std::vector<std::int32_t> new_tets;
+  std::vector<std::pair<std::int32_t, std::int32_t>> moved;
+};
+
+// Replaces the region's tets by the parts' new tets (their Steiner points appended), in place:
+// the new tets take the region's slots, then new slots at the end; slots left over take the last
+// tets. Tets outside the region keep their neighbours among themselves; faces towards the region
+// are joined to the new tets. New tets get piece -1. Copying a mesh of millions of tets per round
+// cost more than the rest of a round's bookkeeping.
+Replacement replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<RegionMesh>& parts);
 
 // Drops the points no tet uses, keeping the order of the others. Returns which old points were
 // used.

@@ -178,6 +178,33 @@ TEST(HealSeams, WithQualityEachCutHealsOnItsOwnWithALayerOfRoom) {
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
 }
 
+TEST(HealSeams, ThinPiecesHealInTurnsAndEveryPointGoes) {
+  // Eight pieces of a small unrefined sphere are thin: the stars of neighbouring cuts meet, so
+  // they heal in turns (each round planned on the mesh the previous one left), never as one part.
+  const SurfaceMesh input = generate_surface("sphere", 1500);
+  Stage s = prepare(input, 8, 1.0);
+  s.options.heal = Heal::on;
+  TetMesh mesh = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  int rounds = 0;
+  std::size_t regions_meshed = 0;
+  const RegionMesher counting = [&](const std::vector<PieceSurface>& regions) {
+    ++rounds;
+    regions_meshed += regions.size();
+    return here(s.options)(regions);
+  };
+  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, HealOptions{true, 0}, counting);
+  EXPECT_GE(rounds, 2);
+  EXPECT_EQ(stats.cut_vertices_removed, s.prepared.split.cut_vertex_count());
+  EXPECT_EQ(stats.cap_points_removed, static_cast<std::int64_t>(s.prepared.split.cap_point_plane.size()));
+  // Every cut heals as a region of its own (or more), never merged with its neighbours.
+  EXPECT_GE(regions_meshed, s.prepared.planes.size());
+  EXPECT_GE(stats.regions, static_cast<std::int64_t>(s.prepared.planes.size()));
+  const CheckReport report = check_mesh(input, mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+  const double volume = enclosed_volume(input);
+  EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
 TEST(HealSeams, OnePieceChangesNothing) {
   const SurfaceMesh input = generate_surface("sphere", 800);
   const Stage s = prepare(input, 1);
