@@ -177,7 +177,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->check(CLI::Range(1, 1 << 20))
       ->capture_default_str();
   mesh->add_option("-d,--density", job.options.density,
-                   "cap refinement: target cap edge length = mean cut-loop edge length / D; 0 = no interior cap points")
+                   "cap refinement: target cap edge length = mean cut-loop edge length / D; 0 = no interior cap "
+                   "points, so without --quality no vertex is left on a cut (costs little on most models, up to "
+                   "5x on smooth subdivided ones)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   mesh->add_option("-q,--quality", c.quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
