@@ -63,7 +63,7 @@ struct Part {
 std::int32_t label_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
                          const std::vector<char>& in_region, const Removed& removed,
                          std::vector<std::int32_t>& part_of) {
-  VertexSets sets(removed.first, removed.size());
+  DisjointSets sets(removed.first, removed.size());
   for (auto t : region) {
     std::int32_t first = -1;
     for (auto v : mesh.tets[t])

@@ -25,7 +25,7 @@ struct TetRemoved {
 // (sharing tets within a group).
 struct Stars {
   std::vector<std::int32_t> tets;  // ascending
-  VertexSets together, alone;
+  DisjointSets together, alone;
   Stars(std::int32_t first, std::size_t count) : together(first, count), alone(first, count) {}
 };
 

@@ -3,32 +3,12 @@
 // of a round run in parallel, so a round should hold many parts and no needlessly large one.
 #pragma once
 #include <cstdint>
-#include <numeric>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "topology.hpp"
 
 namespace partet {
-
-// Sets of the vertices [first, first + count) (union-find).
-class VertexSets {
- public:
-  VertexSets(std::int32_t first, std::size_t count) : first_(first), root_(count) {
-    std::iota(root_.begin(), root_.end(), 0);
-  }
-  std::size_t size() const { return root_.size(); }
-  // The set of vertex v, as an index below size().
-  std::int32_t find(std::int32_t v) {
-    std::int32_t x = v - first_;
-    while (root_[x] != x) x = root_[x] = root_[root_[x]];
-    return x;
-  }
-  void join(std::int32_t a, std::int32_t b) { root_[find(a)] = find(b); }
-
- private:
-  std::int32_t first_;
-  std::vector<std::int32_t> root_;
-};
 
 struct SeamRound {
   std::vector<char> heals;              // by vertex v - first: re-meshed in this round

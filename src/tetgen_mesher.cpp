@@ -131,12 +131,7 @@ void orient_positively(RawMesh& raw) {
 
 // Connected components of the surface, triangles joined across shared edges.
 std::size_t shell_count(const std::vector<Triangle>& triangles) {
-  std::vector<std::int32_t> parent(triangles.size());
-  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<std::int32_t>(i);
-  auto find = [&](std::int32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets shells(0, triangles.size());
   // Each undirected edge, with the triangle that used it first.
   std::vector<std::pair<std::uint64_t, std::int32_t>> edges;
   edges.reserve(triangles.size() * 3);
@@ -148,13 +143,10 @@ std::size_t shell_count(const std::vector<Triangle>& triangles) {
     }
   std::sort(edges.begin(), edges.end());
   for (std::size_t i = 1; i < edges.size(); ++i)
-    if (edges[i].first == edges[i - 1].first) {
-      const std::int32_t a = find(edges[i].second), b = find(edges[i - 1].second);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+    if (edges[i].first == edges[i - 1].first) shells.join(edges[i].second, edges[i - 1].second);
   std::size_t components = 0;
-  for (std::size_t f = 0; f < parent.size(); ++f)
-    if (parent[f] == static_cast<std::int32_t>(f)) ++components;
+  for (std::size_t f = 0; f < shells.size(); ++f)
+    if (shells.find(static_cast<std::int32_t>(f)) == static_cast<std::int32_t>(f)) ++components;
   return components;
 }
 

@@ -85,6 +85,26 @@ std::int32_t label_tet_regions(const std::vector<Tet>& neighbours, Include inclu
 // `scratch` must have one entry per original vertex, all -1; it is left that way.
 std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles, std::vector<std::int32_t>& scratch);
 
+// Disjoint sets of the ids [first, first + count) (union-find with path halving).
+class DisjointSets {
+ public:
+  DisjointSets(std::int32_t first, std::size_t count) : first_(first), root_(count) {
+    for (std::size_t i = 0; i < count; ++i) root_[i] = static_cast<std::int32_t>(i);
+  }
+  std::size_t size() const { return root_.size(); }
+  // The set of id v, as an index below size().
+  std::int32_t find(std::int32_t v) {
+    std::int32_t x = v - first_;
+    while (root_[x] != x) x = root_[x] = root_[root_[x]];
+    return x;
+  }
+  void join(std::int32_t a, std::int32_t b) { root_[find(a)] = find(b); }
+
+ private:
+  std::int32_t first_;
+  std::vector<std::int32_t> root_;
+};
+
 // Which of vertex_count vertices the cells (triangles or tets) use.
 template <class Cell>
 std::vector<char> used_vertices(std::size_t vertex_count, const std::vector<Cell>& cells) {

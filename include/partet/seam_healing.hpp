@@ -36,10 +36,12 @@ struct HealOptions {
 using RegionMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
 
 // The union of the stars of the removed vertices (the cut vertices; with remove_cap_points also
-// the caps' interior points), grown by options.layers, is re-meshed, one connected region at a
-// time, with its boundary fixed, except that the split fragments of input triangles are replaced by the input triangles
-// themselves. Vertices that share a tet are healed together; otherwise each cut heals on its own,
-// on any rank. A region that fails grows by a layer of tets (up to three times) first.
+// the caps' interior points), grown by options.layers, is re-meshed, one connected part at a
+// time, with its boundary fixed, except that the split fragments of input triangles are replaced
+// by the input triangles themselves. Vertices that share a tet are healed together; all other
+// parts heal in parallel, on any rank, in rounds planned on the mesh as it stands (parts where
+// neighbouring cuts meet may take turns; see seam_rounds.hpp). A part that fails grows by a layer
+// of tets (up to three times) first.
 // Afterwards the mesh has none of the removed vertices and no unused points; input vertices
 // keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
 // MeshingError of the region that failed, with the cut planes of that region.
