@@ -278,6 +278,22 @@ std::vector<std::int32_t> marked_tets(const std::vector<char>& in_region) {
   return region;
 }
 
+// After a round, the only tets that can hold a vertex still to remove: the round's star tets
+// outside its region (at their slots after the splice) and the new tets (their boundary
+// vertices include any vertex left on the region's boundary). Ascending.
+std::vector<std::int32_t> surviving_stars(const std::vector<std::int32_t>& star_tets,
+                                          const std::vector<char>& in_region, const Replacement& where) {
+  const std::unordered_map<std::int32_t, std::int32_t> moved_to(where.moved.begin(), where.moved.end());
+  std::vector<std::int32_t> survivors = where.new_tets;
+  for (auto t : star_tets) {
+    if (in_region[t]) continue;
+    const auto it = moved_to.find(t);
+    survivors.push_back(it == moved_to.end() ? t : it->second);
+  }
+  std::sort(survivors.begin(), survivors.end());
+  return survivors;
+}
+
 // Seconds rank 0 spends on a round's steps, for --verbose: the bookkeeping around TetGen is
 // serial, so it is worth watching.
 struct RoundClock {
@@ -298,12 +314,14 @@ struct RoundClock {
 // touching its boundary (the faces of the often flat tets around it) grows by a layer of tets
 // and is tried again: the larger it is, the closer the job gets to meshing the input triangles
 // alone.
-void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed, const FragmentParents& parent_of,
-                const std::vector<std::int32_t>& candidates, const HealOptions& options, const RegionMesher& mesher,
-                SeamStats& stats, RoundClock& clock) {
+// Returns the tets that may hold a vertex left for later rounds (see surviving_stars).
+std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
+                                     const FragmentParents& parent_of, const std::vector<std::int32_t>& star_tets,
+                                     const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
+                                     RoundClock& clock) {
   std::vector<char> in_region;
-  std::vector<std::int32_t> region = round_region(mesh, removed, candidates, options.layers, in_region);
-  if (region.empty()) return;
+  std::vector<std::int32_t> region = round_region(mesh, removed, star_tets, options.layers, in_region);
+  if (region.empty()) return star_tets;
   clock.lap("region");
 
   constexpr int kMaxGrowth = 3;
@@ -334,10 +352,11 @@ void heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
   std::vector<RegionMesh> remeshed;
   remeshed.reserve(parts.size());
   for (Part& part : parts) remeshed.push_back(std::move(part.remeshed));
-  replace_region(mesh, in_region, remeshed);
+  const Replacement where = replace_region(mesh, in_region, remeshed);
   clock.lap("splice");
   log::debug("seam healing round: " + std::to_string(parts.size()) + " regions of " + std::to_string(region.size()) +
              " tets; " + clock.steps);
+  return surviving_stars(star_tets, in_region, where);
 }
 
 }  // namespace
@@ -361,13 +380,15 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   for (std::size_t v = 0; v < group_left.size(); ++v)
     group_left[v] = group_of_plane[all.plane_of(all.first + static_cast<std::int32_t>(v))];
   Removed healing = all;
-  for (;;) {
+  // The first round looks at every tet; later ones only at the tets the previous one left.
+  std::vector<std::int32_t> candidates;
+  for (bool first_round = true;; first_round = false) {
     RoundClock clock;
-    const SeamRound round = plan_seam_round(mesh, all.first, group_left);
+    const SeamRound round = plan_seam_round(mesh, all.first, group_left, first_round ? nullptr : &candidates);
     clock.lap("plan");
     if (std::find(round.heals.begin(), round.heals.end(), 1) == round.heals.end()) break;
     healing.selected = &round.heals;
-    heal_round(mesh, input, healing, parent_of, round.star_tets, options, mesher, stats, clock);
+    candidates = heal_round(mesh, input, healing, parent_of, round.star_tets, options, mesher, stats, clock);
     for (std::size_t v = 0; v < round.heals.size(); ++v)
       if (round.heals[v]) group_left[v] = -1;
   }

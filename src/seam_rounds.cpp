@@ -29,18 +29,28 @@ struct Stars {
   Stars(std::int32_t first, std::size_t count) : together(first, count), alone(first, count) {}
 };
 
-Stars find_stars(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group) {
-  Stars stars(first, group.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const TetRemoved found(mesh.tets[t], first, group);
-    if (found.count == 0) continue;
-    stars.tets.push_back(static_cast<std::int32_t>(t));
-    for (int i = 1; i < found.count; ++i) {
-      stars.together.join(found.vertex[i], found.vertex[0]);
-      for (int j = 0; j < i; ++j)
-        if (found.group[j] == found.group[i]) stars.alone.join(found.vertex[i], found.vertex[j]);
-    }
+// Records tet t when it holds vertices left to remove, joining them.
+void add_star_tet(const TetMesh& mesh, std::int32_t t, std::int32_t first, const std::vector<int>& group,
+                  Stars& stars) {
+  const TetRemoved found(mesh.tets[t], first, group);
+  if (found.count == 0) return;
+  stars.tets.push_back(t);
+  for (int i = 1; i < found.count; ++i) {
+    stars.together.join(found.vertex[i], found.vertex[0]);
+    for (int j = 0; j < i; ++j)
+      if (found.group[j] == found.group[i]) stars.alone.join(found.vertex[i], found.vertex[j]);
   }
+}
+
+// The star tets among `candidates` (all tets when null), in ascending order.
+Stars find_stars(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
+                 const std::vector<std::int32_t>* candidates) {
+  Stars stars(first, group.size());
+  if (candidates)
+    for (auto t : *candidates) add_star_tet(mesh, t, first, group, stars);
+  else
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+      add_star_tet(mesh, static_cast<std::int32_t>(t), first, group, stars);
   return stars;
 }
 
@@ -105,10 +115,11 @@ std::vector<char> groups_taken(const Components& c, int groups) {
 
 }  // namespace
 
-SeamRound plan_seam_round(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group) {
+SeamRound plan_seam_round(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
+                          const std::vector<std::int32_t>* candidates) {
   int groups = 0;
   for (int g : group) groups = std::max(groups, g + 1);
-  Stars stars = find_stars(mesh, first, group);
+  Stars stars = find_stars(mesh, first, group, candidates);
   const Components components = measure_components(mesh, first, group, groups, stars);
   const std::vector<char> takes = groups_taken(components, groups);
   SeamRound round{std::vector<char>(group.size(), 0), std::move(stars.tets)};

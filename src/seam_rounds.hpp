@@ -26,6 +26,10 @@ struct SeamRound {
 // bound the new tets span the region), and a plan made up front would then re-mesh them as one
 // ever larger part (bob.off refined to 2.74M faces, 16 pieces, healed without a quality bound:
 // one part of 2M triangles, 64 s in one TetGen run).
-SeamRound plan_seam_round(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group);
+// `candidates` (ascending), when given, are the only tets that may hold a vertex left to remove
+// (the previous round's star tets that survived it, and its new tets): later rounds then cost
+// what their stars cost, not a scan of the whole mesh.
+SeamRound plan_seam_round(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
+                          const std::vector<std::int32_t>* candidates = nullptr);
 
 }  // namespace partet

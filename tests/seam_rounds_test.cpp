@@ -81,5 +81,22 @@ TEST(SeamRounds, NothingLeftPlansNothing) {
   for (char heals : round.heals) EXPECT_EQ(heals, 0);
 }
 
+TEST(SeamRounds, CandidatesLimitTheSearchAndPlanTheSameRound) {
+  // Later rounds look only at the tets the previous one left: given any superset of the star
+  // tets, the plan is the one a scan of every tet makes.
+  const TetMesh mesh = two_groups_meeting();
+  const std::vector<int> group = groups({{100, 0}, {101, 0}, {104, 1}, {105, 1}});
+  const SeamRound scanned = plan_seam_round(mesh, kFirst, group);
+  const std::vector<std::int32_t> superset{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+  const SeamRound limited = plan_seam_round(mesh, kFirst, group, &superset);
+  EXPECT_EQ(limited.star_tets, scanned.star_tets);
+  EXPECT_EQ(limited.heals, scanned.heals);
+  // A star tet left out of the candidates is not seen: 105's tets are 10 and 11.
+  const std::vector<std::int32_t> without_105{0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  const SeamRound partial = plan_seam_round(mesh, kFirst, group, &without_105);
+  EXPECT_EQ(partial.star_tets, (std::vector<std::int32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_EQ(partial.heals[105 - kFirst], 0);
+}
+
 }  // namespace
 }  // namespace partet

@@ -27,7 +27,13 @@ void remove_created() {
 std::string temp_dir(const std::string& name) {
   namespace fs = std::filesystem;
   static std::once_flag registered;
-  std::call_once(registered, [] { std::atexit(remove_created); });
+  // The list must exist before the handler is registered: statics are destroyed in the reverse
+  // order of construction and atexit registration, so a list made later would be gone by the
+  // time the handler ran, and every test left its directory behind.
+  std::call_once(registered, [] {
+    created();
+    std::atexit(remove_created);
+  });
   fs::path dir = fs::temp_directory_path() / ("partet_test_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);

@@ -200,10 +200,16 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
-  // Hands the outcomes stored since the last call to the pipeline.
+  // Hands the outcomes stored since the last call to the pipeline. Each is moved out first, so
+  // a callback that submits more work (which grows outcomes_ and arrived_) holds no reference
+  // into them.
   void deliver(const Arrived& arrived) {
-    for (std::size_t position : arrived_) arrived(position, std::move(outcomes_[position]));
-    arrived_.clear();
+    std::vector<std::size_t> positions;
+    positions.swap(arrived_);
+    for (std::size_t position : positions) {
+      PieceOutcome outcome = std::move(outcomes_[position]);
+      arrived(position, std::move(outcome));
+    }
   }
 
   std::size_t take_next() {
