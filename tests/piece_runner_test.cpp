@@ -2,6 +2,7 @@
 // a run can end (error, crash, time limit) as a typed failure.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -89,6 +90,25 @@ TEST(PieceRunner, SurfaceFailureInAChildThrowsItsKind) {
   } catch (const MeshingError& e) {
     EXPECT_EQ(e.failure.kind, FailureKind::tetgen_error);
   }
+}
+
+TEST(PieceRunner, AChildPrintsNothing) {
+  // TetGen prints some findings ("Found two facets intersect each other.") on stdout even with
+  // -Q, and under mpirun stdout is line-buffered, so they would reach the user mid-run. The hook
+  // runs where TetGen runs and prints the same way (flushed, as a line-buffered stream is).
+  const PieceSurface piece = torus_pieces()[0];
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  const std::string reply = runner(true).mesh_to_reply(piece, [] {
+    std::printf("Found two facets intersect each other.\n");
+    std::fflush(stdout);
+    std::fprintf(stderr, "terminate called after throwing an instance of 'int'\n");
+  });
+  const std::string out = testing::internal::GetCapturedStdout();
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_FALSE(deserialize_outcome(reply).failure);
+  EXPECT_EQ(out, "");
+  EXPECT_EQ(err, "");
 }
 
 TEST(PieceRunner, TimeLimitIsATypedFailure) {

@@ -57,7 +57,12 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     ::signal(SIGABRT, SIG_DFL);
     ::signal(SIGSEGV, SIG_DFL);
     ::signal(SIGBUS, SIG_DFL);
-    if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) ::dup2(devnull, STDERR_FILENO);
+    // TetGen prints some findings (two facets intersect, with their ids) on stdout even when told
+    // to be quiet; the parent reports failures itself, and a --quiet run must print nothing.
+    if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) {
+      ::dup2(devnull, STDOUT_FILENO);
+      ::dup2(devnull, STDERR_FILENO);
+    }
     bool ok = false;
     try {
       // The size first, so the parent can reserve the whole result at once.
