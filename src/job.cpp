@@ -3,12 +3,12 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cerrno>
 #include <cstring>
-#include <numeric>
 #include <nlohmann/json.hpp>
+#include <numeric>
 
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
@@ -91,7 +91,8 @@ void check_outputs(const MeshJob& job) {
   const std::string& prefix = job.output_prefix;
   const std::string name = prefix.substr(prefix.find_last_of('/') + 1);
   if (name.empty() || name == "." || name == "..")
-    throw OutputError("the output prefix '" + prefix + "' names no file (give e.g. 'out/model' for out/model.node ...)");
+    throw OutputError("the output prefix '" + prefix +
+                      "' names no file (give e.g. 'out/model' for out/model.node ...)");
   check_output_paths(output_paths(job), {job.input});
   remove_stale_temporaries(output_paths(job));
 }
@@ -152,6 +153,7 @@ std::string report_json(const JobSummary& s) {
                       {"poor_tets_after", polish.poor_after},
                       {"regions", polish.regions},
                       {"regions_improved", polish.improved},
+                      {"regions_left", polish.left},
                       {"tets_replaced", polish.tets_in},
                       {"tets_new", polish.tets_out},
                       {"min_dihedral_deg_before", polish.min_dihedral_before},
@@ -166,13 +168,14 @@ std::string report_json(const JobSummary& s) {
   // What the planes balanced, for comparing with the times (scripts/piece_cost.sh).
   const std::vector<double> estimate = estimated_piece_costs(s.input, s.result.planes, s.job.options.density);
   for (const PieceRecord& p : s.pieces)
-    report["piece"].push_back({{"index", p.index},
-                               {"rank", p.rank},
-                               {"triangles", p.triangles},
-                               {"estimated_cost", static_cast<std::size_t>(p.index) < estimate.size() ? estimate[p.index] : 0.0},
-                               {"tets", p.tets},
-                               {"tetgen_seconds", p.seconds},
-                               {"tetgen_mb", p.memory_mb}});
+    report["piece"].push_back(
+        {{"index", p.index},
+         {"rank", p.rank},
+         {"triangles", p.triangles},
+         {"estimated_cost", static_cast<std::size_t>(p.index) < estimate.size() ? estimate[p.index] : 0.0},
+         {"tets", p.tets},
+         {"tetgen_seconds", p.seconds},
+         {"tetgen_mb", p.memory_mb}});
   for (std::size_t r = 0; r < s.ranks.size(); ++r) {
     const RankStats& stats = s.ranks[r];
     std::vector<int> pieces;
@@ -189,7 +192,8 @@ std::string report_json(const JobSummary& s) {
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();
-  for (const CutPlane& p : s.result.planes) report["cut_planes"].push_back({{"normal", p.normal}, {"offset", p.offset}});
+  for (const CutPlane& p : s.result.planes)
+    report["cut_planes"].push_back({{"normal", p.normal}, {"offset", p.offset}});
   if (s.job.check_output) {
     // The seam zone (tets crossing or touching a cut plane) against the rest.
     const std::vector<char> zone = seam_zone(s.result.mesh, s.result.planes);
@@ -217,7 +221,8 @@ void print_summary(const JobSummary& s) {
   const auto& mesh = s.result.mesh;
   log::info(std::to_string(s.input.triangles.size()) + " faces -> " + std::to_string(mesh.tets.size()) + " tets, " +
             std::to_string(mesh.points.size()) + " vertices; " + std::to_string(s.result.pieces) + " pieces on " +
-            std::to_string(s.ranks.size()) + " ranks; " + std::to_string(s.result.seam.cut_vertices_removed + s.result.seam.cap_points_removed) +
+            std::to_string(s.ranks.size()) + " ranks; " +
+            std::to_string(s.result.seam.cut_vertices_removed + s.result.seam.cap_points_removed) +
             " seam vertices removed; " + format("%.2f s", s.total_seconds));
   std::string stages = "stages:";
   for (const StageTime& t : s.times) stages += " " + t.stage + format(" %.2f", t.seconds);
@@ -226,12 +231,14 @@ void print_summary(const JobSummary& s) {
   log::info(stages + format("; peak RSS %.0f MB (largest process)", worst));
   const PolishStats& polish = s.result.polish;
   if (polish.poor_before > 0)
-    log::info(format("polish: %lld poor tets -> %lld (%lld of %lld neighbourhoods kept); min dihedral %.2f -> %.2f deg, "
-                     "AMIPS max %.1f -> %.1f",
-                     static_cast<long long>(polish.poor_before), static_cast<long long>(polish.poor_after),
-                     static_cast<long long>(polish.improved), static_cast<long long>(polish.regions),
-                     polish.min_dihedral_before, polish.min_dihedral_after, polish.amips_max_before,
-                     polish.amips_max_after));
+    log::info(format(
+        "polish: %lld poor tets -> %lld (%lld of %lld neighbourhoods kept%s); min dihedral %.2f -> "
+        "%.2f deg, AMIPS max %.1f -> %.1f",
+        static_cast<long long>(polish.poor_before), static_cast<long long>(polish.poor_after),
+        static_cast<long long>(polish.improved), static_cast<long long>(polish.regions),
+        polish.left > 0 ? format(", %lld too large or too poor to re-mesh", static_cast<long long>(polish.left)).c_str()
+                        : "",
+        polish.min_dihedral_before, polish.min_dihedral_after, polish.amips_max_before, polish.amips_max_after));
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
   if (s.job.check_output) {
     char text[96];
@@ -304,7 +311,7 @@ RunFigures tetgen_alone(const MeshJob& job) {
   f.known = true;
   f.seconds = now_seconds() - start;
   for (const StageTime& t : times) f.seconds += t.seconds;  // reading and validating count too
-  f.peak_mb = outcome.memory_mb;  // the TetGen process (this one also holds partet's own run)
+  f.peak_mb = outcome.memory_mb;                            // the TetGen process (this one also holds partet's own run)
   TetMesh mesh;
   mesh.points = input.points;
   append_local_mesh(outcome.result.mesh, whole.global_ids, mesh.points, mesh.tets, mesh.neighbours);

@@ -101,6 +101,7 @@ constexpr std::size_t kNoPart = static_cast<std::size_t>(-1);
 // One neighbourhood: its tets' worst measures, its boundary, and its re-meshing.
 struct Neighbourhood {
   Judged before;
+  std::int64_t tets = 0;
   std::vector<Triangle> faces;  // global ids, outward
   RegionMesh remeshed;
 };
@@ -116,6 +117,7 @@ std::vector<Neighbourhood> neighbourhoods(const TetMesh& mesh, const std::vector
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     if (part_of[t] < 0) continue;
     Neighbourhood& part = parts[part_of[t]];
+    ++part.tets;
     part.before.add(shape_of(mesh, mesh.tets[t]), options);
     for (int j = 0; j < 4; ++j) {
       const auto nb = mesh.neighbours[t][j];
@@ -141,10 +143,13 @@ TetShape shape_in(const RegionMesh& batch, const TetMesh& mesh, const Tet& t) {
 // not depend on the number of ranks.
 constexpr std::size_t kBatchTriangles = 4000;
 
-std::vector<std::vector<std::size_t>> batches_of(const std::vector<Neighbourhood>& parts) {
+// The neighbourhoods worth re-meshing (see PolishOptions::largest_neighbourhood), in batches.
+std::vector<std::vector<std::size_t>> batches_of(const std::vector<Neighbourhood>& parts,
+                                                 const PolishOptions& options) {
   std::vector<std::vector<std::size_t>> batches;
   std::size_t triangles = kBatchTriangles;
   for (std::size_t c = 0; c < parts.size(); ++c) {
+    if (parts[c].tets > options.largest_neighbourhood || parts[c].before.poor > options.most_poor_tets) continue;
     if (triangles >= kBatchTriangles) batches.emplace_back(), triangles = 0;
     batches.back().push_back(c);
     triangles += parts[c].faces.size();
@@ -242,7 +247,9 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
   std::vector<char> kept(parts.size(), 0);
   std::vector<RegionMesh> better;
   std::vector<std::int32_t> scratch(mesh.points.size(), -1);
-  std::vector<std::vector<std::size_t>> batches = batches_of(parts);
+  std::vector<std::vector<std::size_t>> batches = batches_of(parts, options);
+  std::int64_t remeshed = 0;
+  for (const auto& batch : batches) remeshed += static_cast<std::int64_t>(batch.size());
   while (!batches.empty()) {
     std::vector<PieceSurface> surfaces(batches.size());
     std::vector<RegionMesh> results(batches.size());
@@ -267,7 +274,8 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
     if (in_region[t] && !kept[part_of[t]]) in_region[t] = 0;
     stats.tets_in += in_region[t];
   }
-  stats.regions += static_cast<std::int64_t>(parts.size());
+  stats.regions += remeshed;
+  stats.left += static_cast<std::int64_t>(parts.size()) - remeshed;
   stats.improved += std::count(kept.begin(), kept.end(), 1);
   return better;
 }

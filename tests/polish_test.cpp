@@ -122,6 +122,37 @@ TEST(Polish, FailedNeighbourhoodsKeepTheirTets) {
   EXPECT_EQ(mesh.neighbours, original.neighbours);
 }
 
+TEST(Polish, NeighbourhoodsTooLargeOrTooPoorAreLeft) {
+  // Poor tets in a large cluster are the input's shape, not a lottery: their neighbourhood is
+  // not re-meshed at all (on a CAD part that cost 90% of the run for nothing).
+  const SurfaceMesh input = generate_surface("genus3", 3000);
+  const TetMesh original = whole_mesh(input, "1.414");
+  for (int bound : {0, 1}) {
+    SCOPED_TRACE(bound == 0 ? "largest_neighbourhood = 0" : "most_poor_tets = 0");
+    PolishOptions options = strict();
+    (bound == 0 ? options.largest_neighbourhood : options.most_poor_tets) = 0;
+    TetMesh mesh = original;
+    int calls = 0;
+    const PolishStats stats =
+        polish_poor_tets(mesh, options, [&](const std::vector<PieceSurface>&, const std::string&) {
+          ++calls;
+          return std::vector<PieceOutcome>();
+        });
+    EXPECT_EQ(calls, 0);
+    EXPECT_GT(stats.poor_before, 0);
+    EXPECT_EQ(stats.poor_after, stats.poor_before);
+    EXPECT_EQ(stats.regions, 0);
+    EXPECT_GT(stats.left, 0);
+    EXPECT_EQ(mesh.tets, original.tets);
+    EXPECT_EQ(mesh.points, original.points);
+  }
+  // With the default bounds this small mesh's neighbourhoods are all re-meshed.
+  TetMesh mesh = original;
+  const PolishStats stats = polish_poor_tets(mesh, strict(), here("1.414"));
+  EXPECT_GT(stats.regions, 0);
+  EXPECT_EQ(stats.left, 0);
+}
+
 TEST(Polish, NoPoorTetsNoWork) {
   const SurfaceMesh input = generate_surface("sphere", 1000);
   TetMesh mesh = whole_mesh(input, "1.414");
