@@ -270,14 +270,6 @@ std::vector<std::int32_t> round_region(const TetMesh& mesh, const Removed& remov
   return region;
 }
 
-// The tets marked in `in_region`, ascending.
-std::vector<std::int32_t> marked_tets(const std::vector<char>& in_region) {
-  std::vector<std::int32_t> region;
-  for (std::size_t t = 0; t < in_region.size(); ++t)
-    if (in_region[t]) region.push_back(static_cast<std::int32_t>(t));
-  return region;
-}
-
 // After a round, the only tets that can hold a vertex still to remove: the round's star tets
 // outside its region (at their slots after the splice) and the new tets (their boundary
 // vertices include any vertex left on the region's boundary). Ascending.

@@ -17,6 +17,13 @@ PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, in
   return region;
 }
 
+std::vector<std::int32_t> marked_tets(const std::vector<char>& mask) {
+  std::vector<std::int32_t> tets;
+  for (std::size_t t = 0; t < mask.size(); ++t)
+    if (mask[t]) tets.push_back(static_cast<std::int32_t>(t));
+  return tets;
+}
+
 namespace {
 
 // Opens the faces of the kept tets towards the region (joined again to the new tets later) and
@@ -96,10 +103,9 @@ Replacement replace_region(TetMesh& mesh, const std::vector<char>& in_region, co
   mesh.tets.resize(size);
   mesh.neighbours.resize(size);
   if (!mesh.piece.empty()) mesh.piece.resize(size);
+  on_seam.resize(size);
   // 4. Join the new tets to each other's parts and to the kept tets around them.
-  std::vector<std::int32_t> seam;
-  for (std::size_t t = 0; t < size; ++t)
-    if (on_seam[t]) seam.push_back(static_cast<std::int32_t>(t));
+  const std::vector<std::int32_t> seam = marked_tets(on_seam);
   connect_open_faces(mesh.tets, mesh.neighbours, &seam);
   return where;
 }

@@ -23,6 +23,9 @@ void add_layer(const TetMesh& mesh, From from, std::vector<char>& in_region) {
       if (touched[v]) in_region[t] = 1;
 }
 
+// The tets marked in `mask`, ascending.
+std::vector<std::int32_t> marked_tets(const std::vector<char>& mask);
+
 // One part of a region once re-meshed: its new tets in local numbering, and the global id of
 // each of its local surface points.
 struct RegionMesh {
