@@ -94,6 +94,8 @@ void check_outputs(const MeshJob& job) {
     throw OutputError("the output prefix '" + prefix +
                       "' names no file (give e.g. 'out/model' for out/model.node ...)");
   check_output_paths(output_paths(job), {job.input});
+  // A publish at this prefix that a killed run left half done is completed first.
+  if (const std::string done = settle_publish(prefix); !done.empty()) log::warning(done);
   remove_stale_temporaries(output_paths(job));
 }
 

@@ -24,6 +24,8 @@
 #include "partet/tetgen_files.hpp"
 #include "partet/tetgen_mesher.hpp"
 #include "partet/version.hpp"
+#include "partet/output_set.hpp"
+#include "process/interrupts.hpp"
 #include "quality_json.hpp"
 
 namespace {
@@ -99,7 +101,13 @@ void print_check_json(const partet::CheckReport& report, const ZoneQuality& zone
 }
 
 // Exit code 0 when the check passes, 1 when it fails (2 is kept for usage errors).
+// A publish a killed run left half done at this prefix is completed before the files are read.
+void settle(const std::string& prefix) {
+  if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
+}
+
 int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json) {
+  settle(prefix);
   const partet::TetgenFileSet files = partet::read_tetgen_set(prefix);
   const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files);
   const ZoneQuality zones = zone_quality(files.mesh, report_path);
@@ -314,6 +322,7 @@ bool tet_mesh_prefix(const std::string& file, std::string& prefix) {
 }
 
 int print_tet_mesh_info(const std::string& prefix, bool json) {
+  settle(prefix);
   const partet::TetMeshInfo i = partet::tet_mesh_info(partet::read_tetgen_files(prefix));
   if (json) {
     std::printf("%s\n", nlohmann::json{{"kind", "tet mesh"}, {"vertices", i.vertices}, {"tets", i.tets},
@@ -369,16 +378,26 @@ void choose_formats(const std::vector<std::string>& names, partet::MeshJob& job)
   if (job.formats.empty()) job.formats.push_back(partet::MeshFormat::tetgen);
 }
 
+// Writes an OFF file all or nothing, as the mesh files are.
+void publish_off(const partet::SurfaceMesh& s, const std::string& path) {
+  partet::OutputSet set(partet::journal_path(path));
+  set.add(path, [&](const std::string& temporary) { partet::write_off(s, temporary); });
+  partet::interrupts::set_messages("interrupted (%s): " + path + " is as it was", "");
+  set.publish();
+}
+
 int run_refine(const CommandLine& c) {
+  partet::check_output_paths({c.refine_output}, {c.refine_input});
   const partet::SurfaceMesh s = partet::loop_subdivide(partet::read_surface(c.refine_input), c.loop_steps);
-  partet::write_off(s, c.refine_output);
+  publish_off(s, c.refine_output);
   std::printf("wrote %s: %zu vertices, %zu faces\n", c.refine_output.c_str(), s.points.size(), s.triangles.size());
   return 0;
 }
 
 int run_generate(const CommandLine& c) {
+  partet::check_output_paths({c.generate_output}, {});
   const partet::SurfaceMesh s = partet::generate_surface(c.shape, c.faces);
-  partet::write_off(s, c.generate_output);
+  publish_off(s, c.generate_output);
   std::printf("wrote %s: %zu vertices, %zu faces\n", c.generate_output.c_str(), s.points.size(), s.triangles.size());
   return 0;
 }
@@ -386,6 +405,8 @@ int run_generate(const CommandLine& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before anything else, and before MPI starts its threads: signals end a run cleanly.
+  partet::interrupts::install();
   CLI::App app{"partet: distributed boundary-preserving tetrahedral meshing around TetGen"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("partet ") + PARTET_VERSION + " (TetGen 1.5, CGAL " +

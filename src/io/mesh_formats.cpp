@@ -328,6 +328,17 @@ std::string piece_file(const std::string& prefix, int piece) {
   return prefix + (piece < 0 ? std::string("_seams.vtu") : "_p" + std::to_string(piece) + ".vtu");
 }
 
+// Whether a file name is one of piece_file(base, i)'s.
+bool is_piece_file_name(const std::string& name, const std::string& base) {
+  if (name == base + "_seams.vtu") return true;
+  const std::string head = base + "_p", tail = ".vtu";
+  if (name.size() <= head.size() + tail.size() || name.compare(0, head.size(), head) != 0 ||
+      name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
+    return false;
+  const std::string digits = name.substr(head.size(), name.size() - head.size() - tail.size());
+  return digits.find_first_not_of("0123456789") == std::string::npos && (digits == "0" || digits[0] != '0');
+}
+
 }  // namespace
 
 const std::vector<std::string>& mesh_format_names() {
@@ -399,6 +410,10 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
         sources.push_back(piece_file(base, piece));
       }
       set.add(path, [&](const std::string& tmp) { write_pvtu(output, tmp, sources); });
+      // Piece files of an earlier .pvtu at this prefix that this one does not name (it had more
+      // pieces) go with the previous set.
+      const std::string directory = prefix.find('/') == std::string::npos ? "." : prefix.substr(0, prefix.find_last_of('/') + 1);
+      set.supersede(directory, [base](const std::string& name) { return is_piece_file_name(name, base); });
       return;
     }
   }

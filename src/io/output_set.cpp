@@ -3,102 +3,318 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <csignal>
+#include <chrono>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
-#include <random>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
 
+#include "io/file_owner.hpp"
 #include "partet/errors.hpp"
+#include "partet/log.hpp"
+#include "process/interrupts.hpp"
+#include "test_hooks.hpp"
 
 namespace partet {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Temporaries the interrupt handler removes: plain arrays, readable from a signal handler.
-constexpr int kMaxTemporaries = 64;
-char g_temporaries[kMaxTemporaries][4096];
-volatile sig_atomic_t g_temporary_count = 0;
-char g_interrupt_message[512];
-
-void remember_temporaries(const std::vector<std::string>& paths) {
-  g_temporary_count = 0;
-  int n = 0;
-  for (const std::string& p : paths) {
-    if (n == kMaxTemporaries || p.size() >= sizeof g_temporaries[0]) continue;
-    std::memcpy(g_temporaries[n], p.c_str(), p.size() + 1);
-    ++n;
-  }
-  g_temporary_count = n;
-}
-
-extern "C" void on_interrupt(int signal_number) {
-  for (int i = 0; i < g_temporary_count; ++i) ::unlink(g_temporaries[i]);
-  if (g_interrupt_message[0]) {
-    char text[640];
-    const int n = std::snprintf(text, sizeof text, "%s (signal %d)\n", g_interrupt_message, signal_number);
-    if (n > 0) (void)!::write(STDERR_FILENO, text, static_cast<std::size_t>(n));
-  }
-  ::_exit(128 + signal_number);
-}
+constexpr const char* kJournalHeader = "partet publish journal 1";
+constexpr const char* kOld = ".old";  // a previous file set aside: FINAL.old<suffix>
 
 std::string directory_of(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
   return parent.empty() ? "." : parent.string();
 }
 
-// Holds an exclusive lock on a directory: publishes into it happen one at a time.
-class DirectoryLock {
- public:
-  explicit DirectoryLock(const std::string& directory) : fd_(::open(directory.c_str(), O_RDONLY | O_DIRECTORY)) {
-    if (fd_ >= 0) ::flock(fd_, LOCK_EX);
-  }
-  ~DirectoryLock() {
-    if (fd_ >= 0) ::close(fd_);  // releases the lock
-  }
-  DirectoryLock(const DirectoryLock&) = delete;
-  DirectoryLock& operator=(const DirectoryLock&) = delete;
+std::string absolute(const std::string& path) {
+  std::error_code ec;
+  const fs::path a = fs::absolute(path, ec);
+  return ec ? path : a.lexically_normal().string();
+}
 
- private:
-  int fd_;
-};
+bool exists_here(const std::string& path) {  // the name itself, a symbolic link included
+  struct stat st {};
+  return ::lstat(path.c_str(), &st) == 0;
+}
 
-// Test hook: PARTET_INJECT_PUBLISH_FAILURE=N makes the N-th new file's move into place fail
-// (N from 1), as an immutable target or an I/O error would.
-int injected_publish_failure() {
-  const char* spec = std::getenv("PARTET_INJECT_PUBLISH_FAILURE");
-  return spec ? std::atoi(spec) : 0;
+bool same_file(int fd, const std::string& path) {
+  struct stat a {}, b {};
+  return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+void sync_directory(const std::string& directory) {
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);  // best effort: some filesystems refuse to sync a directory
+  ::close(fd);
 }
 
 [[noreturn]] void refuse(const std::string& path, const std::string& why) {
   throw OutputError("cannot write '" + path + "': " + why);
 }
 
+void publish_step(int& step) { test_hooks::publish_step(++step); }
+
+// What a journal records: every move of one publish.
+struct Journal {
+  long pid = 0;
+  std::string host;
+  std::string suffix;
+  std::vector<std::string> files;       // final paths (absolute); each came from FINAL<suffix>
+  std::vector<std::string> superseded;  // previous files the set removes (absolute)
+  bool complete = false;                // the journal was written to its end
+
+  std::string old_copy(const std::string& path) const { return path + kOld + suffix; }
+  std::string temporary(const std::string& path) const { return path + suffix; }
+
+  std::string text() const {
+    std::ostringstream out;
+    out << kJournalHeader << "\n"
+        << "# A partet run was moving these files into place when it was stopped; the next partet\n"
+        << "# command on this prefix (mesh, check or info) completes the move.\n"
+        << "owner " << pid << " " << host << "\n"
+        << "suffix " << suffix << "\n";
+    for (const std::string& f : files) out << "file " << f << "\n";
+    for (const std::string& f : superseded) out << "remove " << f << "\n";
+    out << "end\n";
+    return out.str();
+  }
+
+  static Journal read(int fd) {
+    Journal j;
+    std::string text;
+    char buffer[4096];
+    ssize_t n;
+    ::lseek(fd, 0, SEEK_SET);
+    while ((n = ::read(fd, buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(n));
+    std::istringstream in(text);
+    std::string line;
+    if (!std::getline(in, line) || line != kJournalHeader) return j;
+    while (std::getline(in, line)) {
+      const auto space = line.find(' ');
+      const std::string key = line.substr(0, space), value = space == std::string::npos ? "" : line.substr(space + 1);
+      if (key == "owner") {
+        std::istringstream owner(value);
+        owner >> j.pid >> j.host;
+      } else if (key == "suffix") {
+        j.suffix = value;
+      } else if (key == "file") {
+        j.files.push_back(value);
+      } else if (key == "remove") {
+        j.superseded.push_back(value);
+      } else if (key == "end") {
+        j.complete = !j.suffix.empty();
+      }
+    }
+    return j;
+  }
+};
+
+void write_journal(int fd, const Journal& journal, const std::string& path) {
+  const std::string text = journal.text();
+  const char* p = text.data();
+  std::size_t left = text.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) refuse(path, std::strerror(errno));
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 && errno != EINVAL) refuse(path, std::strerror(errno));
+  sync_directory(directory_of(path));
+}
+
+// Finishes the moves a complete journal lists: the new files were all written and synced before
+// it was, so the new set is always the one to complete.
+std::string complete_moves(const Journal& j, const std::string& journal_path) {
+  for (const std::string& f : j.files) {
+    const std::string temporary = j.temporary(f);
+    if (exists_here(temporary) && std::rename(temporary.c_str(), f.c_str()) != 0)
+      throw OutputError("cannot complete the interrupted publish listed in '" + journal_path + "': moving '" +
+                        temporary + "' to '" + f + "': " + std::strerror(errno));
+  }
+  for (const std::string& f : j.files) ::unlink(j.old_copy(f).c_str());
+  for (const std::string& f : j.superseded) {
+    ::unlink(j.old_copy(f).c_str());
+    ::unlink(f.c_str());  // not yet set aside when the run stopped: it belongs to the previous set
+  }
+  for (const std::string& f : j.files) sync_directory(directory_of(f));
+  return "completed the publish of " + std::to_string(j.files.size()) + " file(s) that a stopped partet run (pid " +
+         std::to_string(j.pid) + ") left half done (journal '" + journal_path + "')";
+}
+
+struct FileDescriptor {
+  int fd;
+  explicit FileDescriptor(int f) : fd(f) {}
+  ~FileDescriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+};
+
+double age_seconds(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return 0;
+  return static_cast<double>(std::time(nullptr) - st.st_mtime);
+}
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Holds the journal of a prefix: while it exists and its owner lives, no other run publishes
+// there. A journal whose owner is gone is completed (and removed) before it is taken.
+class JournalLock {
+ public:
+  JournalLock(std::string path, double wait_seconds) : path_(std::move(path)) {
+    const double deadline = now() + wait_seconds;
+    bool said = false;
+    for (Take t; (t = try_take()) != Take::taken;) {
+      if (t == Take::again) continue;
+      if (now() > deadline)
+        throw OutputError("gave up after " + std::to_string(static_cast<int>(wait_seconds)) + " s waiting for " +
+                          holder_ + " to finish publishing there (it holds '" + path_ +
+                          "'); once it no longer runs, the next partet command on this prefix completes its publish");
+      if (!said) log::warning("waiting for " + holder_ + " to finish publishing at the same prefix ('" + path_ + "')");
+      said = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  ~JournalLock() { release(); }
+  JournalLock(const JournalLock&) = delete;
+  JournalLock& operator=(const JournalLock&) = delete;
+
+  int fd() const { return file_.fd(); }
+  const std::string& path() const { return path_; }
+  // What completing a dead run's journal did (empty: there was none).
+  const std::string& recovered() const { return recovered_; }
+  void release() {
+    if (file_.fd() >= 0) ::unlink(path_.c_str());
+    file_.close();
+  }
+
+ private:
+  enum class Take { taken, again, busy };
+  // Takes the journal, or completes a dead owner's (then: again); busy while a live run holds it.
+  Take try_take() {
+    if (file_.create(path_)) {
+      // A run examining a journal that appeared this instant holds it briefly; then it is ours.
+      LockTry lock = file_.lock();
+      for (int i = 0; i < 50 && lock == LockTry::held_elsewhere; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        lock = try_lock(file_.fd());
+      }
+      if (lock != LockTry::held_elsewhere && same_file(file_.fd(), path_)) return Take::taken;
+      file_.close();
+      return Take::busy;
+    }
+    if (errno != EEXIST) refuse(path_, std::strerror(errno));
+    const FileDescriptor held(::open(path_.c_str(), O_RDWR | O_CLOEXEC));
+    const int fd = held.fd;
+    if (fd < 0) {
+      if (errno == ENOENT) return Take::again;  // removed meanwhile
+      refuse(path_, std::strerror(errno));
+    }
+    const Journal journal = Journal::read(fd);
+    holder_ = "another partet run (pid " + std::to_string(journal.pid) +
+              (journal.host == host_tag() ? " on this host)" : ", host " + journal.host + ")");
+    const LockTry lock = try_lock(fd);
+    const bool owner_gone =
+        lock == LockTry::acquired ||
+        (lock == LockTry::unsupported && journal.host == host_tag() && !process_runs(journal.pid, now_epoch()));
+    Take next = Take::busy;
+    if (owner_gone && same_file(fd, path_)) {
+      if (journal.complete) {
+        recovered_ = complete_moves(journal, path_);
+        ::unlink(path_.c_str());
+        next = Take::again;
+      } else if (age_seconds(path_) > 10) {
+        ::unlink(path_.c_str());  // its run stopped before listing a single move: nothing to complete
+        next = Take::again;
+      }
+    }
+    return next;
+  }
+
+  static double now_epoch() { return static_cast<double>(std::time(nullptr)); }
+
+  std::string path_;
+  OwnedFile file_;
+  std::string holder_ = "another partet run";
+  std::string recovered_;
+};
+
+// The previous files at `directory` that `belongs` claims and the new set does not write.
+std::vector<std::string> superseded_files(const std::string& directory,
+                                          const std::function<bool(const std::string&)>& belongs,
+                                          const std::set<std::string>& finals) {
+  std::vector<std::string> found;
+  DIR* dir = ::opendir(directory.c_str());
+  if (!dir) return found;
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string name = entry->d_name, path = absolute(directory + "/" + name);
+    if (belongs(name) && finals.count(path) == 0) found.push_back(path);
+  }
+  ::closedir(dir);
+  return found;
+}
+
 }  // namespace
 
-OutputSet::OutputSet() {
-  std::random_device device;
-  char text[64];
-  std::snprintf(text, sizeof text, ".tmp-%ld-%08x", static_cast<long>(::getpid()), device());
-  suffix_ = text;
+struct OutputSet::Impl {
+  std::string journal;
+  std::string suffix = temporary_suffix();
+  std::vector<std::string> temporaries;
+  std::vector<OwnedFile> owned;  // locked while this run lives
+  struct Family {
+    std::string directory;
+    std::function<bool(const std::string&)> belongs;
+  };
+  std::vector<Family> families;
+  bool published = false;
+};
+
+std::string journal_path(const std::string& prefix) { return prefix + ".partet-publish"; }
+
+std::size_t OutputSet::longest_extra_name(const std::string& final_path) {
+  // FINAL.old.tmp-<pid up to 10 digits>-<8 hex>-<8 hex>
+  return fs::path(final_path).filename().string().size() + std::strlen(kOld) + 5 + 10 + 1 + 8 + 1 + 8;
+}
+
+OutputSet::OutputSet(std::string journal) : impl_(std::make_unique<Impl>()) {
+  impl_->journal = absolute(journal);
 }
 
 OutputSet::~OutputSet() {
-  if (!published_) discard();
+  if (!impl_->published) discard();
 }
 
 void OutputSet::add(const std::string& final_path, const std::function<void(const std::string&)>& write_file) {
-  const std::string temporary = final_path + suffix_;
+  const std::string temporary = final_path + impl_->suffix;
+  OwnedFile owned;
+  if (!owned.create(temporary)) {
+    const std::string reason = std::strerror(errno);
+    discard();
+    refuse(final_path, reason);
+  }
+  interrupts::remember(temporary);
   finals_.push_back(final_path);
-  temporaries_.push_back(temporary);
-  remember_temporaries(temporaries_);
+  impl_->temporaries.push_back(temporary);
+  impl_->owned.push_back(std::move(owned));
   try {
     write_file(temporary);
   } catch (...) {
@@ -107,54 +323,131 @@ void OutputSet::add(const std::string& final_path, const std::function<void(cons
   }
 }
 
+void OutputSet::supersede(const std::string& directory, std::function<bool(const std::string&)> belongs) {
+  impl_->families.push_back({directory, std::move(belongs)});
+}
+
 void OutputSet::discard() {
-  for (const std::string& t : temporaries_) std::remove(t.c_str());
-  temporaries_.clear();
+  for (const std::string& t : impl_->temporaries) {
+    std::remove(t.c_str());
+    interrupts::forget(t);
+  }
+  impl_->temporaries.clear();
+  impl_->owned.clear();
   finals_.clear();
-  remember_temporaries({});
 }
 
 void OutputSet::publish() {
   if (finals_.empty()) return;
-  DirectoryLock lock(directory_of(finals_.front()));
-  // 1. The previous files step aside; 2. the new ones move in; a failure undoes both.
-  std::vector<std::string> moved_aside, moved_in;
+  test_hooks::before_publish();
+  // The new files reach the disk before the journal names them (a power cut must not leave a
+  // journal pointing at files that were never written).
+  for (const OwnedFile& f : impl_->owned)
+    if (::fsync(f.fd()) != 0 && errno != EINVAL) {
+      const std::string reason = std::strerror(errno), failed = finals_.front();
+      discard();
+      refuse(failed, reason);
+    }
+  std::unique_ptr<JournalLock> lock;
+  Journal journal;
+  try {
+    lock = std::make_unique<JournalLock>(impl_->journal, test_hooks::publish_wait_seconds(lock_wait_seconds));
+    if (!lock->recovered().empty()) log::warning(lock->recovered());
+    journal.pid = static_cast<long>(::getpid());
+    journal.host = host_tag();
+    journal.suffix = impl_->suffix;
+    std::set<std::string> finals;
+    for (const std::string& f : finals_) journal.files.push_back(absolute(f)), finals.insert(journal.files.back());
+    for (const Impl::Family& family : impl_->families)
+      for (const std::string& f : superseded_files(family.directory, family.belongs, finals))
+        journal.superseded.push_back(f);
+    write_journal(lock->fd(), journal, lock->path());
+  } catch (...) {
+    discard();
+    throw;
+  }
+
+  // From here the moves end as a whole: an interrupt waits for them.
+  const interrupts::Deferred hold_interrupts(
+      "arrived while the new files move into place: finishing that first (if this process is killed meanwhile, the "
+      "next partet command on this prefix completes it)");
+  int step = 0;
+  publish_step(step);  // 1: the journal lists every move
+  const std::size_t n = finals_.size();
+  enum class Aside { none, linked, renamed };
+  std::vector<Aside> aside(n, Aside::none);
+  std::vector<char> moved_in(n, 0), superseded_aside(journal.superseded.size(), 0);
   auto undo = [&] {
-    for (const std::string& f : moved_in) std::remove(f.c_str());
-    for (const std::string& f : moved_aside) std::rename((f + ".old" + suffix_).c_str(), f.c_str());
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string& f = journal.files[i];
+      if (aside[i] == Aside::renamed || (aside[i] == Aside::linked && moved_in[i]))
+        std::rename(journal.old_copy(f).c_str(), f.c_str());  // back in its place, over the new file
+      else if (aside[i] == Aside::linked)
+        ::unlink(journal.old_copy(f).c_str());  // still in place: only the second name goes
+      else if (moved_in[i])
+        ::unlink(f.c_str());
+    }
+    for (std::size_t i = 0; i < superseded_aside.size(); ++i)
+      if (superseded_aside[i])
+        std::rename(journal.old_copy(journal.superseded[i]).c_str(), journal.superseded[i].c_str());
+    discard();
+    lock->release();
   };
-  for (std::size_t i = 0; i < finals_.size(); ++i) {
-    const std::string f = finals_[i];  // a copy: discard() clears finals_ before refuse() names it
-    std::error_code ec;
-    if (!fs::exists(fs::symlink_status(f, ec))) continue;
-    if (!fs::is_regular_file(fs::symlink_status(f, ec))) {  // never move a directory or a device aside
-      undo();
-      discard();
-      refuse(f, "it exists and is not a regular file");
+  auto fail = [&](std::string path, const std::string& why) {  // a copy: undo() clears finals_
+    undo();
+    refuse(path, why + " (the previous files are left as they were)");
+  };
+  // 1. The previous files stay reachable under a second name (where they exist).
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string& f = journal.files[i];
+    if (!exists_here(f)) continue;
+    publish_step(step);
+    struct stat st {};
+    if (::lstat(f.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) fail(finals_[i], "it exists and is not a regular file");
+    if (::link(f.c_str(), journal.old_copy(f).c_str()) == 0) {
+      aside[i] = Aside::linked;
+    } else if (std::rename(f.c_str(), journal.old_copy(f).c_str()) == 0) {  // no hard links here
+      aside[i] = Aside::renamed;
+    } else {
+      fail(finals_[i], std::strerror(errno));
     }
-    if (std::rename(f.c_str(), (f + ".old" + suffix_).c_str()) != 0) {
-      const std::string reason = std::strerror(errno);
-      undo();
-      discard();
-      refuse(f, reason);
-    }
-    moved_aside.push_back(f);
   }
-  const int inject = injected_publish_failure();
-  for (std::size_t i = 0; i < finals_.size(); ++i) {
+  for (std::size_t i = 0; i < journal.superseded.size(); ++i) {
+    publish_step(step);
+    if (std::rename(journal.superseded[i].c_str(), journal.old_copy(journal.superseded[i]).c_str()) != 0)
+      fail(journal.superseded[i], std::strerror(errno));
+    superseded_aside[i] = 1;
+  }
+  // 2. The new files move in (each rename replaces a previous file at once).
+  const int inject = test_hooks::publish_failure();
+  for (std::size_t i = 0; i < n; ++i) {
+    publish_step(step);
     if (static_cast<int>(i) + 1 == inject) errno = EIO;
-    if (static_cast<int>(i) + 1 == inject || std::rename(temporaries_[i].c_str(), finals_[i].c_str()) != 0) {
-      const std::string reason = std::strerror(errno), failed = finals_[i];
-      undo();
-      discard();
-      refuse(failed, reason + " (the previous files are left as they were)");
-    }
-    moved_in.push_back(finals_[i]);
+    if (static_cast<int>(i) + 1 == inject || std::rename(impl_->temporaries[i].c_str(), journal.files[i].c_str()) != 0)
+      fail(finals_[i], std::strerror(errno));
+    moved_in[i] = 1;
   }
-  for (const std::string& f : moved_aside) std::remove((f + ".old" + suffix_).c_str());
-  published_ = true;
-  temporaries_.clear();
-  remember_temporaries({});
+  std::set<std::string> directories;
+  for (const std::string& f : journal.files) directories.insert(directory_of(f));
+  for (const std::string& d : directories) sync_directory(d);
+  interrupts::mark_output_complete();
+  impl_->published = true;
+  for (const std::string& t : impl_->temporaries) interrupts::forget(t);
+  impl_->temporaries.clear();
+  impl_->owned.clear();
+  // 3. The previous set goes, then the journal.
+  publish_step(step);
+  for (std::size_t i = 0; i < n; ++i)
+    if (aside[i] != Aside::none) ::unlink(journal.old_copy(journal.files[i]).c_str());
+  for (const std::string& f : journal.superseded) ::unlink(journal.old_copy(f).c_str());
+  lock->release();
+}
+
+std::string settle_publish(const std::string& prefix, double wait_seconds) {
+  const std::string journal = absolute(journal_path(prefix));
+  if (!exists_here(journal)) return "";
+  JournalLock lock(journal, test_hooks::publish_wait_seconds(wait_seconds));
+  return lock.recovered();
 }
 
 void check_output_paths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
@@ -167,12 +460,25 @@ void check_output_paths(const std::vector<std::string>& outputs, const std::vect
   for (const std::string& p : inputs) seen.push_back({normalized(p), p});
   for (const std::string& p : outputs) {
     if (p.empty()) throw OutputError("an output path is empty");
+    if (p.find('\n') != std::string::npos) refuse(p, "the path contains a line break");
     if (p.back() == '/' || fs::is_directory(p)) refuse(p, "it is a directory (give a file name)");
     std::error_code ec;
-    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) refuse(p, "it exists and is not a regular file");
+    const fs::file_status link_status = fs::symlink_status(p, ec);
+    if (fs::is_symlink(link_status))
+      refuse(p, "it is a symbolic link (to '" + fs::read_symlink(p, ec).string() +
+                    "'); partet replaces files by renaming, which would replace the link: give the target's path");
+    if (fs::exists(link_status) && !fs::is_regular_file(link_status)) refuse(p, "it exists and is not a regular file");
     const std::string directory = directory_of(p);
     if (!fs::is_directory(directory, ec)) refuse(p, "directory '" + directory + "' does not exist");
     if (::access(directory.c_str(), W_OK | X_OK) != 0) refuse(p, "directory '" + directory + "' is not writable");
+    const long name_max = ::pathconf(directory.c_str(), _PC_NAME_MAX);
+    const std::size_t limit = name_max > 0 ? static_cast<std::size_t>(name_max) : NAME_MAX;
+    if (OutputSet::longest_extra_name(p) > limit)
+      refuse(p, "its name is too long for the filesystem once partet's temporary suffix is added (names up to " +
+                    std::to_string(limit - (OutputSet::longest_extra_name(p) - fs::path(p).filename().string().size())) +
+                    " characters work here)");
+    if (absolute(p).size() + (OutputSet::longest_extra_name(p) - fs::path(p).filename().string().size()) >= PATH_MAX)
+      refuse(p, "the path is too long");
     const std::string n = normalized(p);
     for (const auto& [other, given] : seen)
       if (other == n) refuse(p, "it is the same file as '" + given + "'");
@@ -185,24 +491,15 @@ void remove_stale_temporaries(const std::vector<std::string>& final_paths) {
     const std::string directory = directory_of(f), prefix = fs::path(f).filename().string() + ".tmp-";
     DIR* dir = ::opendir(directory.c_str());
     if (!dir) continue;
+    std::vector<std::string> stale;
     while (const dirent* entry = ::readdir(dir)) {
       const std::string name = entry->d_name;
-      if (name.compare(0, prefix.size(), prefix) != 0) continue;
-      const long pid = std::strtol(name.c_str() + prefix.size(), nullptr, 10);
-      if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)
-        std::remove((directory + "/" + name).c_str());
+      if (name.compare(0, prefix.size(), prefix) == 0 && temporary_owner_gone(directory + "/" + name))
+        stale.push_back(directory + "/" + name);
     }
     ::closedir(dir);
+    for (const std::string& s : stale) std::remove(s.c_str());
   }
-}
-
-void install_interrupt_handler(const std::string& message) {
-  std::snprintf(g_interrupt_message, sizeof g_interrupt_message, "%s", message.c_str());
-  struct sigaction action {};
-  action.sa_handler = on_interrupt;
-  sigemptyset(&action.sa_mask);
-  ::sigaction(SIGINT, &action, nullptr);
-  ::sigaction(SIGTERM, &action, nullptr);
 }
 
 }  // namespace partet

@@ -349,7 +349,7 @@ void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Tri
 }
 
 void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces, const std::string& prefix) {
-  OutputSet set;
+  OutputSet set(journal_path(prefix));
   add_tetgen_files(set, mesh, boundary_faces, prefix);
   set.publish();
 }

@@ -18,6 +18,8 @@
 #include "partet/output_set.hpp"
 #include "partet/serialize.hpp"
 #include "partet/surface_io.hpp"
+#include "process/interrupts.hpp"
+#include "test_hooks.hpp"
 
 namespace partet::mpi {
 namespace {
@@ -92,22 +94,6 @@ void dump_piece(const MeshJob& job, const PieceSurface& piece) {
   if (job.dump_pieces_dir.empty()) return;
   write_off(SurfaceMesh{piece.points, piece.triangles},
             job.dump_pieces_dir + "/piece_" + std::to_string(piece.index) + ".off");
-}
-
-// Test hook: PARTET_INJECT_FAILURE="P:error" makes piece P fail with an error, "P:abort" makes
-// the process meshing piece P abort (on a worker that kills the rank, as a real crash would).
-void inject_failure(int piece, int rank) {
-  const char* spec = std::getenv("PARTET_INJECT_FAILURE");
-  if (!spec) return;
-  const std::string s(spec);
-  const auto colon = s.find(':');
-  if (colon == std::string::npos || std::atoi(s.substr(0, colon).c_str()) != piece) return;
-  if (s.substr(colon + 1) == "abort") {
-    std::fprintf(stderr, "partet: rank %d: piece %d: injected abort\n", rank, piece);
-    std::fflush(stderr);
-    std::abort();
-  }
-  throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
 // Rank 0's side of the meshing, a dynamic master/worker queue: each piece goes to whichever
@@ -258,7 +244,7 @@ class RootScheduler : public PieceScheduler {
     own_start_ = now_seconds();
     if (!piece.seam_region) dump_piece(job_, piece);
     own_ = runner_.start(piece, [&piece] {
-      if (!piece.seam_region) inject_failure(piece.index, 0);
+      if (!piece.seam_region) test_hooks::piece_failure(piece.index, 0);
     });
   }
 
@@ -359,13 +345,6 @@ class RootScheduler : public PieceScheduler {
   std::size_t done_ = 0;          // pieces or regions finished this round
 };
 
-// Test hook: PARTET_INJECT_FAILURE="worker:stop-when-idle" makes rank 1 stop itself (SIGSTOP)
-// after its first reply, so rank 0's next piece finds no one to take it.
-void inject_worker_stop(int rank) {
-  const char* spec = std::getenv("PARTET_INJECT_FAILURE");
-  if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") std::raise(SIGSTOP);
-}
-
 // A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   while (receive_command() == kMeshPieces) {
@@ -387,14 +366,14 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       {
         AddSeconds timer{stats.tetgen_seconds};
         reply = runner.mesh_to_reply(piece, [&piece, rank, region] {
-          if (!region) inject_failure(piece.index, rank);
+          if (!region) test_hooks::piece_failure(piece.index, rank);
         });
       }
       if (!region) stats.pieces += 1;
       AddSeconds timer{stats.send_seconds};
       stats.bytes_sent += static_cast<double>(
           bounded([&] { return send_bytes(reply, 0, kTagReply, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); }));
-      inject_worker_stop(rank);
+      test_hooks::worker_stop(rank);
     }
   }
 }
@@ -412,7 +391,16 @@ struct RankState {
   CheckReport check;
   int scale_exponent = 0;  // the input is meshed scaled by 2^scale_exponent
   OutputSet outputs;       // rank 0: the files, under temporary names until every rank agrees
+  explicit RankState(const MeshJob& job) : outputs(journal_path(job.output_prefix)) {}
 };
+
+// What an interrupt says on rank 0, before and after the new files are in place.
+std::string interrupted_before(const MeshJob& job) {
+  return "interrupted (%s): no output written; the files at " + job.output_prefix + " are as they were";
+}
+std::string interrupted_after(const MeshJob& job) {
+  return "%s after the output was published: the new files at " + job.output_prefix + " are complete";
+}
 
 // Runs a rank-0 step, turning its exception into the job's error.
 template <class Step>
@@ -442,20 +430,10 @@ void mesh_on_root(const MeshJob& job, RankState& state) {
     on_root(state, [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
 }
 
-// Test hook: PARTET_INJECT_FAILURE="worker:abort-before-agreement" makes rank 1 die after its
-// last piece, while rank 0 writes (the job must then publish nothing).
-void inject_worker_death(int rank) {
-  const char* spec = std::getenv("PARTET_INJECT_FAILURE");
-  if (rank == 1 && spec && std::string(spec) == "worker:abort-before-agreement") {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    std::abort();
-  }
-}
-
 // Per-rank figures to rank 0, then the agreement: only when every rank succeeded does rank 0
 // publish the files (all at once), and every rank learns whether that worked too.
 void finish(const MeshJob& job, RankState& state) {
-  inject_worker_death(state.rank);
+  test_hooks::worker_death(state.rank);
   state.stats.peak_rss_mb = own_peak_rss_mb();
   state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
@@ -494,13 +472,13 @@ std::string library_version() {
 }
 
 JobStatus run_mesh_job(const MeshJob& job) {
-  RankState state;
+  RankState state(job);
   MPI_Comm_rank(MPI_COMM_WORLD, &state.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &state.size);
   log::set_rank(state.rank);
   // 1. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
-  // rank removes its temporary files; rank 0 says so.
-  install_interrupt_handler(state.rank == 0 ? "partet: interrupted: no output written" : "");
+  // rank removes its temporary files; rank 0 says which files are in place.
+  if (state.rank == 0) interrupts::set_messages(interrupted_before(job), interrupted_after(job));
   if (state.rank == 0)
     on_root(state, [&] {
       check_outputs(job);

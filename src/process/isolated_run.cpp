@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "partet/errors.hpp"
+#include "process/interrupts.hpp"
 
 namespace partet {
 namespace {
@@ -52,11 +53,7 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     if (::getppid() != parent) ::_exit(4);
     // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
     ::close(fds[0]);
-    ::signal(SIGINT, SIG_DFL);  // the parent's handler would remove the parent's files
-    ::signal(SIGTERM, SIG_DFL);
-    ::signal(SIGABRT, SIG_DFL);
-    ::signal(SIGSEGV, SIG_DFL);
-    ::signal(SIGBUS, SIG_DFL);
+    interrupts::reset_in_child();  // the parent's interrupt thread is not here; its files are not ours
     // TetGen prints some findings (two facets intersect, with their ids) on stdout even when told
     // to be quiet; the parent reports failures itself, and a --quiet run must print nothing.
     if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) {

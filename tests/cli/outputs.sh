@@ -45,12 +45,17 @@ if [ ${#launch[@]} -gt 0 ]; then
 fi
 
 # 3. Temporaries a killed run left behind (its process is gone) are removed by the next run on
-#    the same prefix; those of a running process are not.
-touch m.node.tmp-999999999-deadbeef m.ele.tmp-$$-cafecafe
+#    the same prefix; those of a running process are not (tests/cli/other_node.sh: other nodes).
+temporaries() { ls | grep -c '\.tmp-'; }
+PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=30000 "$partet" mesh torus.off -o m --pieces 3 --quiet --report m.json &
+live=$!
+for i in $(seq 200); do [ "$(temporaries)" -ge 5 ] && break; sleep 0.05; done
 "${launch[@]}" "$partet" mesh torus.off -o m --pieces 3 --quiet --report m.json
-[ ! -e m.node.tmp-999999999-deadbeef ] && [ -e m.ele.tmp-$$-cafecafe ] && ok "stale temporaries removed, live ones kept" ||
-  bad "stale temporaries: $(ls)"
-rm -f m.ele.tmp-$$-cafecafe
+[ "$(ls | grep -c "\.tmp-$live-")" -eq 5 ] && ok "a live run's temporaries are kept" || bad "live temporaries: $(ls)"
+kill -KILL "$live"
+wait "$live" 2> /dev/null
+"${launch[@]}" "$partet" mesh torus.off -o m --pieces 3 --quiet --report m.json
+[ "$(temporaries)" -eq 0 ] && ok "a killed run's temporaries are removed by the next run" || bad "stale temporaries: $(ls)"
 
 # 4. check: the intact set passes; each damage is caught.
 "$partet" check torus.off m > log 2>&1 && ok "intact set passes" || bad "intact set: $(cat log)"

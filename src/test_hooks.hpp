@@ -1,0 +1,30 @@
+// Fault injection for the tests, all in one place: each hook reads one environment variable and
+// does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
+// tests/mpi/stopped_rank.sh, tests/cli/outputs.sh, tests/cli/publish.sh.
+#pragma once
+
+namespace partet::test_hooks {
+
+// PARTET_INJECT_FAILURE="P:error" makes piece P fail with an error, "P:abort" makes the process
+// meshing piece P abort (on a worker that kills the rank, as a real crash would).
+void piece_failure(int piece, int rank);
+// PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
+// reply, so rank 0's next piece finds no one to take it.
+void worker_stop(int rank);
+// PARTET_INJECT_FAILURE="worker:abort-before-agreement": rank 1 dies after its last piece, while
+// rank 0 writes (the job must then publish nothing).
+void worker_death(int rank);
+
+// PARTET_INJECT_PUBLISH_FAILURE=N: the N-th new file's move into place fails (0: none).
+int publish_failure();
+// Called at each step of a publish (1: journal written, then one per move, then the cleanup).
+// PARTET_TEST_PUBLISH_DELAY_MS=D sleeps D ms first, as a slow network filesystem would;
+// PARTET_TEST_PUBLISH_SIGNAL=N:SIG sends signal SIG (a number) to this process at step N.
+void publish_step(int step);
+// PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=D: sleeps D ms once the files are written, before the
+// publish takes its lock (so a test can look at, age or kill the temporaries).
+void before_publish();
+// PARTET_TEST_PUBLISH_WAIT_S=S: how long a publish waits for another run's lock (else fallback).
+double publish_wait_seconds(double fallback);
+
+}  // namespace partet::test_hooks

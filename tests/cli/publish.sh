@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# The publish as a state machine: a signal at every step of it leaves either the complete previous
+# set or the complete new set, never a mix and never nothing, and the message and exit code say
+# which (0 and "complete": the new set; 128+signal and "as they were": the previous one). A
+# SIGKILL at any step leaves a journal that the next partet command completes. The previous set
+# has more .pvtu piece files than the new one (K=4 then K=2): they belong to it and go with it.
+# Also: an interrupt before the publish removes every temporary, however many (K=80 .pvtu); a
+# slow publish interrupted for real at random moments; a run waiting for another's lock says so
+# and gives up in bounded time.
+# Usage: publish.sh PARTET
+set -uo pipefail
+partet=$(realpath "$1")
+work=$(mktemp -d)
+trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+cd "$work"
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "ok   $*"; }
+bad() { fail=$((fail + 1)); echo "FAIL $*"; }
+"$partet" generate torus --faces 3000 -o torus.off > /dev/null
+old=(mesh torus.off -o m -k 4 --format tetgen,pvtu --report m.json --quiet)
+new=(mesh torus.off -o m -k 2 --format tetgen,pvtu --report m.json --quiet)
+
+# The two sets, once: the previous one as published, the new one as written under another name.
+mkdir old_set new_set
+(cd old_set && ln -s ../torus.off . && "$partet" "${old[@]}" && rm torus.off) || bad "previous set"
+(cd new_set && ln -s ../torus.off . && "$partet" "${new[@]}" && rm torus.off) || bad "new set"
+restore_old() { rm -f m* && cp old_set/* .; }
+listing() { ls -1 | grep -v -e '^old_set$' -e '^new_set$' -e '^torus.off$' -e '^log$' | sort | tr '\n' ' '; }
+same_files() {  # DIR: the files here are exactly DIR's (the report's timings may differ)
+  [ "$(listing)" = "$(cd "$1" && ls -1 | sort | tr '\n' ' ')" ] || return 1
+  for f in "$1"/*; do
+    name=$(basename "$f")
+    [ "$name" = m.json ] && { python3 -c "import json,sys; json.load(open('m.json'))" || return 1; continue; }
+    cmp -s "$f" "$name" || return 1
+  done
+}
+is_old() { same_files old_set && cmp -s m.json old_set/m.json; }
+is_new() { same_files new_set && "$partet" check torus.off m > /dev/null 2>&1; }
+
+# The publish has 22 steps here: the journal, 9 previous files kept aside, 2 previous piece files
+# the new set does not have, 9 moves, the cleanup.
+steps=22
+# 1. SIGTERM at each step and one past the end (nothing happens); SIGINT and SIGHUP at every
+#    third.
+for sig in TERM INT HUP; do
+  num=$(kill -l "$sig")
+  outcomes=""
+  tried=$(seq 1 $((steps + 1)))
+  [ "$sig" = TERM ] || tried=$(seq 1 3 $((steps + 1)))
+  for step in $tried; do
+    restore_old
+    PARTET_TEST_PUBLISH_SIGNAL="$step:$num" "$partet" "${new[@]}" > log 2>&1
+    code=$?
+    if [ "$code" -eq 0 ] && is_new && { [ "$step" -gt "$steps" ] || grep -q "SIG$sig after the output was published: the new files at m are complete" log; }; then
+      outcomes+="n"
+    elif [ "$code" -eq $((128 + num)) ] && is_old && grep -q "interrupted (SIG$sig): no output written; the files at m are as they were" log; then
+      outcomes+="o"
+    else
+      bad "SIG$sig at publish step $step: exit $code, files: $(listing), says: $(cat log)"
+      outcomes+="!"
+    fi
+  done
+  [[ "$outcomes" != *"!"* ]] && ok "SIG$sig at publish steps $(echo $tried | tr ' ' ,): $outcomes (n: new set complete, exit 0; o: previous set, exit $((128 + num)))"
+done
+
+# 2. SIGKILL at each step: the journal names every file; `partet check` (or info, or the next
+#    mesh) completes the publish, and the set is then the new one, whole.
+outcomes=""
+for step in $(seq 1 $steps); do
+  restore_old
+  (PARTET_TEST_PUBLISH_SIGNAL="$step:9" "$partet" "${new[@]}" > log 2>&1; true) 2> /dev/null  # no "Killed" line
+  case $((step % 3)) in
+    0) "$partet" check torus.off m > log 2>&1 ;;
+    1) "$partet" info m > log 2>&1 ;;
+    2) "$partet" mesh torus.off -o other --quiet > /dev/null 2>&1 && rm -f other.* && "$partet" info m.node > log 2>&1 ;;
+  esac
+  if is_new && grep -q "completed the publish of 9 file(s)" log; then outcomes+="n"
+  else bad "SIGKILL at publish step $step: files after the next command: $(listing); it said: $(cat log)"; outcomes+="!"; fi
+done
+[[ "$outcomes" != *"!"* ]] && ok "SIGKILL at each of $steps publish steps, then check/info/mesh completes the new set: $outcomes"
+
+# 3. Interrupted before the publish, with 82 files written (K=80 .pvtu): none is left behind.
+restore_old
+PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=4000 "$partet" mesh torus.off -o m -k 80 --format pvtu --quiet > log 2>&1 &
+pid=$!
+for i in $(seq 100); do [ "$(ls | grep -c '\.tmp-')" -ge 82 ] && break; sleep 0.1; done
+written=$(ls | grep -c '\.tmp-')
+kill -TERM "$pid"
+wait "$pid"
+code=$?
+[ "$code" -eq 143 ] && [ "$written" -ge 82 ] && is_old && ! ls | grep -q '\.tmp-' &&
+  ok "SIGTERM before publishing $written temporaries: all removed, previous set intact" ||
+  bad "SIGTERM before publishing $written temporaries: exit $code, left: $(listing)"
+
+# 4. A slow publish (200 ms a step, as on a slow network filesystem) interrupted for real at
+#    random moments.
+outcomes=""
+for delay in 0.3 0.9 1.5 2.2 3.0 3.8; do
+  restore_old
+  PARTET_TEST_PUBLISH_DELAY_MS=200 "$partet" "${new[@]}" > log 2>&1 &
+  pid=$!
+  sleep "$delay"
+  kill -INT "$pid" 2> /dev/null
+  wait "$pid"
+  code=$?
+  if [ "$code" -eq 0 ] && is_new; then outcomes+="n"
+  elif [ "$code" -eq 130 ] && is_old; then outcomes+="o"
+  else bad "SIGINT after $delay s of a slow run: exit $code, files: $(listing), says: $(cat log)"; outcomes+="!"; fi
+done
+[[ "$outcomes" != *"!"* ]] && ok "SIGINT at 6 moments of a slow run: $outcomes"
+
+# 5. A run that cannot get the lock (the holder is stopped) says what it waits for and gives up
+#    in bounded time, leaving the previous files and no temporaries of its own; once the holder
+#    goes on, its publish completes.
+restore_old
+PARTET_TEST_PUBLISH_DELAY_MS=300 "$partet" "${new[@]}" > log.holder 2>&1 &
+holder=$!
+for i in $(seq 100); do [ -e m.partet-publish ] && break; sleep 0.05; done
+kill -STOP "$holder"
+start=$(date +%s)
+PARTET_TEST_PUBLISH_WAIT_S=3 "$partet" mesh torus.off -o m -k 3 --quiet > log 2>&1
+code=$?
+waited=$(($(date +%s) - start))
+grep -q "waiting for another partet run (pid $holder on this host)" log &&
+  grep -q "gave up after 3 s waiting for another partet run (pid $holder" log && [ "$code" -eq 1 ] && [ "$waited" -le 20 ] &&
+  [ -z "$(ls | grep '\.tmp-' | grep -v "\.tmp-$holder-")" ] &&
+  ok "waiting for a stopped run's lock: said so, gave up after $waited s (exit $code)" ||
+  bad "lock wait: exit $code after $waited s: $(cat log)"
+kill -CONT "$holder"
+wait "$holder"
+code=$?
+[ "$code" -eq 0 ] && rm -f log.holder && is_new && ok "the stopped run, continued, published its set" ||
+  bad "the continued run: exit $code, files $(listing)"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
