@@ -1,7 +1,5 @@
 #include "partet/job.hpp"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -17,17 +15,12 @@
 #include "partet/surface_io.hpp"
 #include "partet/tetgen_files.hpp"
 #include "partet/validate.hpp"
+#include "process/memory.hpp"
 #include "quality_json.hpp"
 #include "topology.hpp"
 
 namespace partet {
 namespace {
-
-double peak_rss_mb(int who) {
-  rusage usage{};
-  getrusage(who, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
 
 template <class... Values>
 std::string format(const char* pattern, Values... values) {
@@ -38,8 +31,6 @@ std::string format(const char* pattern, Values... values) {
 
 }  // namespace
 
-double own_peak_rss_mb() { return peak_rss_mb(RUSAGE_SELF); }
-double children_peak_rss_mb() { return peak_rss_mb(RUSAGE_CHILDREN); }
 
 int unit_scale_exponent(const SurfaceMesh& surface) {
   double largest = 0;
@@ -91,8 +82,13 @@ void check_outputs(const MeshJob& job) {
   const std::string& prefix = job.output_prefix;
   const std::string name = prefix.substr(prefix.find_last_of('/') + 1);
   if (name.empty() || name == "." || name == "..")
-    throw OutputError("the output prefix '" + prefix +
+    throw OptionError("the output prefix '" + prefix +
                       "' names no file (give e.g. 'out/model' for out/model.node ...)");
+  try {
+    check_surface_path(job.input);
+  } catch (const InputError& e) {
+    throw OptionError(e.what());  // the command line names no usable input
+  }
   check_output_paths(output_paths(job), {job.input});
   // A publish at this prefix that a killed run left half done is completed first.
   if (const std::string done = settle_publish(prefix); !done.empty()) log::warning(done);
@@ -267,22 +263,6 @@ RunFigures run_figures(const JobSummary& s) {
   f.quality = s.job.check_output ? s.check.quality : mesh_quality(s.result.mesh);
   return f;
 }
-
-namespace {
-
-double available_memory_mb() {
-  std::FILE* f = std::fopen("/proc/meminfo", "r");
-  if (!f) return 0;
-  char name[64];
-  long long kb = 0;
-  double available = 0;
-  while (std::fscanf(f, "%63s %lld kB", name, &kb) == 2)
-    if (std::string(name) == "MemAvailable:") available = static_cast<double>(kb) / 1024.0;
-  std::fclose(f);
-  return available;
-}
-
-}  // namespace
 
 RunFigures tetgen_alone(const MeshJob& job) {
   RunFigures f;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "partet/stage_timer.hpp"
+#include "process/memory.hpp"
 
 namespace partet::log {
 namespace {
@@ -38,15 +39,6 @@ void debug(const std::string& message) {
 }  // namespace partet::log
 
 namespace partet {
-
-double current_rss_mb() {
-  std::FILE* f = std::fopen("/proc/self/statm", "r");
-  if (!f) return 0;
-  long total = 0, resident = 0;
-  const bool ok = std::fscanf(f, "%ld %ld", &total, &resident) == 2;
-  std::fclose(f);
-  return ok ? static_cast<double>(resident) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0) : 0;
-}
 
 void log_stage(const StageTimes& times) {
   if (times.empty()) return;

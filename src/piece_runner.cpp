@@ -1,7 +1,5 @@
 #include "partet/piece_runner.hpp"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <csignal>
 
@@ -9,6 +7,7 @@
 #include "partet/serialize.hpp"
 #include "partet/stage_timer.hpp"
 #include "process/isolated_run.hpp"
+#include "process/memory.hpp"
 
 namespace partet {
 namespace {
@@ -26,9 +25,7 @@ std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, 
     outcome.failure = Failure{FailureKind::other, piece.index, {}, e.what()};
   }
   outcome.seconds = now_seconds() - start;
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  outcome.memory_mb = std::max(0.0, static_cast<double>(usage.ru_maxrss) / 1024.0 - resident_at_start);
+  outcome.memory_mb = std::max(0.0, own_peak_rss_mb() - resident_at_start);
   return serialize_outcome(outcome);
 }
 

@@ -4,16 +4,22 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/subdivision_method_3.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "partet/errors.hpp"
 #include "partet/validate.hpp"
+#include "process/memory.hpp"
 
 namespace partet {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
+constexpr double kSubdivisionBytesPerFace = 110;
 
 // Only the vertices the triangles use: subdivision cannot handle isolated vertices.
 Mesh to_cgal(const SurfaceMesh& surface) {
@@ -58,8 +64,24 @@ SurfaceMesh from_cgal(const Mesh& mesh) {
 
 }  // namespace
 
-SurfaceMesh loop_subdivide(const SurfaceMesh& surface, int steps) {
+void check_subdivision_fits(std::size_t faces, int steps) {
   if (steps < 0) throw OptionError("the number of subdivision steps must be at least 0");
+  const long double result = static_cast<long double>(faces) * std::pow(4.0L, steps);
+  const std::string what = std::to_string(faces) + " faces x 4^" + std::to_string(steps) + " = " +
+                           std::to_string(static_cast<long long>(std::min(result, 1e18L))) + " faces";
+  if (result > static_cast<long double>(std::numeric_limits<std::int32_t>::max()))
+    throw OptionError("cannot subdivide " + what + ": more than the 2^31 faces a surface can have");
+  // Measured: about 100 bytes per face of the result at the peak (armadillo_loop1, 2 steps).
+  const double need_mb = static_cast<double>(result) * kSubdivisionBytesPerFace / (1024.0 * 1024.0);
+  const double available_mb = available_memory_mb();
+  if (available_mb > 0 && need_mb > available_mb)
+    throw OptionError("cannot subdivide " + what + ": that needs about " + std::to_string(need_mb / 1024).substr(0, 5) +
+                      " GB of memory, and " + std::to_string(available_mb / 1024).substr(0, 5) +
+                      " GB are available; use fewer steps");
+}
+
+SurfaceMesh loop_subdivide(const SurfaceMesh& surface, int steps) {
+  check_subdivision_fits(surface.triangles.size(), steps);
   validate_topology(surface);
   Mesh mesh = to_cgal(surface);
   if (steps > 0) CGAL::Subdivision_method_3::Loop_subdivision(mesh, CGAL::parameters::number_of_iterations(steps));

@@ -89,7 +89,8 @@ RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle
   }
   const auto n = static_cast<std::int32_t>(points.size());
   if (out.numberoftetrahedra <= 0 || out.tetrahedronlist == nullptr)
-    throw MeshingError(FailureKind::tetgen_error, piece, "TetGen produced no tetrahedra (is the surface closed?)");
+    throw MeshingError(FailureKind::tetgen_error, piece,
+                       "TetGen produced no tetrahedra for this closed surface (it gave up without an error)");
   if (out.numberofpoints < n)
     throw MeshingError(FailureKind::too_close, piece, "TetGen merged input points closer than its tolerance");
   if (out.neighborlist == nullptr) throw MeshingError(FailureKind::tetgen_error, piece, "TetGen output is incomplete");

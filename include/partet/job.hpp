@@ -70,10 +70,6 @@ struct PieceRecord {
   double memory_mb = 0;        // peak memory its meshing added (TetGen's own, in a child process)
 };
 
-// Peak resident set sizes of this process and of its (waited-for) child processes, MB.
-double own_peak_rss_mb();
-double children_peak_rss_mb();
-
 // Inputs at any scale: multiplying coordinates by a power of two is exact, so an input far from
 // unit size is meshed as a copy scaled by 2^exponent and the mesh is scaled back, bit for bit.
 // The exponent is 0 for inputs already within 2^-40 .. 2^40 (most: their output is unchanged)
@@ -88,8 +84,9 @@ SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* ex
 
 // Every file the job will write (as far as known before the run): each format's and the report.
 std::vector<std::string> output_paths(const MeshJob& job);
-// Before any work: refuses output paths that cannot be written or collide with each other or the
-// input (OutputError), and removes temporaries that killed runs left behind.
+// Before any work: refuses an input path that names no readable surface file and output paths
+// that cannot be written or collide with each other or the input (OptionError: a usage error),
+// completes a publish a killed run left half done, and removes temporaries killed runs left.
 void check_outputs(const MeshJob& job);
 
 // Checks the result if asked (throws Error when the check fails) and writes the mesh files

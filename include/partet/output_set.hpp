@@ -67,7 +67,7 @@ std::string settle_publish(const std::string& prefix, double wait_seconds = 120)
 // Refuses, before any work, output paths that cannot be written or would overwrite an input or
 // each other: an empty path, a path naming a directory or a symbolic link, a missing or read-only
 // directory, two paths naming the same file, names too long for the filesystem once the
-// temporary suffix is added. Throws OutputError naming the path.
+// temporary suffix is added. Throws OptionError naming the path.
 void check_output_paths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
 
 // Removes temporaries that runs on the same final paths left behind when they were killed: only

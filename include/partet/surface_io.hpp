@@ -12,6 +12,10 @@ namespace partet {
 // indices out of range, NaN/inf coordinates, faces that cannot be triangulated).
 SurfaceMesh read_surface(const std::string& path);
 
+// Whether the path names a readable regular file in a supported format (before reading it);
+// returns its lowercase extension. Throws InputError saying what is wrong.
+std::string check_surface_path(const std::string& path);
+
 // Writes an ASCII OFF with coordinates that read back bit-identical. Throws OutputError.
 void write_off(const SurfaceMesh& surface, const std::string& path);
 

@@ -1,13 +1,17 @@
 // partet command line: mesh (MPI-aware), check, generate, refine-surface. A thin layer: it parses options,
 // sets the log level, calls the library and turns errors into messages and exit codes.
 #include <mpi.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "partet/check.hpp"
@@ -30,6 +34,37 @@
 
 namespace {
 
+// The cut planes a run's --report names. Throws InputError naming the file and the field.
+std::vector<partet::CutPlane> report_cut_planes(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw partet::InputError("cannot read report '" + path + "': not a regular file");
+  std::ifstream in(path);
+  if (!in) throw partet::InputError("cannot open report '" + path + "'");
+  const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
+  if (report.is_discarded()) throw partet::InputError("report '" + path + "' is not valid JSON (a partet --report file?)");
+  auto bad = [&](const std::string& field, const char* want) {
+    return partet::InputError("report '" + path + "': " + field + " must be " + want);
+  };
+  if (!report.is_object()) throw bad("the document", "an object");
+  if (!report.contains("cut_planes")) throw bad("cut_planes", "present (is this a partet --report file?)");
+  const nlohmann::json& list = report["cut_planes"];
+  if (!list.is_array()) throw bad("cut_planes", "a list");
+  std::vector<partet::CutPlane> planes;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string at = "cut_planes[" + std::to_string(i) + "]";
+    const nlohmann::json& p = list[i];
+    if (!p.is_object()) throw bad(at, "an object with normal and offset");
+    const nlohmann::json normal = p.value("normal", nlohmann::json());
+    if (!normal.is_array() || normal.size() != 3 || !normal[0].is_number() || !normal[1].is_number() ||
+        !normal[2].is_number())
+      throw bad(at + ".normal", "a list of 3 numbers");
+    const nlohmann::json offset = p.value("offset", nlohmann::json());
+    if (!offset.is_number()) throw bad(at + ".offset", "a number");
+    planes.push_back({{normal[0].get<double>(), normal[1].get<double>(), normal[2].get<double>()}, offset.get<double>()});
+  }
+  return planes;
+}
+
 // The quality of the seam zone (tets crossing or touching a cut plane) and of the rest, when
 // the run's report names the planes.
 struct ZoneQuality {
@@ -37,20 +72,10 @@ struct ZoneQuality {
   partet::MeshQuality seam, elsewhere;
 };
 
-ZoneQuality zone_quality(const partet::TetMesh& mesh, const std::string& report_path) {
+ZoneQuality zone_quality(const partet::TetMesh& mesh, const std::optional<std::vector<partet::CutPlane>>& planes_known) {
   ZoneQuality zones;
-  if (report_path.empty()) return zones;
-  std::ifstream in(report_path);
-  if (!in) throw partet::InputError("cannot open report '" + report_path + "'");
-  nlohmann::json report;
-  try {
-    in >> report;
-  } catch (const std::exception& e) {
-    throw partet::InputError("cannot read report '" + report_path + "': " + e.what());
-  }
-  std::vector<partet::CutPlane> planes;
-  for (const auto& p : report.value("cut_planes", nlohmann::json::array()))
-    planes.push_back({{p["normal"][0], p["normal"][1], p["normal"][2]}, p["offset"]});
+  if (!planes_known) return zones;
+  const std::vector<partet::CutPlane>& planes = *planes_known;
   const std::vector<char> zone = partet::seam_zone(mesh, planes);
   zones.known = true;
   zones.seam = partet::mesh_quality(mesh, [&](std::size_t t) { return zone[t] != 0; });
@@ -108,9 +133,11 @@ void settle(const std::string& prefix) {
 
 int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json) {
   settle(prefix);
+  std::optional<std::vector<partet::CutPlane>> planes;  // read first: a bad report fails before the work
+  if (!report_path.empty()) planes = report_cut_planes(report_path);
   const partet::TetgenFileSet files = partet::read_tetgen_set(prefix);
   const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files);
-  const ZoneQuality zones = zone_quality(files.mesh, report_path);
+  const ZoneQuality zones = zone_quality(files.mesh, planes);
   json ? print_check_json(report, zones) : print_check(report, zones);
   return report.ok() ? 0 : 1;
 }
@@ -168,6 +195,28 @@ struct CommandLine {
   int loop_steps = 1;
 };
 
+// Numbers must be finite: "nan" passes a range check (every comparison with it is false).
+const CLI::Validator kFinite(
+    [](std::string& text) {
+      double value = 0;
+      try {
+        value = std::stod(text);
+      } catch (const std::exception&) {
+        return std::string();  // not a number: the range check says so
+      }
+      return std::isfinite(value) ? std::string() : "the value must be a finite number, not " + text;
+    },
+    "FINITE");
+
+const CLI::Validator kWritableDirectory(
+    [](std::string& path) {
+      std::error_code ec;
+      if (!std::filesystem::is_directory(path, ec)) return "directory '" + path + "' does not exist";
+      if (::access(path.c_str(), W_OK | X_OK) != 0) return "directory '" + path + "' is not writable";
+      return std::string();
+    },
+    "DIR");
+
 CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   auto* mesh = app.add_subcommand("mesh", "tetrahedralize a closed surface (run under mpirun for several ranks)");
   auto& job = c.job;
@@ -188,6 +237,7 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
                    "cap refinement: target cap edge length = mean cut-loop edge length / D; 0 = no interior cap "
                    "points, so without --quality no vertex is left on a cut (costs little on most models, up to "
                    "5x on smooth subdivided ones)")
+      ->check(kFinite)
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   mesh->add_option("-q,--quality", c.quality, "TetGen quality refinement R[/ANGLE] (-q); boundary stays untouched");
@@ -204,6 +254,7 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   mesh->add_option("--piece-timeout", job.options.run.timeout_seconds,
                    "seconds before meshing one piece is given up (0: scaled with the piece's size; a rank that "
                    "does not answer by then ends the job)")
+      ->check(kFinite)
       ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();
   mesh->add_option("--max-attempts", job.options.max_attempts,
@@ -229,7 +280,8 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   mesh->add_flag("--quiet", c.quiet, "print errors only");
   mesh->add_flag("--verbose", c.verbose, "print more detail");
   mesh->add_option("--dump-pieces", job.dump_pieces_dir,
-                   "write each piece's closed surface to DIR/piece_<i>.off (debugging)");
+                   "write each piece's closed surface to DIR/piece_<i>.off (debugging)")
+      ->check(kWritableDirectory);
   return mesh;
 }
 
@@ -318,7 +370,8 @@ bool tet_mesh_prefix(const std::string& file, std::string& prefix) {
     }
   }
   prefix = file;
-  return std::ifstream(file + ".node").good();
+  std::error_code ec;
+  return std::filesystem::exists(file + ".node", ec);  // not opened here: a FIFO would block
 }
 
 int print_tet_mesh_info(const std::string& prefix, bool json) {
@@ -360,11 +413,17 @@ CLI::App* add_refine_command(CLI::App& app, CommandLine& c) {
 }
 
 // --format, plus the format -o's extension names (unless --format already writes that file).
+// Throws OptionError when two formats would write the same file.
 void choose_formats(const std::vector<std::string>& names, partet::MeshJob& job) {
   job.formats.clear();
   for (const std::string& name : names) {
     const partet::MeshFormat f = partet::mesh_format(name);
-    if (std::find(job.formats.begin(), job.formats.end(), f) == job.formats.end()) job.formats.push_back(f);
+    if (std::find(job.formats.begin(), job.formats.end(), f) != job.formats.end()) continue;
+    for (partet::MeshFormat other : job.formats)
+      if (partet::format_paths(other, "P").front() == partet::format_paths(f, "P").front())
+        throw partet::OptionError("--format: " + partet::mesh_format_name(other) + " and " + name +
+                                  " both write PREFIX" + partet::format_paths(f, "").front() + "; choose one");
+    job.formats.push_back(f);
   }
   partet::MeshFormat from_extension;
   std::string prefix;
@@ -431,6 +490,12 @@ int main(int argc, char** argv) {
     if (*generate) return run_generate(c);
     if (*refine) return run_refine(c);
     if (*info) return run_info(c);
+  } catch (const partet::OptionError& e) {
+    partet::log::error(e.what());
+    return 2;  // what the command line asks for cannot be done
+  } catch (const std::bad_alloc&) {
+    partet::log::error("out of memory: the input is too large for this machine's memory");
+    return 1;
   } catch (const std::exception& e) {
     partet::log::error(e.what());
     return 1;
@@ -441,7 +506,12 @@ int main(int argc, char** argv) {
     if (launched_rank() == 0) partet::log::error(std::string("--quality: ") + e.what());
     return 2;
   }
-  choose_formats(c.formats, c.job);
+  try {
+    choose_formats(c.formats, c.job);
+  } catch (const partet::OptionError& e) {
+    if (launched_rank() == 0) partet::log::error(e.what());
+    return 2;
+  }
   c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
   c.job.options.polish = !c.no_polish;
   c.job.options.balance = c.balance == "vertices" ? partet::Balance::vertices : partet::Balance::cost;

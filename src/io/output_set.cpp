@@ -451,6 +451,10 @@ std::string settle_publish(const std::string& prefix, double wait_seconds) {
 }
 
 void check_output_paths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  // Asked for by the command line, and impossible: a usage error, before any work.
+  auto refuse = [](const std::string& path, const std::string& why) {
+    throw OptionError("cannot write '" + path + "': " + why);
+  };
   std::vector<std::pair<std::string, std::string>> seen;  // (normalized path, as given)
   auto normalized = [](const std::string& p) {
     std::error_code ec;
@@ -459,7 +463,7 @@ void check_output_paths(const std::vector<std::string>& outputs, const std::vect
   };
   for (const std::string& p : inputs) seen.push_back({normalized(p), p});
   for (const std::string& p : outputs) {
-    if (p.empty()) throw OutputError("an output path is empty");
+    if (p.empty()) throw OptionError("an output path is empty");
     if (p.find('\n') != std::string::npos) refuse(p, "the path contains a line break");
     if (p.back() == '/' || fs::is_directory(p)) refuse(p, "it is a directory (give a file name)");
     std::error_code ec;

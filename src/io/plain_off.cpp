@@ -1,64 +1,94 @@
 #include "io/plain_off.hpp"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string_view>
+#include <vector>
 
 namespace partet {
 namespace {
 
-// The file mapped into memory, read only.
-class MappedFile {
+// The file read in blocks: memory stays small, and a file rewritten while it is read gives an
+// error (a memory-mapped one would kill the process with SIGBUS).
+class BlockText {
  public:
-  explicit MappedFile(const std::string& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY);
-    if (fd < 0) return;
-    struct stat st {};
-    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-      void* data = ::mmap(nullptr, static_cast<std::size_t>(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
-      if (data != MAP_FAILED) {
-        data_ = static_cast<const char*>(data);
-        size_ = static_cast<std::size_t>(st.st_size);
-        ::madvise(data, size_, MADV_SEQUENTIAL);
+  explicit BlockText(int fd) : fd_(fd), buffer_(std::size_t{8} << 20) {}
+
+  // The next line (without its '\n'); false at the end. Valid until the next call.
+  bool next(std::string_view& line) {
+    for (;;) {
+      const char* start = buffer_.data() + begin_;
+      if (const void* nl = std::memchr(start, '\n', end_ - begin_)) {
+        const auto length = static_cast<std::size_t>(static_cast<const char*>(nl) - start);
+        line = std::string_view(start, length);
+        begin_ += length + 1;
+        return true;
       }
+      if (eof_) {
+        if (begin_ == end_) return false;
+        line = std::string_view(start, end_ - begin_);  // a last line without '\n'
+        begin_ = end_;
+        return true;
+      }
+      refill();
     }
-    ::close(fd);
   }
-  ~MappedFile() {
-    if (data_) ::munmap(const_cast<char*>(data_), size_);
-  }
-  MappedFile(const MappedFile&) = delete;
-  MappedFile& operator=(const MappedFile&) = delete;
-  std::string_view text() const { return {data_, size_}; }
-  bool ok() const { return data_ != nullptr; }
+  std::size_t bytes_read() const { return total_; }
+  bool failed() const { return failed_; }
 
  private:
-  const char* data_ = nullptr;
-  std::size_t size_ = 0;
+  void refill() {
+    std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+    end_ -= begin_;
+    begin_ = 0;
+    if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);  // a line longer than the buffer
+    for (;;) {
+      const ssize_t n = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) failed_ = true;
+      if (n <= 0) {
+        eof_ = true;
+        return;
+      }
+      end_ += static_cast<std::size_t>(n);
+      total_ += static_cast<std::size_t>(n);
+      return;
+    }
+  }
+
+  int fd_;
+  std::vector<char> buffer_;
+  std::size_t begin_ = 0, end_ = 0, total_ = 0;
+  bool eof_ = false, failed_ = false;
 };
 
 // Walks the text line by line; a line's tokens are read in order and must all be used.
 class Scanner {
  public:
-  explicit Scanner(std::string_view text) : p_(text.data()), end_(text.data() + text.size()) {}
+  explicit Scanner(BlockText& text) : text_(text) {}
 
   // Moves to the next line with content (skipping blank and comment lines); false at the end.
   bool next_line() {
-    for (;;) {
-      while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) ++p_;
-      if (p_ == end_) return false;
-      if (*p_ != '#') break;
-      while (p_ < end_ && *p_ != '\n') ++p_;
+    std::string_view line;
+    while (text_.next(line)) {
+      if (first_) {
+        first_ = false;
+        if (line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // a UTF-8 byte order mark
+      }
+      if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+      p_ = line.data();
+      line_end_ = line.data() + line.size();
+      skip_blanks();
+      if (p_ != line_end_) return true;
     }
-    line_end_ = p_;
-    while (line_end_ < end_ && *line_end_ != '\n' && *line_end_ != '#') ++line_end_;
-    return true;
+    return false;
   }
   bool word(std::string_view expected) {
     skip_blanks();
@@ -75,12 +105,10 @@ class Scanner {
     p_ = ptr;
     return true;
   }
-  // Only blanks (or a comment) are left on the line; moves past it.
+  // Only blanks are left on the line.
   bool line_done() {
     skip_blanks();
-    if (p_ != line_end_) return false;
-    while (p_ < end_ && *p_ != '\n') ++p_;
-    return true;
+    return p_ == line_end_;
   }
 
  private:
@@ -88,8 +116,9 @@ class Scanner {
   void skip_blanks() {
     while (p_ < line_end_ && is_blank(*p_)) ++p_;
   }
-  const char* p_;
-  const char* end_;
+  BlockText& text_;
+  bool first_ = true;
+  const char* p_ = nullptr;
   const char* line_end_ = nullptr;
 };
 
@@ -118,13 +147,21 @@ bool read_triangle(Scanner& in, std::int64_t vertex_count, Triangle& t) {
 }  // namespace
 
 std::optional<SurfaceMesh> read_plain_off(const std::string& path) {
-  const MappedFile file(path);
-  if (!file.ok()) return std::nullopt;
-  Scanner in(file.text());
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return std::nullopt;
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size <= 0) return std::nullopt;
+  const auto file_size = static_cast<std::uint64_t>(st.st_size);
+  BlockText text(fd);
+  Scanner in(text);
   std::int64_t vertex_count = 0, face_count = 0;
   if (!read_counts(in, vertex_count, face_count)) return std::nullopt;
   // A header declaring more than the file can hold is left to the general reader's guards.
-  if (static_cast<std::uint64_t>(vertex_count) * 6 + static_cast<std::uint64_t>(face_count) * 8 > file.text().size())
+  if (static_cast<std::uint64_t>(vertex_count) * 6 + static_cast<std::uint64_t>(face_count) * 8 > file_size)
     return std::nullopt;
   SurfaceMesh surface;
   surface.points.resize(static_cast<std::size_t>(vertex_count));
@@ -133,7 +170,7 @@ std::optional<SurfaceMesh> read_plain_off(const std::string& path) {
   surface.triangles.resize(static_cast<std::size_t>(face_count));
   for (Triangle& t : surface.triangles)
     if (!read_triangle(in, vertex_count, t)) return std::nullopt;
-  if (in.next_line()) return std::nullopt;  // trailing content
+  if (in.next_line() || text.failed()) return std::nullopt;  // trailing content, or a read error
   return surface;
 }
 

@@ -5,6 +5,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -29,8 +31,9 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Polygon = std::vector<std::size_t>;
 namespace fs = std::filesystem;
 
-// The path names a readable file in a supported format; returns its lowercase extension.
-std::string check_path(const std::string& path) {
+}  // namespace
+
+std::string check_surface_path(const std::string& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) throw InputError("cannot open '" + path + "': no such file");
@@ -47,6 +50,28 @@ std::string check_path(const std::string& path) {
   return ext;
 }
 
+namespace {
+
+// Whether the file starts with a UTF-8 byte order mark (as editors on Windows write them).
+bool starts_with_byte_order_mark(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[3] = {};
+  return in.read(head, 3) && std::string(head, 3) == "\xEF\xBB\xBF";
+}
+
+// CGAL's reader for the format, past a byte order mark (CGAL's own readers take the mark for
+// content). Text formats only: a binary STL or PLY starts with no mark.
+bool read_after_byte_order_mark(const std::string& path, const std::string& ext, std::vector<Kernel::Point_3>& points,
+                                std::vector<Polygon>& polygons) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(3);
+  if (ext == "off") return CGAL::IO::read_OFF(in, points, polygons);
+  CGAL::IO::set_mode(in, CGAL::IO::ASCII);
+  if (ext == "obj") return CGAL::IO::read_OBJ(in, points, polygons);
+  if (ext == "ply") return CGAL::IO::read_PLY(in, points, polygons);
+  return CGAL::IO::read_STL(in, points, polygons, CGAL::parameters::use_binary_mode(false));
+}
+
 // CGAL's reader, with its failures turned into one-line messages.
 void read_soup(const std::string& path, const std::string& ext, std::vector<Point3>& points,
                std::vector<Polygon>& polygons) {
@@ -55,7 +80,8 @@ void read_soup(const std::string& path, const std::string& ext, std::vector<Poin
   std::vector<Kernel::Point_3> cgal_points;
   bool ok = false;
   try {
-    ok = CGAL::IO::read_polygon_soup(path, cgal_points, polygons);
+    ok = starts_with_byte_order_mark(path) ? read_after_byte_order_mark(path, ext, cgal_points, polygons)
+                                           : CGAL::IO::read_polygon_soup(path, cgal_points, polygons);
   } catch (const std::exception& e) {
     throw InputError(prefix + "not a valid " + format + " file (" + e.what() + ")");
   }
@@ -113,7 +139,7 @@ std::vector<Triangle> triangles_of(const std::string& path, const std::string& e
 }  // namespace
 
 SurfaceMesh read_surface_general(const std::string& path) {
-  const std::string ext = check_path(path);
+  const std::string ext = check_surface_path(path);
   std::error_code ec;
   check_declared_counts(path, ext, fs::file_size(path, ec));
   SurfaceMesh surface;
@@ -129,10 +155,42 @@ SurfaceMesh read_surface_general(const std::string& path) {
   return surface;
 }
 
-SurfaceMesh read_surface(const std::string& path) {
-  if (check_path(path) == "off")
+namespace {
+
+// What tells whether a file changed: its identity, size and times.
+struct FileState {
+  struct stat st {};
+  explicit FileState(const std::string& path) { ::stat(path.c_str(), &st); }
+  bool operator==(const FileState& o) const {
+    return st.st_ino == o.st.st_ino && st.st_dev == o.st.st_dev && st.st_size == o.st.st_size &&
+           st.st_mtim.tv_sec == o.st.st_mtim.tv_sec && st.st_mtim.tv_nsec == o.st.st_mtim.tv_nsec &&
+           st.st_ctim.tv_sec == o.st.st_ctim.tv_sec && st.st_ctim.tv_nsec == o.st.st_ctim.tv_nsec;
+  }
+};
+
+SurfaceMesh read_any(const std::string& path) {
+  if (check_surface_path(path) == "off")
     if (std::optional<SurfaceMesh> plain = read_plain_off(path)) return std::move(*plain);
   return read_surface_general(path);
+}
+
+}  // namespace
+
+SurfaceMesh read_surface(const std::string& path) {
+  const FileState before(path);
+  std::optional<SurfaceMesh> surface;
+  std::optional<InputError> error;
+  try {
+    surface = read_any(path);
+  } catch (const InputError& e) {
+    error = e;
+  }
+  // A file rewritten while it was read gives a mix of two files, or an error about neither.
+  if (!(FileState(path) == before))
+    throw InputError("cannot read '" + path + "': the file changed while it was being read (is another program " +
+                     "writing it?); run again once it is complete");
+  if (error) throw *error;
+  return std::move(*surface);
 }
 
 }  // namespace partet

@@ -33,7 +33,7 @@ std::vector<TextLine> content_lines(const std::string& path) {
   std::string line;
   std::size_t number = 0;
   while (std::getline(in, line)) {
-    ++number;
+    if (++number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a byte order mark
     if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     if (line.find_first_not_of(" \t\r\n") == std::string::npos) continue;
     lines.push_back({number, line});
@@ -286,8 +286,6 @@ DeclaredCounts ply_counts(std::istringstream& lines) {
 // CGAL read nonsense for a long time or report the wrong problem.
 void check_stl(const std::string& head, const std::string& path, std::uintmax_t file_size) {
   const std::string prefix = "cannot read '" + path + "': ";
-  if (head.rfind("\xEF\xBB\xBF", 0) == 0)
-    throw InputError(prefix + "the file starts with a UTF-8 byte order mark; remove it (an ASCII STL starts with 'solid')");
   bool binary_size_matches = false;
   if (head.size() >= 84) {
     std::uint32_t facets = 0;
@@ -309,6 +307,7 @@ void check_declared_counts(const std::string& path, const std::string& ext, std:
   std::string head(kHead, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  if (head.rfind("\xEF\xBB\xBF", 0) == 0) head.erase(0, 3);  // a UTF-8 byte order mark: read past it
   std::istringstream lines(head);
   DeclaredCounts counts;
   if (ext == "off") {

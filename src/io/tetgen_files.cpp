@@ -1,6 +1,10 @@
 // TetGen .node/.ele/.face/.neigh writing and reading.
 #include "partet/tetgen_files.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -91,13 +95,29 @@ class Fingerprint {
 // ---------------------------------------------------------------------------------------------
 // Reading
 
+// Opens a regular file for reading. A FIFO would block and a directory read as garbage: both are
+// refused by name, without waiting for a writer.
+std::FILE* open_regular_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputError("cannot open " + path + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw InputError("cannot read " + path + ": " + (S_ISDIR(st.st_mode) ? "it is a directory" : "not a regular file"));
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  std::FILE* f = ::fdopen(fd, "rb");
+  if (!f) ::close(fd);
+  if (!f) throw InputError("cannot open " + path + ": " + std::strerror(errno));
+  return f;
+}
+
 // A whole file in memory, handed out one meaningful line at a time (comments and blank lines
 // skipped), with typed token parsing that reports file and line on malformed content.
 class LineReader {
  public:
   explicit LineReader(std::string path) : path_(std::move(path)) {
-    std::FILE* f = std::fopen(path_.c_str(), "rb");
-    if (!f) throw InputError("cannot open " + path_ + ": " + std::strerror(errno));
+    std::FILE* f = open_regular_file(path_);
     // Size first, one read: growing the string chunk by chunk copies 100 MB files many times.
     bool failed = std::fseek(f, 0, SEEK_END) != 0;
     long size = failed ? -1 : std::ftell(f);
@@ -296,11 +316,9 @@ std::vector<Tet> read_neigh(LineReader& in, std::int64_t tet_base, std::size_t t
   });
 }
 
-bool file_exists(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return false;
-  std::fclose(f);
-  return true;
+bool file_exists(const std::string& path) {  // without opening it (a FIFO would block)
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
 }
 
 }  // namespace

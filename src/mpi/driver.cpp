@@ -19,6 +19,7 @@
 #include "partet/serialize.hpp"
 #include "partet/surface_io.hpp"
 #include "process/interrupts.hpp"
+#include "process/memory.hpp"
 #include "test_hooks.hpp"
 
 namespace partet::mpi {
@@ -402,6 +403,12 @@ std::string interrupted_after(const MeshJob& job) {
   return "%s after the output was published: the new files at " + job.output_prefix + " are complete";
 }
 
+std::string out_of_memory_message() {
+  return "rank 0 ran out of memory (at " + std::to_string(static_cast<long>(own_peak_rss_mb())) +
+         " MB; the machine has " + std::to_string(static_cast<long>(available_memory_mb())) +
+         " MB available now): use a machine with more memory for rank 0";
+}
+
 // Runs a rank-0 step, turning its exception into the job's error.
 template <class Step>
 void on_root(RankState& state, Step step) {
@@ -410,6 +417,11 @@ void on_root(RankState& state, Step step) {
   } catch (const MeshingError& e) {
     state.status.error = e.what();
     state.status.meshing_failed = true;
+  } catch (const OptionError& e) {
+    state.status.error = e.what();
+    state.status.usage_error = true;
+  } catch (const std::bad_alloc&) {
+    state.status.error = out_of_memory_message();
   } catch (const std::exception& e) {
     state.status.error = e.what();
   }
@@ -484,10 +496,10 @@ JobStatus run_mesh_job(const MeshJob& job) {
       check_outputs(job);
       state.input = read_valid_input(job.input, state.times, &state.scale_exponent);
     });
-  if (!agree(state.status.error.empty())) {
-    state.status.exit_code = 1;
-    return state.status;
-  }
+  // Only rank 0 can have failed so far: its exit code goes to every rank (2: a usage error).
+  const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
+  state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, MPI_COMM_WORLD, collective_limit()); });
+  if (state.status.exit_code != 0) return state.status;
   // 2-5. Partition, close, mesh everywhere, merge; check and write on rank 0.
   if (state.rank == 0)
     mesh_on_root(job, state);
