@@ -119,6 +119,7 @@ std::string report_json(const JobSummary& s) {
   for (MeshFormat f : s.job.formats) report["output_formats"].push_back(mesh_format_name(f));
   report["ranks"] = s.ranks.size();
   report["pieces"] = s.result.pieces;
+  report["cut_axis"] = axis_name(s.result.axis);  // the direction of the cuts that worked
   report["pieces_requested"] = s.job.options.pieces;
   report["density"] = s.job.options.density;
   report["tetgen_quality"] = s.job.options.tetgen.quality;
@@ -152,6 +153,7 @@ std::string report_json(const JobSummary& s) {
                       {"regions", polish.regions},
                       {"regions_improved", polish.improved},
                       {"regions_left", polish.left},
+                      {"stopped_by_runaway", polish.ran_away},
                       {"tets_replaced", polish.tets_in},
                       {"tets_new", polish.tets_out},
                       {"min_dihedral_deg_before", polish.min_dihedral_before},
@@ -237,6 +239,9 @@ void print_summary(const JobSummary& s) {
         polish.left > 0 ? format(", %lld too large or too poor to re-mesh", static_cast<long long>(polish.left)).c_str()
                         : "",
         polish.min_dihedral_before, polish.min_dihedral_after, polish.amips_max_before, polish.amips_max_after));
+  if (polish.ran_away)
+    log::warning("the polish stopped: TetGen's refinement ran away in a neighbourhood (the quality bound " +
+                 s.job.options.tetgen.quality + " cannot be met there)");
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
   if (s.job.check_output) {
     char text[96];

@@ -78,7 +78,29 @@ int piece_of_point(const std::vector<CutPlane>& planes, const Point3& p) {
   return lo;
 }
 
+std::vector<CutAxis> coordinate_axes_by_closeness(const SurfaceMesh& surface) {
+  const Point3 pca = main_axis(surface, used_vertices(surface));
+  std::vector<int> order{0, 1, 2};
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(pca[a]) > std::abs(pca[b]); });
+  std::vector<CutAxis> axes;
+  for (int i : order) axes.push_back(i == 0 ? CutAxis::x : i == 1 ? CutAxis::y : CutAxis::z);
+  return axes;
+}
+
+const char* axis_name(CutAxis axis) {
+  switch (axis) {
+    case CutAxis::x: return "x";
+    case CutAxis::y: return "y";
+    case CutAxis::z: return "z";
+    case CutAxis::pca: return "pca";
+    default: return "auto";
+  }
+}
+
 Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode) {
+  if (mode == CutAxis::x) return {1, 0, 0};
+  if (mode == CutAxis::y) return {0, 1, 0};
+  if (mode == CutAxis::z) return {0, 0, 1};
   const Point3 pca = main_axis(surface, used_vertices(surface));
   if (mode == CutAxis::pca) return pca;
   // The coordinate axis closest to the PCA axis: crossings then lie exactly on the plane (one

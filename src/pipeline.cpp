@@ -5,12 +5,16 @@
 #include <exception>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "partet/errors.hpp"
 #include "partet/log.hpp"
 #include "partet/merge.hpp"
 #include "partet/piece_cost.hpp"
 #include "partet/validate.hpp"
+#include "process/memory.hpp"
+#include "retry_plan.hpp"
+#include "test_hooks.hpp"
 #include "topology.hpp"
 
 namespace partet {
@@ -55,107 +59,6 @@ class ResultCache {
   std::unordered_map<std::uint64_t, Entry> entries_;
 };
 
-// Where the planes go for these options: the fractions of the vertices below each plane that
-// balance the pieces' estimated costs, or none (equal vertex counts).
-std::vector<double> plane_fractions(const SurfaceMesh& input, const MeshOptions& options, double density) {
-  if (options.balance != Balance::cost) return {};
-  return cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, density);
-}
-
-// The sequence of partitions tried: which cut planes move after each failure, and how the caps
-// get coarser.
-class RetryPlan {
- public:
-  explicit RetryPlan(const MeshOptions& options)
-      : options_(options),
-        first_density_(options.density),
-        // More pieces, more cuts that can cause trouble: a few more attempts per four pieces
-        // (cheap, since a retry re-meshes only the pieces it changed).
-        attempts_(std::max(1, options.max_attempts) + (std::max(options.pieces, 1) - 1) / 4) {
-    options_.plane_shifts.assign(options.pieces > 1 ? static_cast<std::size_t>(options.pieces) - 1 : 0, 0);
-  }
-
-  const MeshOptions& options() const { return options_; }
-  int attempt() const { return attempt_; }
-  // Where the planes aim, computed once per cut axis with the caps first asked for: retries lower
-  // the cap density, but must move only the planes they name.
-  const std::vector<double>& fractions(const SurfaceMesh& input) {
-    if (!fractions_known_) fractions_ = plane_fractions(input, options_, first_density_), fractions_known_ = true;
-    return fractions_;
-  }
-  bool last() const { return attempt_ + 1 >= attempts_; }
-  std::vector<int> all_planes() const {
-    std::vector<int> planes(options_.plane_shifts.size());
-    for (std::size_t j = 0; j < planes.size(); ++j) planes[j] = static_cast<int>(j);
-    return planes;
-  }
-
-  // TetGen's coplanarity tolerance is relative to the model's size: for a valid input it called
-  // self-intersecting or too close (a very thin solid), later attempts use a tiny one. True
-  // when the options changed.
-  bool tighten_tolerance(const Failure& failure) {
-    if ((failure.kind != FailureKind::self_intersection && failure.kind != FailureKind::too_close) ||
-        !options_.tetgen.tolerance.empty())
-      return false;
-    options_.tetgen.tolerance = "1e-16";
-    log::warning(
-        "the input is valid but TetGen took part of it for self-intersecting or degenerate; "
-        "retrying with a tighter tolerance");
-    return true;
-  }
-
-  // Moves the planes for the next attempt (none when only the options changed); throws the
-  // failure when no attempt is left.
-  void next(const Failure& failure, std::vector<int> planes, bool options_changed) {
-    std::sort(planes.begin(), planes.end());
-    planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
-    if (last() || (planes.empty() && !options_changed)) {
-      Failure final = failure;
-      final.message = failure.text() + (attempt_ > 0 ? " (after " + std::to_string(attempt_ + 1) + " partitions)" : "");
-      final.piece = -1;
-      throw MeshingError(final);
-    }
-    std::string note = "attempt " + std::to_string(attempt_ + 1) + " failed: " + failure.text();
-    if (!planes.empty()) note += "; moving cut plane(s)";
-    for (int j : planes) note += " " + std::to_string(j);
-    // From the third attempt on, also simplify the caps: fewer interior cap points leave TetGen
-    // less to recover on the cap (the last attempt uses none).
-    if (attempt_ >= 1 && options_.density > 0) {
-      options_.density = attempt_ + 2 >= attempts_ ? 0.0 : options_.density / 2;
-      char density[32];
-      std::snprintf(density, sizeof density, "%g", options_.density);
-      note += std::string(" and lowering the cap density to ") + density;
-    }
-    log::warning(note + "; retrying");
-    records_.push_back({attempt_, failure.text(), planes});
-    for (int j : planes) ++options_.plane_shifts[j];
-    ++attempt_;
-    fall_back_to_coordinate_axis();
-  }
-
-  std::vector<RetryRecord> take_records() { return std::move(records_); }
-
- private:
-  // Crossings on a PCA plane are rounded off it, so its caps are only nearly planar and TetGen
-  // can fail to recover them however the planes move: after half the attempts, cut along the
-  // coordinate axis nearest the PCA axis instead (exactly planar caps), from fresh planes.
-  void fall_back_to_coordinate_axis() {
-    if (options_.axis != CutAxis::pca || attempt_ < attempts_ / 2) return;
-    options_.axis = CutAxis::coordinate_near_pca;
-    std::fill(options_.plane_shifts.begin(), options_.plane_shifts.end(), 0);
-    fractions_known_ = false;
-    log::warning("the PCA cut planes kept failing; cutting along the coordinate axis nearest to it instead");
-  }
-
-  MeshOptions options_;
-  double first_density_;  // the cap density asked for
-  std::vector<double> fractions_;
-  bool fractions_known_ = false;
-  int attempts_;
-  int attempt_ = 0;
-  std::vector<RetryRecord> records_;
-};
-
 // The planes around piece p (p-1 below it, p above it) among piece_count pieces.
 void add_planes_around(int p, std::size_t piece_count, std::vector<int>& planes) {
   if (p > 0) planes.push_back(p - 1);
@@ -169,11 +72,9 @@ class ClosureStream {
   ClosureStream(const SurfaceMesh& input, const MeshOptions& options, PreparedPieces& prepared)
       : input_(input), options_(options), prepared_(prepared) {}
 
-  // 1. Partition: the planes go where the pieces' estimated costs are equal (fractions of the
-  // vertices below each plane, from cost_balanced_fractions) or, when fractions is empty, where
-  // their vertex counts are.
-  void partition(const std::vector<double>& fractions) {
-    prepared_.planes = choose_cut_planes(input_, options_.pieces, options_.axis, options_.plane_shifts, fractions);
+  // 1. Partition at the given planes (from choose_cut_planes).
+  void partition(std::vector<CutPlane> planes) {
+    prepared_.planes = std::move(planes);
     if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
       log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
                    " distinct cut positions along the cut axis; using " + std::to_string(prepared_.planes.size() + 1) +
@@ -217,12 +118,12 @@ struct MeshedAttempt {
 // Meshes one attempt's pieces as they are closed and welds each result as it arrives. A closure
 // failure still ends the scheduler's round (other ranks are waiting in it) before it propagates;
 // so does a welding error, after the round.
-MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& options, const std::vector<double>& fractions,
-                             PreparedPieces& prepared, const ResultCache& cache, PieceScheduler& scheduler,
-                             StageTimes* times) {
-  StageTimer timer(times);
+MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& options, std::vector<CutPlane> planes,
+                             double partition_start, PreparedPieces& prepared, const ResultCache& cache,
+                             PieceScheduler& scheduler, StageTimes* times) {
+  StageTimer timer(times, partition_start);
   ClosureStream stream(input, options, prepared);
-  stream.partition(fractions);
+  stream.partition(std::move(planes));
   timer.lap("partition");
   std::vector<PieceTetMesh> reused;  // results of earlier attempts
   std::vector<int> submitted;        // the piece of each submission
@@ -267,6 +168,53 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   return attempt;
 }
 
+// What makes a partition: the same planes, caps and tolerance give the same pieces and results.
+struct Cuts {
+  std::vector<CutPlane> planes;
+  double density;
+  std::string tolerance;
+  bool operator==(const Cuts& o) const {
+    if (planes.size() != o.planes.size() || density != o.density || tolerance != o.tolerance) return false;
+    for (std::size_t i = 0; i < planes.size(); ++i)
+      if (planes[i].normal != o.planes[i].normal || planes[i].offset != o.planes[i].offset) return false;
+    return true;
+  }
+};
+struct Partition {
+  Cuts cuts;
+  std::optional<AttemptFailure> failure;
+};
+
+// The whole input meshed as one piece, welded, with what made it.
+struct OnePieceMesh {
+  PreparedPieces prepared;
+  TetMesh mesh;
+  MeshOptions options;
+};
+
+// The input faces a piece's failure names, when every face it names is a whole input triangle
+// (no cut vertex, no cap point); empty otherwise.
+std::vector<std::int64_t> input_faces_named(const Failure& failure, const PreparedPieces& prepared,
+                                            const SurfaceMesh& input) {
+  if (failure.faces.empty() || failure.piece < 0 || static_cast<std::size_t>(failure.piece) >= prepared.pieces.size())
+    return {};
+  const PieceSurface& piece = prepared.pieces[failure.piece];
+  std::unordered_set<FaceKey, FaceKeyHash> wanted;
+  for (std::int32_t t : failure.faces) {
+    if (t < 0 || static_cast<std::size_t>(t) >= piece.triangles.size()) return {};
+    Triangle global;
+    for (int c = 0; c < 3; ++c) {
+      global[c] = piece.global_ids[piece.triangles[t][c]];
+      if (prepared.split.is_cut_vertex(global[c])) return {};
+    }
+    wanted.insert(FaceKey(global));
+  }
+  std::vector<std::int64_t> faces;
+  for (std::size_t f = 0; f < input.triangles.size(); ++f)
+    if (wanted.count(FaceKey(input.triangles[f]))) faces.push_back(static_cast<std::int64_t>(f));
+  return faces;
+}
+
 // Input vertices keep their order in the output; the ones no triangle uses are dropped.
 std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input) {
   const std::vector<std::int32_t> new_id = compact_ids(used_vertices(input.points.size(), input.triangles));
@@ -282,7 +230,11 @@ PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& optio
   StageTimer timer(times);
   PreparedPieces prepared;
   ClosureStream stream(input, options, prepared);
-  stream.partition(plane_fractions(input, options, options.density));
+  const std::vector<double> fractions =
+      options.balance == Balance::cost && options.pieces > 1
+          ? cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, options.density)
+          : std::vector<double>();
+  stream.partition(choose_cut_planes(input, options.pieces, options.axis, options.plane_shifts, fractions));
   timer.lap("partition");
   stream.close([](const PieceSurface&) {});
   timer.lap("closure");
@@ -321,6 +273,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   result.planes = prepared.planes;
   result.cap_triangles = prepared.cap_triangles;
   result.pieces = static_cast<int>(prepared.pieces.size());
+  result.axis = options.axis;
   return result;
 }
 
@@ -344,55 +297,85 @@ std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& piec
 
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
                              StageTimes* times) {
-  RetryPlan plan(options);
+  RetryPlan plan(input, options, available_memory_mb());
   ResultCache cache;
   bool input_checked = false;
+  std::optional<OnePieceMesh> one_piece;  // the input meshed as one piece by the diagnosis
+  std::optional<Partition> last;          // the partition that failed last
   for (;;) {
-    std::optional<Failure> failure;
-    std::vector<int> planes_to_move;
+    if (plan.use_one_piece_mesh()) {
+      MeshResult result = finish_mesh(input, one_piece->prepared, std::move(one_piece->mesh), one_piece->options,
+                                      scheduler, times);
+      result.retries = plan.take_records();
+      return result;
+    }
+    const double partition_start = now_seconds();
+    const MeshOptions attempt_options = plan.options();
+    std::vector<CutPlane> planes = choose_cut_planes(input, attempt_options.pieces, attempt_options.axis,
+                                                     attempt_options.plane_shifts, plan.fractions());
+    if (plan.fewer_cuts_than_pieces(planes.size())) continue;
+    const Cuts cuts{planes, attempt_options.density, attempt_options.tetgen.tolerance};
+    if (last && last->cuts == cuts && last->failure) {  // no plane could move: the same pieces again
+      plan.skip_repeat(*last->failure);
+      continue;
+    }
+    AttemptFailure failed;
     try {
       PreparedPieces prepared;
-      MeshedAttempt attempt = close_and_mesh(input, plan.options(), plan.fractions(input), prepared, cache, scheduler, times);
+      if (!plan.same_cuts_as_before()) cache.clear();
+      MeshedAttempt attempt =
+          close_and_mesh(input, attempt_options, std::move(planes), partition_start, prepared, cache, scheduler, times);
+      if (test_hooks::every_cut_fails(attempt.failures.size()))
+        for (std::size_t p = 0; p < attempt.failures.size(); ++p)
+          attempt.failures[p] = Failure{FailureKind::changed_boundary, static_cast<int>(p), {},
+                                        "injected: TetGen cannot recover a cap (PARTET_INJECT_FAILURE=cuts)"};
       for (std::size_t p = 0; p < attempt.failures.size(); ++p) {
         if (!attempt.failures[p]) continue;
-        if (!failure) failure = attempt.failures[p];
-        add_planes_around(static_cast<int>(p), attempt.failures.size(), planes_to_move);
+        if (failed.failure.message.empty()) {
+          failed.failure = *attempt.failures[p];
+          failed.input_faces = input_faces_named(failed.failure, prepared, input);
+        }
+        add_planes_around(static_cast<int>(p), attempt.failures.size(), failed.planes);
       }
-      if (!failure) {
+      if (failed.failure.message.empty()) {
         cache.clear();
         StageTimer timer(times);
         TetMesh welded = attempt.welder.finish();
         timer.lap("merge");
-        MeshResult result = finish_mesh(input, prepared, std::move(welded), plan.options(), scheduler, times);
+        if (plan.diagnosing()) {  // kept, in case the other partitions fail too
+          one_piece = OnePieceMesh{std::move(prepared), std::move(welded), attempt_options};
+          plan.diagnosis_passed();
+          last.reset();
+          continue;
+        }
+        MeshResult result = finish_mesh(input, prepared, std::move(welded), attempt_options, scheduler, times);
         result.retries = plan.take_records();
         result.merge_seconds_overlapped = attempt.weld_seconds;
         return result;
       }
-      if (!plan.last())  // keep the good results for the next attempt
-        for (std::size_t p = 0; p < attempt.failures.size(); ++p)
-          if (!attempt.failures[p]) cache.keep(prepared.pieces[p], attempt.welder.take_back(static_cast<int>(p)));
+      for (std::size_t p = 0; p < attempt.failures.size(); ++p)  // the good results, for the next attempt
+        if (!attempt.failures[p]) cache.keep(prepared.pieces[p], attempt.welder.take_back(static_cast<int>(p)));
     } catch (const InputError&) {
       throw;
     } catch (const OptionError&) {
       throw;
     } catch (const MeshingError& e) {
       // From partition, closure, merge or seam healing; only the last knows its planes.
-      failure = e.failure;
-      planes_to_move = e.failure.planes;
+      failed.failure = e.failure;
+      failed.planes = e.failure.planes;
     } catch (const Error& e) {
-      failure = Failure{FailureKind::other, -1, {}, e.what()};
+      failed.failure = Failure{FailureKind::other, -1, {}, e.what()};
     }
     // TetGen failing is often the input's fault (pieces are not checked for self-intersections
     // or the nesting of shells before TetGen): check the whole input once (throws InputError
     // naming input faces) before blaming the cuts.
-    if (failure->kind != FailureKind::injected && !input_checked) {
+    if (failed.failure.kind != FailureKind::injected && !input_checked) {
       check_no_self_intersections(input);
       check_shell_nesting(input);
       input_checked = true;
     }
-    const bool options_changed = plan.tighten_tolerance(*failure);
-    if (planes_to_move.empty() && !options_changed) planes_to_move = plan.all_planes();
-    plan.next(*failure, planes_to_move, options_changed);
+    last = Partition{cuts, failed};
+    plan.next(failed);
   }
 }
 

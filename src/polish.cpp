@@ -260,7 +260,8 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
     std::vector<std::vector<std::size_t>> failed;
     for (std::size_t b = 0; b < batches.size(); ++b) {
       if (outcomes[b].failure) {
-        split_in_halves(batches[b], failed);
+        if (outcomes[b].failure->kind == FailureKind::runaway) stats.ran_away = true;
+        else split_in_halves(batches[b], failed);
         continue;
       }
       results[b].mesh = std::move(outcomes[b].result.mesh);
@@ -268,7 +269,7 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
       stats.tets_out += static_cast<std::int64_t>(results[b].mesh.tets.size());
       better.push_back(std::move(results[b]));
     }
-    batches = std::move(failed);
+    batches = stats.ran_away ? decltype(failed)() : std::move(failed);
   }
   for (std::size_t t = 0; t < in_region.size(); ++t) {
     if (in_region[t] && !kept[part_of[t]]) in_region[t] = 0;
@@ -311,7 +312,7 @@ PolishStats polish_poor_tets(TetMesh& mesh, const PolishOptions& options, const 
   stats.min_dihedral_before = stats.min_dihedral_after = worst.min_dihedral_deg;
   stats.amips_max_before = stats.amips_max_after = worst.amips;
   if (stats.poor_before == 0) return stats;
-  for (int attempt = 0; attempt < options.attempts && stats.poor_after > 0; ++attempt)
+  for (int attempt = 0; attempt < options.attempts && stats.poor_after > 0 && !stats.ran_away; ++attempt)
     polish_attempt(mesh, options, is_poor, attempt, mesher, poor, stats);
   drop_unused_points(mesh);
   mark_poor(mesh, is_poor, options, poor, worst);

@@ -328,7 +328,8 @@ std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, co
     const std::vector<std::int32_t> failed = mesh_parts(parts, mesh, input, mesher, cache, failure);
     clock.lap("meshing");
     if (failed.empty()) break;
-    if (growth == kMaxGrowth) {
+    // A larger region helps TetGen keep its boundary, not meet a quality bound it cannot meet.
+    if (growth == kMaxGrowth || failure.kind == FailureKind::runaway) {
       const Part& part = parts[failed.front()];
       std::string planes;
       for (int p : part.planes) planes += (planes.empty() ? "" : ", ") + std::to_string(p);

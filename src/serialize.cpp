@@ -167,6 +167,7 @@ std::string encode_failure(const Failure& failure, std::string_view prefix) {
         ar << kind << piece;
         save_block(ar, planes);
         ar << failure.message;
+        save_block(ar, failure.faces);
       },
       prefix);
 }
@@ -198,6 +199,7 @@ Failure deserialize_failure(std::string_view bytes) {
     ar >> kind >> piece;
     load_block(ar, planes);
     ar >> failure.message;
+    load_block(ar, failure.faces);
     failure.kind = static_cast<FailureKind>(kind);
     failure.piece = piece;
     failure.planes.assign(planes.begin(), planes.end());

@@ -36,6 +36,11 @@ void piece_failure(int piece, int rank) {
   throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
+bool every_cut_fails(std::size_t pieces) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  return pieces > 1 && spec && std::string(spec) == "cuts";
+}
+
 void worker_stop(int rank) {
   const char* spec = value("PARTET_INJECT_FAILURE");
   if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") ::raise(SIGSTOP);

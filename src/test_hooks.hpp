@@ -1,13 +1,17 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
-// does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
+// does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh, tests/cli/hard_parts.sh,
 // tests/mpi/stopped_rank.sh, tests/cli/outputs.sh, tests/cli/publish.sh.
 #pragma once
+#include <cstddef>
 
 namespace partet::test_hooks {
 
 // PARTET_INJECT_FAILURE="P:error" makes piece P fail with an error, "P:abort" makes the process
 // meshing piece P abort (on a worker that kills the rank, as a real crash would).
 void piece_failure(int piece, int rank);
+// PARTET_INJECT_FAILURE="cuts": every partition into more than one piece fails, as if TetGen could
+// not recover a cap (so only the one-piece fallback can mesh the input). True then.
+bool every_cut_fails(std::size_t pieces);
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);

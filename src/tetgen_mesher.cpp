@@ -20,7 +20,7 @@ namespace {
 MeshingError tetgen_error(int code, int piece) {
   switch (code) {
     case 1:
-      return MeshingError(FailureKind::tetgen_error, piece, "TetGen ran out of memory");
+      return MeshingError(FailureKind::tetgen_error, piece, kTetgenOutOfMemory);
     case 2:
       return MeshingError(FailureKind::tetgen_error, piece, "TetGen hit an internal error");
     case 3:
@@ -204,7 +204,7 @@ LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid,
     throw MeshingError(FailureKind::bad_surface, piece, "no tetrahedra inside the surface (is it inside out?)");
   result.neighbours.reserve(result.tets.size());
   std::vector<char> seen(triangles.size(), 0);
-  std::size_t boundary_faces = 0;
+  std::size_t boundary_faces = 0, foreign_faces = 0;
   for (std::size_t t = 0; t < raw.tets.size(); ++t) {
     if (!solid[t]) continue;
     Tet nb;
@@ -214,18 +214,25 @@ LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid,
       if (nb[j] >= 0) continue;
       const Triangle face = outward_face(raw.tets[t], j);
       auto it = input_face.find(FaceKey(face));
-      if (it == input_face.end() || !same_orientation(face, triangles[it->second]) || seen[it->second])
-        throw MeshingError(FailureKind::changed_boundary, piece,
-                           "TetGen changed the surface (a boundary face is not an input triangle)");
+      if (it == input_face.end() || !same_orientation(face, triangles[it->second]) || seen[it->second]) {
+        ++foreign_faces;
+        continue;
+      }
       seen[it->second] = 1;
       ++boundary_faces;
     }
     result.neighbours.push_back(nb);
   }
-  if (boundary_faces != triangles.size())
-    throw MeshingError(FailureKind::changed_boundary, piece,
-                       "TetGen changed the surface: " + std::to_string(triangles.size() - boundary_faces) +
-                           " input triangles are not faces of the mesh");
+  if (foreign_faces > 0 || boundary_faces != triangles.size()) {
+    // The input triangles TetGen split (or lost): what a message can name.
+    std::vector<std::int32_t> missing;
+    for (std::size_t f = 0; f < triangles.size(); ++f)
+      if (!seen[f]) missing.push_back(static_cast<std::int32_t>(f));
+    throw MeshingError(Failure(FailureKind::changed_boundary, piece, {},
+                               "TetGen changed the surface: " + std::to_string(missing.size()) +
+                                   " triangles are not faces of its mesh (it needed points on them)",
+                               missing));
+  }
   return result;
 }
 

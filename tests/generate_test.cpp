@@ -138,5 +138,45 @@ TEST(Generate, UnknownShapeAndBadCount) {
   EXPECT_THROW(generate_surface("sphere", 0), OptionError);
 }
 
+// The thin-wall parts: closed, valid, one solid of the volume the profile and the extrusion give.
+TEST(GenerateThinWalls, EveryKindIsAValidSolidOfTheExpectedVolume) {
+  // Profile (spine height, wall height, extrusion depth) of each kind, as documented.
+  const struct {
+    const char* kind;
+    double base, height, depth;
+  } kinds[] = {{"fins", 3, 20, 40}, {"comb", 2, 40, 4}, {"slots", 10, 8, 30}, {"plates", 3, 30, 30}};
+  ASSERT_EQ(thin_wall_kinds().size(), std::size(kinds));
+  for (const auto& k : kinds)
+    for (const auto& [wall, gap] : {std::pair{1.0, 1.0}, {0.5, 2.0}, {2.0, 1.0}})
+      for (double turn : {0.0, 30.0}) {
+        SCOPED_TRACE(std::string(k.kind) + " wall " + std::to_string(wall) + " gap " + std::to_string(gap) +
+                     " turn " + std::to_string(turn));
+        ThinWallPart part{k.kind, 7, wall, gap, turn};
+        const SurfaceMesh s = generate_thin_walls(part);
+        EXPECT_NO_THROW(validate_surface(s));
+        EXPECT_EQ(euler_characteristic(s), 2);
+        EXPECT_EQ(component_count(s), 1);
+        const double width = 2 * gap + 7 * wall + 6 * gap;
+        const double volume = (width * k.base + 7 * wall * k.height) * k.depth;
+        EXPECT_NEAR(enclosed_volume(s), volume, 1e-9 * volume);
+        // CAD-like: vertices only at the corners of the profile, twice (front and back).
+        EXPECT_EQ(s.points.size(), 2u * (4 + 4 * 7));
+      }
+}
+
+TEST(GenerateThinWalls, AxisAlignedUnlessTurned) {
+  const SurfaceMesh straight = generate_thin_walls(ThinWallPart{"fins", 5, 1, 1, 0});
+  std::set<double> xs;
+  for (const Point3& p : straight.points) xs.insert(p[0]);
+  EXPECT_EQ(xs.size(), 2u + 2 * 5);  // the two ends and both sides of each fin: walls share their planes
+}
+
+TEST(GenerateThinWalls, BadPartsAreRefused) {
+  EXPECT_THROW(generate_thin_walls(ThinWallPart{"gear"}), OptionError);
+  EXPECT_THROW(generate_thin_walls(ThinWallPart{"fins", 0}), OptionError);
+  EXPECT_THROW(generate_thin_walls(ThinWallPart{"fins", 3, 0, 1}), OptionError);
+  EXPECT_THROW(generate_thin_walls(ThinWallPart{"fins", 3, 1, std::nan("")}), OptionError);
+}
+
 }  // namespace
 }  // namespace partet

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "partet/pipeline.hpp"
 #include "partet/validate.hpp"
 #include "stage_helpers.hpp"
+#include "topology.hpp"
 
 namespace partet {
 namespace {
@@ -300,6 +302,76 @@ TEST(MeshWithRetries, GivesUpAfterMaxAttempts) {
     EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
   }
   EXPECT_EQ(calls, 3);
+}
+
+// Every partition into pieces fails (a cut TetGen cannot recover, whatever the planes): the
+// last resort is the whole input as one piece, as TetGen alone, and its mesh is valid.
+TEST(MeshWithRetries, FallsBackToOnePieceWhenEveryCutFails) {
+  const SurfaceMesh s = generate_thin_walls(ThinWallPart{"fins", 6, 1, 1, 0});
+  const MeshOptions o = options_for(4, 0.25);
+  std::vector<int> pieces_seen;
+  const PieceMesher cuts_fail = [&](const std::vector<PieceSurface>& pieces, const TetgenOptions& tetgen) {
+    auto outcomes = mesh_pieces_here(pieces, PieceRunner(tetgen, o.run));
+    if (!pieces.empty() && pieces.front().seam_region) return outcomes;
+    pieces_seen.push_back(static_cast<int>(pieces.size()));
+    if (pieces.size() > 1)
+      for (auto& outcome : outcomes) {
+        outcome.result = {};
+        outcome.failure = Failure{FailureKind::changed_boundary, 0, {}, "a cap cannot be recovered"};
+      }
+    return outcomes;
+  };
+  const MeshResult r = mesh_with_retries(s, o, cuts_fail);
+  EXPECT_EQ(r.pieces, 1);
+  EXPECT_GE(r.retries.size(), 2u);
+  ASSERT_FALSE(pieces_seen.empty());
+  EXPECT_EQ(pieces_seen.front(), 4);
+  EXPECT_EQ(std::count(pieces_seen.begin(), pieces_seen.end(), 1), 1) << "one piece meshed once";
+  const CheckReport report = check_mesh(s, r.mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+  EXPECT_EQ(report.boundary_faces, static_cast<std::int64_t>(s.triangles.size()));
+}
+
+// The trouble is the input itself (the same input faces fail as one piece): said once, naming
+// them, after one partition and one piece instead of every retry.
+TEST(MeshWithRetries, InputTroubleIsNamedWithoutFutileRetries) {
+  const SurfaceMesh s = generate_surface("sphere", 2000);
+  const MeshOptions o = options_for(4, 0.25);
+  std::set<FaceKey> input_faces;
+  for (const Triangle& t : s.triangles) input_faces.insert(FaceKey(t));
+  std::optional<FaceKey> bad;  // the first whole input face the first partition has
+  int calls = 0;
+  const PieceMesher input_fails = [&](const std::vector<PieceSurface>& pieces, const TetgenOptions& tetgen) {
+    auto outcomes = mesh_pieces_here(pieces, PieceRunner(tetgen, o.run));
+    if (!pieces.empty() && pieces.front().seam_region) return outcomes;
+    ++calls;
+    // The piece holding that face fails, naming it (in the piece's numbering), as TetGen would.
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      for (std::size_t t = 0; t < pieces[p].triangles.size(); ++t) {
+        Triangle global;
+        for (int c = 0; c < 3; ++c) global[c] = pieces[p].global_ids[pieces[p].triangles[t][c]];
+        if (!bad && input_faces.count(FaceKey(global))) bad = FaceKey(global);
+        if (bad && FaceKey(global) == *bad) {
+          outcomes[p].result = {};
+          outcomes[p].failure = Failure(FailureKind::changed_boundary, static_cast<int>(p), {},
+                                        "TetGen changed the surface", {static_cast<std::int32_t>(t)});
+        }
+      }
+    return outcomes;
+  };
+  try {
+    mesh_with_retries(s, o, input_fails);
+    ADD_FAILURE() << "no error";
+  } catch (const MeshingError& e) {
+    ASSERT_TRUE(bad);
+    std::size_t face = 0;
+    while (!(FaceKey(s.triangles[face]) == *bad)) ++face;
+    EXPECT_NE(std::string(e.what()).find("without putting points on its surface (on input faces " +
+                                         std::to_string(face) + ")"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(calls, 2);
 }
 
 TEST(MeshPiecesHere, ReportsErrorsPerPiece) {

@@ -144,12 +144,13 @@ TEST(Serialize, TruncatedMessageIsRejected) {
 }
 
 TEST(Serialize, FailuresAndOutcomesRoundTrip) {
-  const Failure failure{FailureKind::self_intersection, -1, {0, 3, 7}, "near cut plane(s) 0, 3, 7: boom"};
+  const Failure failure{FailureKind::self_intersection, -1, {0, 3, 7}, "near cut plane(s) 0, 3, 7: boom", {12, 40}};
   const Failure back = deserialize_failure(serialize_failure(failure));
   EXPECT_EQ(back.kind, failure.kind);
   EXPECT_EQ(back.piece, failure.piece);
   EXPECT_EQ(back.planes, failure.planes);
   EXPECT_EQ(back.message, failure.message);
+  EXPECT_EQ(back.faces, failure.faces);  // the triangles TetGen named, for the input-or-cut diagnosis
 
   PieceOutcome failed;
   failed.failure = Failure{FailureKind::crashed, 5, {}, "meshing crashed (signal 6)"};

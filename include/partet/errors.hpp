@@ -44,14 +44,21 @@ enum class FailureKind : std::int32_t {
   injected = 7,           // a test hook (PARTET_INJECT_FAILURE)
   other = 8,              // any other error inside the meshing process
   too_close = 9,          // TetGen took features closer than its tolerance for one (thin solids)
+  runaway = 10,           // TetGen's refinement grew far past what the surface needs (a bound too tight)
 };
 
 // A meshing failure as a value: it crosses process and rank boundaries serialized.
 struct Failure {
+  Failure() = default;
+  Failure(FailureKind k, std::int32_t p, std::vector<int> involved_planes, std::string text,
+          std::vector<std::int32_t> involved_faces = {})
+      : kind(k), piece(p), planes(std::move(involved_planes)), message(std::move(text)), faces(std::move(involved_faces)) {}
+
   FailureKind kind = FailureKind::other;
   std::int32_t piece = -1;  // -1: not about one piece
   std::vector<int> planes;  // cut planes involved, when known (moving them is the remedy)
   std::string message;      // without the "piece N: " prefix
+  std::vector<std::int32_t> faces;  // the piece's triangles involved (local indices), when known
 
   // "piece N: message" (or the message alone).
   std::string text() const { return piece >= 0 ? "piece " + std::to_string(piece) + ": " + message : message; }
@@ -62,6 +69,12 @@ struct MeshingError : Error {
   MeshingError(FailureKind kind, int piece, const std::string& message, std::vector<int> planes = {})
       : MeshingError(Failure{kind, piece, std::move(planes), message}) {}
   Failure failure;
+};
+
+// No partition can help: TetGen fails on the input itself (as one piece, as TetGen alone), or the
+// quality bound asked for cannot be met. The message says which.
+struct InputMeshingError : MeshingError {
+  using MeshingError::MeshingError;
 };
 
 // Partitioning or surface closure could not produce valid pieces.

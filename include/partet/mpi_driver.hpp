@@ -11,7 +11,7 @@ namespace partet::mpi {
 struct JobStatus {
   int exit_code = 0;            // the same on every rank
   std::string error;            // on rank 0, when exit_code != 0
-  bool meshing_failed = false;  // the error is a meshing failure (another partition may help)
+  bool meshing_failed = false;  // the error is a meshing failure another partition may help with
   bool usage_error = false;     // the command line asks for something impossible (exit code 2)
   RunFigures figures;           // rank 0, with MeshJob::compare_tetgen
   int ranks = 1;

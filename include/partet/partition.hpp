@@ -3,6 +3,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
@@ -18,8 +19,14 @@ struct CutPlane {
 // Direction of the cut planes' normal. coordinate_near_pca (the default) takes the coordinate
 // axis closest to the main PCA axis: every crossing point then lies exactly on its plane and
 // the caps are exactly planar. pca takes the PCA axis itself (the paper's choice); crossing
-// points are then rounded off the plane by up to half an ulp.
-enum class CutAxis { coordinate_near_pca, pca };
+// points are then rounded off the plane by up to half an ulp. x, y and z name a coordinate axis
+// (exactly planar caps too).
+enum class CutAxis { coordinate_near_pca, pca, x, y, z };
+
+// The coordinate axes (as x, y, z) from the closest to the main PCA axis to the farthest.
+std::vector<CutAxis> coordinate_axes_by_closeness(const SurfaceMesh& surface);
+// "x", "y", "z", "pca" or "auto".
+const char* axis_name(CutAxis axis);
 
 Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode);
 

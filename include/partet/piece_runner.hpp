@@ -63,4 +63,13 @@ class PieceRunner {
 // triangles.
 double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& options);
 
+// TetGen's peak memory per triangle of its surface, measured with and without a quality bound
+// (armadillo_loop1, fertility: 2.4-2.8 KB).
+constexpr double kTetgenKilobytesPerTriangle = 2.5;
+// The most an isolated run may allocate for a surface of that many triangles: 64 MB plus
+// kRunawayFactor times what TetGen needs. Past it the refinement is running away (a quality bound
+// too tight to be met): the run fails then, instead of taking the machine's memory and time.
+constexpr double kRunawayFactor = 10;
+double memory_limit_mb(std::size_t triangles);
+
 }  // namespace partet

@@ -36,7 +36,7 @@ struct MeshOptions {
   double density = 0.25;  // chosen by scripts/density_sweep.sh: best AMIPS avg and max on every model tried
   CutAxis axis = CutAxis::coordinate_near_pca;
   std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
-  int max_attempts = 6;           // partitions tried before giving up, plus one per 4 pieces beyond the first
+  int max_attempts = 40;          // partitions tried at most (see mesh_with_retries)
   Heal heal = Heal::automatic;
   bool polish = true;  // re-mesh the neighbourhoods of poor tets (with a quality bound only)
   TetgenOptions tetgen;
@@ -81,6 +81,7 @@ struct MeshResult {
   std::int64_t cut_vertices_inserted = 0;
   std::int64_t cap_triangles = 0;
   int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)
+  CutAxis axis = CutAxis::coordinate_near_pca;  // the direction of the cuts that worked
   std::vector<RetryRecord> retries;
   double merge_seconds_overlapped = 0;  // welding done while the last pieces were being meshed
 };
@@ -148,10 +149,10 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
 // The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
 // boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
 // cut-vertex removal fails, the planes of the failing region move; when partition or closure
-// fails, all planes move. Pieces unchanged by the moves keep their earlier result. From the
-// third attempt on the cap density is halved each time (0 on the last attempt). After
-// max_attempts (+1 per 4 pieces) partitions the last failure is thrown as MeshingError.
-// Input and option errors are thrown at once.
+// fails, all planes move. Pieces unchanged by the moves keep their earlier result. When the cuts
+// keep failing, other directions are tried, then fewer pieces, then the whole input as one piece
+// (src/retry_plan.hpp has the order). When that fails too, or after max_attempts partitions, the
+// failure is thrown as MeshingError. Input and option errors are thrown at once.
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
                              StageTimes* times = nullptr);
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,

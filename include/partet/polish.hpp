@@ -34,6 +34,9 @@ struct PolishStats {
   std::int64_t tets_in = 0, tets_out = 0;                  // tets replaced, and the tets that replaced them
   double min_dihedral_before = 0, min_dihedral_after = 0;  // the mesh's worst, degrees
   double amips_max_before = 0, amips_max_after = 0;
+  // TetGen's refinement ran away in a neighbourhood (the quality bound cannot be met there): the
+  // polish stopped, since every other neighbourhood has the same bound.
+  bool ran_away = false;
 };
 
 // Meshes a batch of closed surfaces (neighbourhoods, as regions) with TetGen's optimization

@@ -28,7 +28,7 @@ void log_stage(const StageTimes& times);
 // (one line per stage, as the run goes).
 class StageTimer {
  public:
-  explicit StageTimer(StageTimes* times) : times_(times), start_(now_seconds()) {}
+  explicit StageTimer(StageTimes* times, double start = now_seconds()) : times_(times), start_(start) {}
   void lap(const std::string& stage) {
     const double now = now_seconds();
     if (times_) {

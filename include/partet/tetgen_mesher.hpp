@@ -24,6 +24,9 @@ struct TetgenOptions {
 // in TetGen's form; throws OptionError.
 std::string parse_quality(const std::string& text);
 
+// The message of a MeshingError when TetGen itself ran out of memory (its error code 1).
+inline constexpr const char* kTetgenOutOfMemory = "TetGen ran out of memory";
+
 // What the caller knows about the regions a surface encloses.
 enum class SurfaceRegions {
   any,        // cavities, pockets: classify every region TetGen fills by orientation

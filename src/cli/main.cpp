@@ -149,7 +149,36 @@ int launched_rank() {
   return 0;
 }
 
+// Whether MPI can make its session directory under dir: the nearest existing ancestor (it makes
+// the missing ones) must be a directory this process may write.
+bool session_directory_possible(std::filesystem::path dir) {
+  std::error_code error;
+  while (!std::filesystem::exists(dir, error) && dir.has_relative_path()) dir = dir.parent_path();
+  return std::filesystem::is_directory(dir, error) && ::access(dir.c_str(), W_OK | X_OK) == 0;
+}
+
+// Without a launcher, MPI_Init keeps Open MPI's session files under TMPDIR (or TEMP, TMP, /tmp):
+// where that cannot be written it prints a page of errors and fails. Said here in one line
+// instead. Under mpirun or srun the launcher has already made that directory.
+std::string unwritable_session_directory() {
+  if (std::getenv("OMPI_COMM_WORLD_RANK") || std::getenv("PMIX_RANK") || std::getenv("OMPI_MCA_orte_tmpdir_base"))
+    return "";
+  for (const char* name : {"TMPDIR", "TEMP", "TMP"})
+    if (const char* dir = std::getenv(name); dir && *dir)
+      return session_directory_possible(std::filesystem::absolute(dir))
+                 ? ""
+                 : std::string(name) + "=" + dir + " is not a writable directory, and MPI keeps its session files " +
+                       "there: set " + name + " to one that is (e.g. " + name + "=/tmp)";
+  return session_directory_possible("/tmp")
+             ? ""
+             : "/tmp is not writable, and MPI keeps its session files there: set TMPDIR to a writable directory";
+}
+
 int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
+  if (const std::string problem = unwritable_session_directory(); !problem.empty()) {
+    partet::log::error(problem);
+    return 2;
+  }
   MPI_Init(&argc, &argv);
   int code = 1, ranks = 1;
   partet::RunFigures status_figures;
@@ -161,7 +190,12 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
     if (!status.error.empty()) {
       // The library's messages name no flags; what the user can change is said here.
       const bool advise = status.meshing_failed && job.options.pieces > 1;
-      partet::log::error(status.error + (advise ? "; try another --pieces value or --axis" : ""));
+      const std::string error = status.error + (advise ? "; try another --pieces value or --axis" : "");
+      // The run has failed and says so here: an interrupt now (mpirun ending this rank because
+      // another one exited first) says this error, once, instead of its own message.
+      partet::interrupts::set_messages("error: " + error, "error: " + error);
+      partet::log::error(error);
+      partet::interrupts::set_messages("", "");
     }
   } catch (const std::exception& e) {
     partet::log::error(e.what());
@@ -188,6 +222,7 @@ struct CommandLine {
   std::string check_input, check_prefix, check_report;
   bool check_json = false;
   std::string shape, generate_output;
+  partet::ThinWallPart thin_walls;
   std::string info_file;
   bool info_json = false;
   int faces = 2000;
@@ -248,8 +283,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->capture_default_str();
   mesh->add_option(
           "--axis", c.axis,
-          "cut direction: auto = coordinate axis nearest the PCA axis (exactly planar caps), pca = the PCA axis")
-      ->check(CLI::IsMember({"auto", "pca"}))
+          "cut direction: auto = coordinate axis nearest the PCA axis (exactly planar caps), pca = the PCA axis, "
+          "x, y or z = that coordinate axis; when the cuts keep failing, the other directions are tried too")
+      ->check(CLI::IsMember({"auto", "pca", "x", "y", "z"}))
       ->capture_default_str();
   mesh->add_option("--piece-timeout", job.options.run.timeout_seconds,
                    "seconds before meshing one piece is given up (0: scaled with the piece's size; a rank that "
@@ -258,7 +294,8 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();
   mesh->add_option("--max-attempts", job.options.max_attempts,
-                   "partitions tried before giving up (plus one per 4 pieces)")
+                   "partitions tried at most before giving up (the retries try other cut planes, other directions, "
+                   "fewer pieces, then the whole input as one piece)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   auto* heal = mesh->add_flag(
@@ -298,7 +335,25 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
 
 CLI::App* add_generate_command(CLI::App& app, CommandLine& c) {
   auto* generate = app.add_subcommand("generate", "write a generated closed test surface");
-  generate->add_option("shape", c.shape, "sphere, torus, genus3, nested, two_spheres")->required();
+  generate->add_option("shape", c.shape,
+                       "sphere, torus, genus3, nested, two_spheres; or a CAD-like part with thin walls: fins, comb, "
+                       "slots, plates")
+      ->required();
+  generate->add_option("--walls", c.thin_walls.walls, "thin-wall parts: number of walls")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  generate->add_option("--wall", c.thin_walls.wall, "thin-wall parts: thickness of a wall")
+      ->check(kFinite)
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  generate->add_option("--gap", c.thin_walls.gap, "thin-wall parts: space between walls")
+      ->check(kFinite)
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  generate->add_option("--turn", c.thin_walls.turn_degrees,
+                       "thin-wall parts: degrees turned about the extrusion axis (0: axis aligned, as CAD parts are)")
+      ->check(kFinite)
+      ->capture_default_str();
   generate->add_option("--faces", c.faces, "about this many triangles")
       ->check(CLI::Range(1, 1 << 28))
       ->capture_default_str();
@@ -455,7 +510,12 @@ int run_refine(const CommandLine& c) {
 
 int run_generate(const CommandLine& c) {
   partet::check_output_paths({c.generate_output}, {});
-  const partet::SurfaceMesh s = partet::generate_surface(c.shape, c.faces);
+  const std::vector<std::string> kinds = partet::thin_wall_kinds();
+  partet::ThinWallPart part = c.thin_walls;
+  part.kind = c.shape;
+  const partet::SurfaceMesh s = std::find(kinds.begin(), kinds.end(), c.shape) != kinds.end()
+                                    ? partet::generate_thin_walls(part)
+                                    : partet::generate_surface(c.shape, c.faces);
   publish_off(s, c.generate_output);
   std::printf("wrote %s: %zu vertices, %zu faces\n", c.generate_output.c_str(), s.points.size(), s.triangles.size());
   return 0;
@@ -515,7 +575,11 @@ int main(int argc, char** argv) {
   c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
   c.job.options.polish = !c.no_polish;
   c.job.options.balance = c.balance == "vertices" ? partet::Balance::vertices : partet::Balance::cost;
-  c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca : partet::CutAxis::coordinate_near_pca;
+  c.job.options.axis = c.axis == "pca" ? partet::CutAxis::pca
+                       : c.axis == "x" ? partet::CutAxis::x
+                       : c.axis == "y" ? partet::CutAxis::y
+                       : c.axis == "z" ? partet::CutAxis::z
+                                       : partet::CutAxis::coordinate_near_pca;
   partet::log::set_level(c.quiet     ? partet::log::Level::quiet
                          : c.verbose ? partet::log::Level::verbose
                                      : partet::log::Level::normal);

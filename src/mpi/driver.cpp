@@ -416,7 +416,7 @@ void on_root(RankState& state, Step step) {
     step();
   } catch (const MeshingError& e) {
     state.status.error = e.what();
-    state.status.meshing_failed = true;
+    state.status.meshing_failed = dynamic_cast<const InputMeshingError*>(&e) == nullptr;
   } catch (const OptionError& e) {
     state.status.error = e.what();
     state.status.usage_error = true;

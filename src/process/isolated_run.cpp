@@ -3,7 +3,9 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +22,23 @@
 namespace partet {
 namespace {
 
+// This process's virtual size, bytes (what RLIMIT_AS counts).
+double virtual_size() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  long pages = 0;
+  const bool ok = std::fscanf(f, "%ld", &pages) == 1;
+  std::fclose(f);
+  return ok ? static_cast<double>(pages) * static_cast<double>(::sysconf(_SC_PAGESIZE)) : 0;
+}
+
+void limit_memory(double megabytes) {
+  const double limit = virtual_size() + megabytes * 1024 * 1024;
+  rlimit r{};
+  r.rlim_cur = r.rlim_max = static_cast<rlim_t>(limit);
+  ::setrlimit(RLIMIT_AS, &r);
+}
+
 bool write_all(int fd, const char* data, std::size_t size) {
   while (size > 0) {
     const ssize_t n = ::write(fd, data, size);
@@ -33,12 +52,13 @@ bool write_all(int fd, const char* data, std::size_t size) {
 
 }  // namespace
 
-IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeout_seconds)
+IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeout_seconds, double memory_limit_mb)
     : timeout_seconds_(timeout_seconds),
       deadline_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                        std::chrono::duration<double>(timeout_seconds))) {
   int fds[2];
   if (::pipe(fds) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  output_fd_ = ::memfd_create("partet-child-output", MFD_CLOEXEC);  // best effort: -1 means no capture
   std::fflush(nullptr);
   const pid_t parent = ::getpid();
   child_ = ::fork();
@@ -55,11 +75,14 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
     ::close(fds[0]);
     interrupts::reset_in_child();  // the parent's interrupt thread is not here; its files are not ours
     // TetGen prints some findings (two facets intersect, with their ids) on stdout even when told
-    // to be quiet; the parent reports failures itself, and a --quiet run must print nothing.
-    if (const int devnull = ::open("/dev/null", O_WRONLY); devnull >= 0) {
-      ::dup2(devnull, STDOUT_FILENO);
-      ::dup2(devnull, STDERR_FILENO);
+    // to be quiet, and an assertion's text on stderr: they go where the parent can read them (a
+    // --quiet run must print nothing).
+    const int sink = output_fd_ >= 0 ? output_fd_ : ::open("/dev/null", O_WRONLY);
+    if (sink >= 0) {
+      ::dup2(sink, STDOUT_FILENO);
+      ::dup2(sink, STDERR_FILENO);
     }
+    if (memory_limit_mb > 0) limit_memory(memory_limit_mb);
     bool ok = false;
     try {
       // The size first, so the parent can reserve the whole result at once.
@@ -85,6 +108,15 @@ IsolatedRun::~IsolatedRun() {
     }
   }
   if (fd_ >= 0) ::close(fd_);
+  if (output_fd_ >= 0) ::close(output_fd_);
+}
+
+std::string IsolatedRun::output() const {
+  if (output_fd_ < 0 || end_ == ProcessEnd::running) return "";
+  std::string text(64 * 1024, '\0');
+  const ssize_t n = ::pread(output_fd_, text.data(), text.size(), 0);
+  text.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+  return text;
 }
 
 bool IsolatedRun::poll(int wait_ms) {
@@ -155,8 +187,10 @@ void IsolatedRun::finish(bool timed_out) {
   fd_ = -1;
   if (timed_out) ::kill(child_, SIGKILL);
   int status = 0;
-  while (::waitpid(child_, &status, 0) < 0 && errno == EINTR) {
+  rusage usage{};
+  while (::wait4(child_, &status, 0, &usage) < 0 && errno == EINTR) {
   }
+  peak_mb_ = static_cast<double>(usage.ru_maxrss) / 1024.0;
   if (timed_out) {
     end_ = ProcessEnd::timed_out;
   } else if (WIFSIGNALED(status)) {

@@ -23,8 +23,11 @@ enum class ProcessEnd {
 class IsolatedRun {
  public:
   // Starts work() in a child process; the bytes it returns come back through a pipe. work()
-  // must not throw. The child never returns into the caller's code and never touches MPI.
-  IsolatedRun(const std::function<std::string()>& work, double timeout_seconds);
+  // must not throw. The child never returns into the caller's code and never touches MPI. With
+  // memory_limit_mb > 0 the child can allocate at most that much beyond what it inherits (an
+  // allocation past it fails in the child, which then reports it instead of taking the machine's
+  // memory).
+  IsolatedRun(const std::function<std::string()>& work, double timeout_seconds, double memory_limit_mb = 0);
   ~IsolatedRun();  // kills and reaps a child that is still running
   IsolatedRun(const IsolatedRun&) = delete;
   IsolatedRun& operator=(const IsolatedRun&) = delete;
@@ -37,9 +40,13 @@ class IsolatedRun {
 
   ProcessEnd end() const { return end_; }
   int signal() const { return signal_; }  // when crashed
+  double peak_mb() const { return peak_mb_; }  // once ended: the child's peak resident memory
   double timeout_seconds() const { return timeout_seconds_; }
   // When finished: the bytes work() returned (moved out).
   std::string take_bytes() { return std::move(received_); }
+  // Once ended: the start of what the child printed (stdout and stderr, at most 64 KB), e.g.
+  // TetGen's findings or an assertion's text.
+  std::string output() const;
 
  private:
   void finish(bool timed_out);
@@ -47,6 +54,7 @@ class IsolatedRun {
 
   pid_t child_ = -1;
   int fd_ = -1;
+  int output_fd_ = -1;  // an in-memory file the child's stdout and stderr go to
   double timeout_seconds_;
   std::chrono::steady_clock::time_point deadline_;
   std::string header_;    // the result's size, as it arrives
@@ -54,6 +62,7 @@ class IsolatedRun {
   std::size_t filled_ = 0;
   bool overflow_ = false;
   ProcessEnd end_ = ProcessEnd::running;
+  double peak_mb_ = 0;
   int signal_ = 0;
 };
 

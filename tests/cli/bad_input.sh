@@ -116,6 +116,17 @@ expect usage "cannot write 'tet.off': it is the same file as 'tet.off'" -- mesh 
 expect ok "wrote out.node" -- mesh far_unused.off -o out --check
 expect ok "wrote out.node" -- mesh thin.off -o out --pieces 2 --check
 expect ok "using [0-9]+ pieces instead of 50" -- mesh tet.off -o out --pieces 50
+if [ ${#launch[@]} -eq 0 ]; then
+  # MPI's session directory under a TMPDIR that cannot be written (under a file; on a read-only
+  # filesystem where this test may mount one): one line, not a page of Open MPI errors. A missing
+  # one is made.
+  expect usage "TMPDIR=.*/tet.off/tmp is not a writable directory" -- env TMPDIR="$work/tet.off/tmp" "$partet" mesh tet.off -o out
+  expect ok "wrote out.node" -- env TMPDIR="$work/missing/tmp" "$partet" mesh tet.off -o out
+  if mkdir ro_tmp && mount -t tmpfs -o ro tmpfs ro_tmp 2> /dev/null; then
+    expect usage "TMPDIR=.*/ro_tmp is not a writable directory" -- env TMPDIR="$work/ro_tmp" "$partet" mesh tet.off -o out
+    umount ro_tmp
+  fi
+fi
 if [ -n "$meshes" ] && [ -d "$meshes/invalid" ]; then
   expect fail "input is not closed: 223 border edges" -- mesh "$meshes/invalid/bunny_open.off" -o out
   expect fail "input is not manifold: vertex 253 joins 2 separate fans" -- mesh "$meshes/invalid/cow_nonmanifold_vertex.off" -o out
