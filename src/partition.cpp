@@ -235,20 +235,38 @@ void measure_clearance(const SurfaceMesh& surface, const Point3& axis, const std
 }
 
 // The candidate to use: the widest with a clearance of at least kGoodClearance, else the one
-// with the best clearance; a retry (shift s) takes the (s+1)-th in that order. Only gaps from
-// `first` on (after the previous plane's) qualify; -1 when none does.
-long pick_candidate(std::vector<Candidate> candidates, std::size_t first, int shift) {
+// with the best clearance. Only gaps from `first` on (after the previous plane's) and not in
+// `taken` qualify; -1 when none does.
+long pick_candidate(std::vector<Candidate> candidates, std::size_t first, const std::vector<std::size_t>& taken) {
   constexpr double kGoodClearance = 0.05;
-  candidates.erase(
-      std::remove_if(candidates.begin(), candidates.end(), [&](const Candidate& c) { return c.gap < first; }),
-      candidates.end());
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const Candidate& c) {
+                                    return c.gap < first || std::find(taken.begin(), taken.end(), c.gap) != taken.end();
+                                  }),
+                   candidates.end());
   if (candidates.empty()) return -1;
   std::stable_sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
     const bool good_x = x.clearance >= kGoodClearance, good_y = y.clearance >= kGoodClearance;
     if (good_x != good_y) return good_x;
     return good_x ? x.width > y.width : x.clearance > y.clearance;
   });
-  return static_cast<long>(candidates[static_cast<std::size_t>(shift) % candidates.size()].gap);
+  return static_cast<long>(candidates.front().gap);
+}
+
+// A plane's pick after s retries: level t (its window widened for the t-th retry) gives the
+// best gap none of the levels before it gave, so each retry moves the plane to a gap not tried
+// yet (on CAD parts many vertices share a position, and the best gap of a wider window is
+// often one already tried). -1 when no level has a gap left.
+long pick_after_retries(const std::vector<std::vector<Candidate>>& levels, std::size_t first) {
+  std::vector<std::size_t> taken;
+  long picked = -1;
+  for (const std::vector<Candidate>& level : levels) {
+    const long next = pick_candidate(level, first, taken);
+    if (next < 0) break;
+    picked = next;
+    taken.push_back(static_cast<std::size_t>(next));
+  }
+  return picked;
 }
 
 // No usable gap near the ideal position: the nearest one that still leaves room.
@@ -282,14 +300,23 @@ std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAx
   auto shift_of = [&](int j) { return j - 1 < static_cast<int>(shifts.size()) ? shifts[j - 1] : 0; };
   // Leave enough usable gaps for the planes still to come.
   auto last_of = [&](int j) { return gaps.size() - static_cast<std::size_t>(k - 1 - j) - 1; };
-  std::vector<std::vector<Candidate>> candidates(static_cast<std::size_t>(k));
-  for (int j = 1; j < k; ++j)
-    candidates[j] = candidates_near(a, gaps, target_of(j), last_of(j), base_window, shift_of(j));
+  // Per plane, a candidate list per level: the first attempt's window, then each retry's.
+  std::vector<std::vector<Candidate>> candidates;
+  std::vector<std::size_t> levels_from(static_cast<std::size_t>(k) + 1, 0);
+  for (int j = 1; j < k; ++j) {
+    levels_from[j] = candidates.size();
+    for (int t = 0; t <= shift_of(j); ++t)
+      candidates.push_back(candidates_near(a, gaps, target_of(j), last_of(j), base_window, t));
+  }
+  levels_from[k] = candidates.size();
   measure_clearance(surface, axis, gaps, candidates);
   std::vector<CutPlane> planes;
   std::size_t first = 0;  // planes take strictly increasing usable gaps
   for (int j = 1; j < k; ++j) {
-    const long picked = pick_candidate(candidates[j], first, shift_of(j));
+    const long picked = pick_after_retries(
+        std::vector<std::vector<Candidate>>(candidates.begin() + static_cast<long>(levels_from[j]),
+                                            candidates.begin() + static_cast<long>(levels_from[j + 1])),
+        first);
     const std::size_t chosen =
         picked >= 0 ? static_cast<std::size_t>(picked) : nearest_gap(gaps, target_of(j), first, last_of(j));
     planes.push_back(gaps[chosen].plane);

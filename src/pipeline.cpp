@@ -314,6 +314,10 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     std::vector<CutPlane> planes = choose_cut_planes(input, attempt_options.pieces, attempt_options.axis,
                                                      attempt_options.plane_shifts, plan.fractions());
     if (plan.fewer_cuts_than_pieces(planes.size())) continue;
+    char density[32];
+    std::snprintf(density, sizeof density, "%g", attempt_options.density);
+    log::debug("attempt " + std::to_string(plan.attempt() + 1) + ": " + std::to_string(planes.size() + 1) +
+               " pieces along " + axis_name(attempt_options.axis) + ", cap density " + density);
     const Cuts cuts{planes, attempt_options.density, attempt_options.tetgen.tolerance};
     if (last && last->cuts == cuts && last->failure) {  // no plane could move: the same pieces again
       plan.skip_repeat(*last->failure);

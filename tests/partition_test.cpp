@@ -238,6 +238,39 @@ TEST(ChooseCutPlanes, MaximalKOnIcosahedron) {
   for (int c : count) EXPECT_EQ(c, 1);
 }
 
+// A retry moves a plane to a gap not tried before, on a CAD-like part where many vertices share
+// each position (a retry used to get the plane that had just failed, again and again).
+TEST(ChooseCutPlanes, EachRetryMovesAPlaneToAGapNotTriedBefore) {
+  const SurfaceMesh fins = generate_thin_walls(ThinWallPart{"fins", 30, 1, 1, 0});
+  for (int k : {5, 12, 16}) {
+    SCOPED_TRACE(k);
+    const int plane = k / 2;
+    std::set<double> offsets;
+    for (int shift = 0; shift <= 3; ++shift) {
+      std::vector<int> shifts(static_cast<std::size_t>(k) - 1, 0);
+      shifts[static_cast<std::size_t>(plane)] = shift;
+      const std::vector<CutPlane> planes = choose_cut_planes(fins, k, CutAxis::x, shifts);
+      ASSERT_EQ(planes.size(), static_cast<std::size_t>(k) - 1);
+      EXPECT_TRUE(offsets.insert(planes[static_cast<std::size_t>(plane)].offset).second)
+          << "retry " << shift << " gave plane " << plane << " a position already tried";
+    }
+  }
+}
+
+TEST(CutAxis, CoordinateAxesByClosenessAndNames) {
+  // Fins: the extrusion (z, 40) holds the most spread, then the width (x), then the height (y).
+  const SurfaceMesh fins = generate_thin_walls(ThinWallPart{"fins", 5, 1, 1, 0});
+  const std::vector<CutAxis> order = coordinate_axes_by_closeness(fins);
+  ASSERT_EQ(order.size(), 3u);
+  EXPECT_EQ(std::set<CutAxis>(order.begin(), order.end()), (std::set<CutAxis>{CutAxis::x, CutAxis::y, CutAxis::z}));
+  const Point3 pca = cut_axis(fins, CutAxis::pca);
+  const int first = order[0] == CutAxis::x ? 0 : order[0] == CutAxis::y ? 1 : 2;
+  for (int c = 0; c < 3; ++c) EXPECT_LE(std::abs(pca[c]), std::abs(pca[first]) + 1e-12);
+  EXPECT_EQ(cut_axis(fins, CutAxis::y), (Point3{0, 1, 0}));
+  EXPECT_STREQ(axis_name(CutAxis::z), "z");
+  EXPECT_STREQ(axis_name(CutAxis::coordinate_near_pca), "auto");
+}
+
 TEST(PieceOfPoint, CountsPlanesBelow) {
   std::vector<CutPlane> planes = {{{0, 0, 1}, -1.0}, {{0, 0, 1}, 0.0}, {{0, 0, 1}, 2.5}};
   EXPECT_EQ(piece_of_point(planes, {0, 0, -5}), 0);
