@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -285,9 +286,128 @@ std::vector<std::int32_t> find_input_vertices(const SurfaceMesh& input, const st
   return mesh_vertex_of;
 }
 
-// Boundary faces must be exactly the input triangles, with the same orientation.
-void check_boundary_is_input(const std::vector<Triangle>& boundary, const SurfaceMesh& input,
-                             const std::vector<std::int32_t>& mesh_vertex_of, Violations& violations) {
+// The input triangles that are not boundary faces (split ones), and a grid over their bounding
+// boxes to find the one a boundary face lies in.
+class SplitTriangles {
+ public:
+  SplitTriangles(const SurfaceMesh& input, std::vector<std::int64_t> triangles)
+      : input_(input), triangles_(std::move(triangles)), covered_(triangles_.size(), 0) {
+    Point3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const Point3& p : input.points)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    const double diagonal = std::sqrt(dot(sub(hi, lo), sub(hi, lo)));
+    tolerance_ = 1e-9 * diagonal;
+    // Cells of about a triangle's size; a few large triangles among small ones span at most 33
+    // cells a side.
+    double extent = 0, largest = 0;
+    for (std::int64_t t : triangles_) extent += box_of(t, 0).extent, largest = std::max(largest, box_of(t, 0).extent);
+    cell_ = std::max({extent / std::max<std::size_t>(triangles_.size(), 1), largest / 32, 1e-6 * diagonal + 1e-300});
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+      const Box b = box_of(triangles_[i], tolerance_);
+      for (std::int64_t x = cell(b.lo[0]); x <= cell(b.hi[0]); ++x)
+        for (std::int64_t y = cell(b.lo[1]); y <= cell(b.hi[1]); ++y)
+          for (std::int64_t z = cell(b.lo[2]); z <= cell(b.hi[2]); ++z) grid_[key(x, y, z)].push_back(i);
+    }
+  }
+
+  // Adds the face (mesh points) to the split triangle it lies in, facing the same way; false if none.
+  bool add(const Triangle& face, const std::vector<Point3>& points) {
+    const Point3 c = centroid(points[face[0]], points[face[1]], points[face[2]]);
+    auto bucket = grid_.find(key(cell(c[0]), cell(c[1]), cell(c[2])));
+    if (bucket == grid_.end()) return false;
+    for (std::size_t i : bucket->second) {
+      const Triangle& t = input_.triangles[triangles_[i]];
+      const Point3 &a = input_.points[t[0]], &b = input_.points[t[1]], &d = input_.points[t[2]];
+      const Point3 n = cross(sub(b, a), sub(d, a));
+      const double n_length = std::sqrt(dot(n, n));
+      if (!(n_length > 0)) continue;
+      const auto inside = [&](const Point3& p) {
+        if (std::abs(dot(sub(p, a), n)) > tolerance_ * n_length) return false;  // off its plane
+        for (const auto& [u, v] : {std::pair{a, b}, std::pair{b, d}, std::pair{d, a}})
+          if (dot(cross(sub(v, u), sub(p, u)), n) < -tolerance_ * n_length * distance(u, v)) return false;
+        return true;
+      };
+      if (!inside(points[face[0]]) || !inside(points[face[1]]) || !inside(points[face[2]])) continue;
+      const Point3 m = cross(sub(points[face[1]], points[face[0]]), sub(points[face[2]], points[face[0]]));
+      if (dot(m, n) <= 0) continue;  // facing the other way
+      area_[i] += std::sqrt(static_cast<long double>(dot(m, m)));
+      covered_[i] = 1;
+      return true;
+    }
+    return false;
+  }
+
+  // The first split triangle its parts do not cover (area), or -1.
+  std::int64_t first_uncovered() const {
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+      const Triangle& t = input_.triangles[triangles_[i]];
+      const Point3& a = input_.points[t[0]];
+      const Point3 n = cross(sub(input_.points[t[1]], a), sub(input_.points[t[2]], a));
+      const long double area = std::sqrt(static_cast<long double>(dot(n, n)));
+      const auto parts = area_.count(i) ? area_.at(i) : 0.0L;
+      if (!covered_[i] || std::abs(parts - area) > 1e-9L * area + tolerance_ * tolerance_) return triangles_[i];
+    }
+    return -1;
+  }
+  std::size_t size() const { return triangles_.size(); }
+
+ private:
+  struct Box {
+    Point3 lo, hi;
+    double extent;
+  };
+  Box box_of(std::int64_t t, double grow) const {
+    Box b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, 0};
+    for (std::int32_t v : input_.triangles[t])
+      for (int k = 0; k < 3; ++k)
+        b.lo[k] = std::min(b.lo[k], input_.points[v][k] - grow), b.hi[k] = std::max(b.hi[k], input_.points[v][k] + grow);
+    b.extent = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
+    return b;
+  }
+  static Point3 centroid(const Point3& a, const Point3& b, const Point3& c) {
+    return {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
+  }
+  std::int64_t cell(double x) const { return static_cast<std::int64_t>(std::floor(x / cell_)); }
+  static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^
+           (static_cast<std::uint64_t>(z) * 83492791u);
+  }
+
+  const SurfaceMesh& input_;
+  std::vector<std::int64_t> triangles_;
+  std::vector<char> covered_;
+  std::unordered_map<std::size_t, long double> area_;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid_;
+  double tolerance_ = 0, cell_ = 1;
+};
+
+// With split faces allowed: the boundary faces that are not input triangles must tile the input
+// triangles that are not boundary faces.
+void check_split_faces(const SurfaceMesh& input, const TetMesh& mesh, std::vector<std::int64_t> split,
+                       const std::vector<Triangle>& parts, CheckReport& report) {
+  SplitTriangles triangles(input, std::move(split));
+  std::int64_t stray = 0;
+  Triangle first_stray{};
+  for (const Triangle& f : parts)
+    if (!triangles.add(f, mesh.points) && stray++ == 0) first_stray = f;
+  report.split_input_faces = static_cast<std::int64_t>(triangles.size());
+  if (stray > 0)
+    report.violations.push_back(std::to_string(stray) +
+                                " boundary faces of the mesh are neither input triangles nor parts of one (facing the "
+                                "same way), first: " + format_triangle(first_stray));
+  else if (const std::int64_t t = triangles.first_uncovered(); t >= 0)
+    report.violations.push_back("input triangle " + std::to_string(t) +
+                                " is neither a boundary face of the mesh nor covered by its parts");
+}
+
+// Boundary faces must be exactly the input triangles, with the same orientation (or, with split
+// faces allowed, tile the others: check_split_faces).
+void check_boundary_is_input(const std::vector<Triangle>& boundary, const SurfaceMesh& input, const TetMesh& mesh,
+                             const std::vector<std::int32_t>& mesh_vertex_of, BoundaryRule rule,
+                             CheckReport& report) {
+  Violations& violations = report.violations;
+  std::vector<std::int64_t> missing_triangles;
+  std::vector<Triangle> extra_faces;
   std::vector<Triangle> boundary_set(boundary.size());
   std::transform(boundary.begin(), boundary.end(), boundary_set.begin(), normalized);
   std::sort(boundary_set.begin(), boundary_set.end());
@@ -318,10 +438,18 @@ void check_boundary_is_input(const std::vector<Triangle>& boundary, const Surfac
       }
     }
     if (missing++ == 0) first_missing = static_cast<std::int64_t>(i);
+    missing_triangles.push_back(static_cast<std::int64_t>(i));
   }
   std::sort(input_set.begin(), input_set.end());
   for (const Triangle& f : boundary)
-    if (!contains(input_set, normalized(f)) && !contains(input_set, reversed(f)) && extra++ == 0) first_extra = f;
+    if (!contains(input_set, normalized(f)) && !contains(input_set, reversed(f))) {
+      if (extra++ == 0) first_extra = f;
+      extra_faces.push_back(f);
+    }
+  if (rule == BoundaryRule::split_allowed && flipped == 0) {
+    check_split_faces(input, mesh, std::move(missing_triangles), extra_faces, report);
+    return;
+  }
   if (missing > 0)
     violations.push_back(std::to_string(missing) +
                          " input triangles are not boundary faces of the mesh, first: input triangle " +
@@ -400,15 +528,15 @@ void check_neigh_file(const TetgenFileSet& files, Violations& violations) {
 
 }  // namespace
 
-CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files) {
-  CheckReport report = check_mesh(input, files.mesh);
+CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files, BoundaryRule rule) {
+  CheckReport report = check_mesh(input, files.mesh, rule);
   check_set_ids(files, report.violations);
   check_face_file(files, report.violations);
   check_neigh_file(files, report.violations);
   return report;
 }
 
-CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
+CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh, BoundaryRule rule) {
   CheckReport report;
   report.vertices = static_cast<std::int64_t>(mesh.points.size());
   report.tets = static_cast<std::int64_t>(mesh.tets.size());
@@ -421,7 +549,7 @@ CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh) {
   report.boundary_faces = static_cast<std::int64_t>(faces.boundary.size());
   check_euler(mesh, used_count, faces.faces, input, report);
   const auto mesh_vertex_of = find_input_vertices(input, by_coordinates, report.violations);
-  check_boundary_is_input(faces.boundary, input, mesh_vertex_of, report.violations);
+  check_boundary_is_input(faces.boundary, input, mesh, mesh_vertex_of, rule, report);
   check_volume(input, tet_volume, report);
   report.quality = mesh_quality(mesh);
   return report;

@@ -100,11 +100,12 @@ CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const 
   CheckReport check;
   StageTimer timer(&times);
   if (job.check_output) {
-    check = check_mesh(input, result.mesh);
+    check = check_mesh(input, result.mesh,
+                       result.split_input_faces > 0 ? BoundaryRule::split_allowed : BoundaryRule::exact);
     timer.lap("check");
     if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
   }
-  const MeshOutput output{result.mesh, result.boundary_faces};
+  const MeshOutput output{result.mesh, result.boundary_faces, result.split_faces_from};
   for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix);
   timer.lap("write");
   return check;
@@ -123,6 +124,7 @@ std::string report_json(const JobSummary& s) {
   report["pieces_requested"] = s.job.options.pieces;
   report["density"] = s.job.options.density;
   report["tetgen_quality"] = s.job.options.tetgen.quality;
+  report["allow_split_faces"] = s.job.options.allow_split_faces;
   report["stage_seconds"] = nlohmann::json::object();
   report["stage_rss_mb"] = nlohmann::json::object();  // rank 0's resident memory after each stage
   for (const StageTime& t : s.times) {
@@ -144,6 +146,8 @@ std::string report_json(const JobSummary& s) {
                       {"cap_points_removed", s.result.seam.cap_points_removed},
                       {"seam_regions", s.result.seam.regions},
                       {"cap_triangles", s.result.cap_triangles},
+                      {"split_input_faces", s.result.split_input_faces},
+                      {"surface_points_added", s.result.surface_points_added},
                       {"output_vertices", s.result.mesh.points.size()},
                       {"output_tets", s.result.mesh.tets.size()}};
   const PolishStats& polish = s.result.polish;
@@ -243,6 +247,12 @@ void print_summary(const JobSummary& s) {
     log::warning("the polish stopped: TetGen's refinement ran away in a neighbourhood (the quality bound " +
                  s.job.options.tetgen.quality + " cannot be met there)");
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
+  if (s.result.split_input_faces > 0)
+    log::warning(std::to_string(s.result.split_input_faces) + " input triangles are split, into " +
+                 std::to_string(s.result.boundary_faces.size() - s.result.split_faces_from) + " faces by " +
+                 std::to_string(s.result.surface_points_added) +
+                 " points TetGen put on the surface (--allow-split-faces); those faces have boundary marker 2 "
+                 "(.face, .mesh) or physical group 3 \"split boundary\" (.msh)");
   if (s.job.check_output) {
     char text[96];
     std::snprintf(text, sizeof text, "check passed; AMIPS avg %.3g max %.3g", s.check.quality.amips_avg,

@@ -192,6 +192,23 @@ struct OnePieceMesh {
   MeshOptions options;
 };
 
+// PARTET_INJECT_FAILURE=surface: the first piece fails as TetGen does on an input it cannot mesh
+// without points on its surface, naming its first whole input triangle.
+void inject_input_trouble(const PreparedPieces& prepared, std::vector<std::optional<Failure>>& failures) {
+  for (std::size_t t = 0; !failures.empty() && t < prepared.pieces[0].triangles.size(); ++t) {
+    const PieceSurface& piece = prepared.pieces[0];
+    const Triangle& local = piece.triangles[t];
+    if (std::any_of(local.begin(), local.end(), [&](std::int32_t v) {
+          return piece.global_ids[v] >= prepared.split.input_vertex_count;
+        }))
+      continue;
+    failures[0] = Failure(FailureKind::changed_boundary, 0, {},
+                          "injected: TetGen changed the surface (PARTET_INJECT_FAILURE=surface)",
+                          {static_cast<std::int32_t>(t)});
+    return;
+  }
+}
+
 // The input faces a piece's failure names, when every face it names is a whole input triangle
 // (no cut vertex, no cap point); empty otherwise.
 std::vector<std::int64_t> input_faces_named(const Failure& failure, const PreparedPieces& prepared,
@@ -224,6 +241,41 @@ std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input) {
   return faces;
 }
 
+// With points on the surface: keeps the input triangles that are boundary faces as they are and
+// puts the other boundary faces (the parts of the split ones) after them.
+void add_split_faces(MeshResult& result) {
+  std::unordered_set<FaceKey, FaceKeyHash> boundary;
+  std::vector<Triangle> faces;
+  for (std::size_t t = 0; t < result.mesh.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j)
+      if (result.mesh.neighbours[t][j] < 0) {
+        faces.push_back(outward_face(result.mesh.tets[t], j));
+        boundary.insert(FaceKey(faces.back()));
+      }
+  std::unordered_set<FaceKey, FaceKeyHash> whole;
+  std::vector<Triangle> kept;
+  std::int32_t input_points = 0;
+  for (const Triangle& f : result.boundary_faces) {
+    for (std::int32_t v : f) input_points = std::max(input_points, v + 1);
+    if (boundary.count(FaceKey(f))) {
+      kept.push_back(f);
+      whole.insert(FaceKey(f));
+    }
+  }
+  result.split_input_faces = static_cast<std::int64_t>(result.boundary_faces.size() - kept.size());
+  result.split_faces_from = kept.size();
+  std::unordered_set<std::int32_t> added;
+  for (const Triangle& f : faces) {
+    if (whole.count(FaceKey(f))) continue;
+    kept.push_back(f);
+    for (std::int32_t v : f)
+      if (v >= input_points) added.insert(v);
+  }
+  result.surface_points_added = static_cast<std::int64_t>(added.size());
+  result.boundary_faces = std::move(kept);
+  if (result.split_input_faces == 0) result.split_faces_from = SIZE_MAX;
+}
+
 }  // namespace
 
 PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
@@ -253,15 +305,16 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
     for (const auto& region : regions) scheduler.submit(region);
     return scheduler.end_round_all();
   };
-  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
-    return mesh_regions(regions, options.tetgen);
-  };
+  // Regions keep their surfaces whole, whatever the pieces were allowed.
+  TetgenOptions region_tetgen = options.tetgen;
+  region_tetgen.boundary_points = false;
+  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) { return mesh_regions(regions, region_tetgen); };
   const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
   result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
   timer.lap("seam_healing");
   if (polishes(options)) {
     const PolishMesher polisher = [&](const std::vector<PieceSurface>& regions, const std::string& optimization) {
-      TetgenOptions tetgen = options.tetgen;
+      TetgenOptions tetgen = region_tetgen;
       tetgen.optimization = optimization;
       return mesh_regions(regions, tetgen);
     };
@@ -269,6 +322,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
     timer.lap("polish");
   }
   result.boundary_faces = input_in_output_numbering(input);
+  if (options.tetgen.boundary_points) add_split_faces(result);
   result.cut_vertices_inserted = prepared.split.cut_vertex_count();
   result.planes = prepared.planes;
   result.cap_triangles = prepared.cap_triangles;
@@ -295,8 +349,11 @@ std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& piec
   return outcomes;
 }
 
-MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
-                             StageTimes* times) {
+namespace {
+
+// The pipeline with recovery, every input triangle kept whole (see mesh_with_retries).
+MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                                  StageTimes* times) {
   RetryPlan plan(input, options, available_memory_mb());
   ResultCache cache;
   bool input_checked = false;
@@ -333,6 +390,7 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
         for (std::size_t p = 0; p < attempt.failures.size(); ++p)
           attempt.failures[p] = Failure{FailureKind::changed_boundary, static_cast<int>(p), {},
                                         "injected: TetGen cannot recover a cap (PARTET_INJECT_FAILURE=cuts)"};
+      if (test_hooks::input_needs_surface_points()) inject_input_trouble(prepared, attempt.failures);
       for (std::size_t p = 0; p < attempt.failures.size(); ++p) {
         if (!attempt.failures[p]) continue;
         if (failed.failure.message.empty()) {
@@ -380,6 +438,43 @@ MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& option
     }
     last = Partition{cuts, failed};
     plan.next(failed);
+  }
+}
+
+// The input meshed as one piece, TetGen allowed points on its surface (its -p without -Y).
+MeshResult mesh_splitting_triangles(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                                    StageTimes* times) {
+  MeshOptions one_piece = options;
+  one_piece.pieces = 1;
+  one_piece.plane_shifts.clear();
+  one_piece.tetgen.boundary_points = true;
+  one_piece.tetgen.tolerance.clear();
+  PreparedPieces prepared;
+  MeshedAttempt attempt = close_and_mesh(input, one_piece, {}, now_seconds(), prepared, ResultCache(), scheduler, times);
+  if (attempt.failures.at(0)) {
+    Failure failure = *attempt.failures[0];
+    failure.piece = -1;
+    failure.message = "TetGen cannot mesh this input even with points allowed on its surface: " + failure.message;
+    throw InputMeshingError(failure);
+  }
+  StageTimer timer(times);
+  TetMesh welded = attempt.welder.finish();
+  timer.lap("merge");
+  return finish_mesh(input, prepared, std::move(welded), one_piece, scheduler, times);
+}
+
+}  // namespace
+
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                             StageTimes* times) {
+  try {
+    return mesh_keeping_triangles(input, options, scheduler, times);
+  } catch (const InputMeshingError& e) {
+    if (!options.allow_split_faces || !e.split_faces_may_help) throw;
+    log::warning(std::string(e.what()) + "; meshing it as one piece with points allowed on its surface");
+    MeshResult result = mesh_splitting_triangles(input, options, scheduler, times);
+    result.retries.push_back({0, e.what(), {}});
+    return result;
   }
 }
 

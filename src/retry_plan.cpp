@@ -168,8 +168,15 @@ void RetryPlan::input_trouble(const AttemptFailure& failed) const {
            " for intersecting or too close (within its tolerance)";
   else
     what = "TetGen alone fails on this input too: " + f.message;
-  trouble.message = what + "; partet keeps every input triangle, so no partition can help";
-  throw InputMeshingError(trouble);
+  // TetGen's own trouble keeping every input triangle whole (-Y): without that promise it may
+  // manage. Faces it takes for intersecting stay so either way.
+  const bool split_faces_may_help = f.kind != FailureKind::self_intersection && f.kind != FailureKind::too_close;
+  trouble.message = what + "; partet keeps every input triangle, so no partition can help" +
+                    (split_faces_may_help && !asked_.allow_split_faces
+                         ? " (--allow-split-faces accepts a mesh that splits some input triangles, as tetgen -p "
+                           "without -Y gives)"
+                         : "");
+  throw InputMeshingError(trouble, split_faces_may_help);
 }
 
 void RetryPlan::move_planes(const AttemptFailure& failed, std::string& note) {

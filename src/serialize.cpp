@@ -128,17 +128,18 @@ std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetge
   const std::size_t bytes = piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
   return encode(bytes, [&](auto& ar) {
     save_piece(ar, piece);
-    const std::int32_t seam_region = piece.seam_region ? 1 : 0;
-    ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region;
+    const std::int32_t seam_region = piece.seam_region ? 1 : 0, boundary_points = tetgen.boundary_points ? 1 : 0;
+    ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region << boundary_points;
   });
 }
 
 PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
   return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
     load_piece(ar, piece);
-    std::int32_t seam_region = 0;
-    ar >> tetgen.quality >> tetgen.tolerance >> tetgen.optimization >> seam_region;
+    std::int32_t seam_region = 0, boundary_points = 0;
+    ar >> tetgen.quality >> tetgen.tolerance >> tetgen.optimization >> seam_region >> boundary_points;
     piece.seam_region = seam_region != 0;
+    tetgen.boundary_points = boundary_points != 0;
   });
 }
 

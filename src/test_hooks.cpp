@@ -41,6 +41,11 @@ bool every_cut_fails(std::size_t pieces) {
   return pieces > 1 && spec && std::string(spec) == "cuts";
 }
 
+bool input_needs_surface_points() {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  return spec && std::string(spec) == "surface";
+}
+
 void worker_stop(int rank) {
   const char* spec = value("PARTET_INJECT_FAILURE");
   if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") ::raise(SIGSTOP);

@@ -12,6 +12,9 @@ void piece_failure(int piece, int rank);
 // PARTET_INJECT_FAILURE="cuts": every partition into more than one piece fails, as if TetGen could
 // not recover a cap (so only the one-piece fallback can mesh the input). True then.
 bool every_cut_fails(std::size_t pieces);
+// PARTET_INJECT_FAILURE="surface": every partition fails on an input triangle, as TetGen does on an
+// input it cannot mesh without points on its surface (whatever the cuts). True then.
+bool input_needs_surface_points();
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);

@@ -50,6 +50,9 @@ double orientation_sign(const Point3& a, const Point3& b, const Point3& c, const
 struct RawMesh {
   std::vector<Point3> points;  // the surface's points, then TetGen's Steiner points
   std::vector<Tet> tets, neighbours;
+  // With points on the surface allowed: TetGen's boundary faces, each with the input triangle
+  // (facet) it lies in.
+  std::vector<std::pair<Triangle, std::int32_t>> subfaces;
 };
 
 void fill_tetgen_input(const std::vector<Point3>& points, const std::vector<Triangle>& triangles, tetgenio& in) {
@@ -78,7 +81,12 @@ RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle
   tetgenio in, out;
   fill_tetgen_input(points, triangles, in);
   // p: mesh a PLC; Y: no Steiner points on the boundary; z: 0-based; n: neighbours; Q: quiet.
-  std::string switches = "pYzQn";
+  std::string switches = options.boundary_points ? "pzQn" : "pYzQn";
+  if (options.boundary_points) {
+    // Each triangle its own facet marker, so that every boundary face names the one it lies in.
+    in.facetmarkerlist = new int[triangles.size()];
+    for (std::size_t f = 0; f < triangles.size(); ++f) in.facetmarkerlist[f] = static_cast<int>(f) + 1;
+  }
   if (!options.quality.empty()) switches += "q" + options.quality;
   if (!options.tolerance.empty()) switches += "T" + options.tolerance;
   if (!options.optimization.empty()) switches += "O" + options.optimization;
@@ -111,6 +119,13 @@ RawMesh run_tetgen(const std::vector<Point3>& points, const std::vector<Triangle
       raw.tets[t][j] = out.tetrahedronlist[4 * t + j];
       raw.neighbours[t][j] = out.neighborlist[4 * t + j];
     }
+  if (options.boundary_points) {
+    if (out.trifacelist == nullptr || out.trifacemarkerlist == nullptr)
+      throw MeshingError(FailureKind::tetgen_error, piece, "TetGen output has no boundary faces");
+    for (int f = 0; f < out.numberoftrifaces; ++f)
+      raw.subfaces.push_back({{out.trifacelist[3 * f], out.trifacelist[3 * f + 1], out.trifacelist[3 * f + 2]},
+                              out.trifacemarkerlist[f] - 1});
+  }
   return raw;
 }
 
@@ -151,34 +166,61 @@ std::size_t shell_count(const std::vector<Triangle>& triangles) {
   return components;
 }
 
-using InputFaces = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
+// The faces that may bound the mesh, each with the input triangle it lies in, and how to tell
+// whether a tet's outward face there faces the same way as that triangle.
+struct InputFaces {
+  std::unordered_map<FaceKey, std::int32_t, FaceKeyHash> triangle_of;
+  bool split = false;  // faces may be parts of input triangles (points on the surface allowed)
+  const std::vector<Point3>* points = nullptr;
+  const std::vector<Triangle>* triangles = nullptr;
 
-InputFaces index_input_faces(const std::vector<Triangle>& triangles, int piece) {
-  InputFaces input_face;
-  input_face.reserve(triangles.size() * 2);
+  // The input triangle the face lies in, or -1.
+  std::int32_t find(const Triangle& face) const {
+    auto it = triangle_of.find(FaceKey(face));
+    return it == triangle_of.end() ? -1 : it->second;
+  }
+  bool agrees(const Triangle& face, std::int32_t input) const {
+    const Triangle& t = (*triangles)[input];
+    if (!split || FaceKey(face) == FaceKey(t)) return same_orientation(face, t);
+    // A part of the triangle, in its plane: the normals are parallel, the sign is all that counts.
+    const auto normal = [&](const Triangle& f) {
+      const Point3 &a = (*points)[f[0]], &b = (*points)[f[1]], &c = (*points)[f[2]];
+      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      return Point3{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    };
+    const Point3 n = normal(face), m = normal(t);
+    return n[0] * m[0] + n[1] * m[1] + n[2] * m[2] > 0;
+  }
+};
+
+InputFaces index_input_faces(const std::vector<Triangle>& triangles, const RawMesh& raw, bool split, int piece) {
+  InputFaces faces{{}, split, &raw.points, &triangles};
+  faces.triangle_of.reserve(triangles.size() * 2);
   for (std::size_t f = 0; f < triangles.size(); ++f)
-    if (!input_face.emplace(FaceKey(triangles[f]), static_cast<std::int32_t>(f)).second)
+    if (!faces.triangle_of.emplace(FaceKey(triangles[f]), static_cast<std::int32_t>(f)).second)
       throw MeshingError(FailureKind::bad_surface, piece, "surface has a duplicate triangle");
-  return input_face;
+  if (split)
+    for (const auto& [face, input] : raw.subfaces)
+      if (input >= 0 && static_cast<std::size_t>(input) < triangles.size()) faces.triangle_of.emplace(FaceKey(face), input);
+  return faces;
 }
 
 // Input faces split the tets into regions. A region is solid when its tets lie on the inner
 // side of the input triangles around it (winding number 1); cavities are not. Returns, per tet,
 // whether it is solid.
-std::vector<char> solid_tets(const RawMesh& raw, const std::vector<Triangle>& triangles, const InputFaces& input_face,
-                             int piece) {
+std::vector<char> solid_tets(const RawMesh& raw, const InputFaces& input_face, int piece) {
   std::vector<std::int32_t> region;
   const std::int32_t region_count = label_tet_regions(
       raw.neighbours, [](std::size_t) { return true; },
-      [&](std::size_t t, int j) { return input_face.count(FaceKey(outward_face(raw.tets[t], j))) == 0; }, region);
+      [&](std::size_t t, int j) { return input_face.find(outward_face(raw.tets[t], j)) < 0; }, region);
   std::vector<std::int64_t> inside_votes(region_count, 0), outside_votes(region_count, 0);
   for (std::size_t t = 0; t < raw.tets.size(); ++t)
     for (int j = 0; j < 4; ++j) {
       const Triangle face = outward_face(raw.tets[t], j);
-      auto it = input_face.find(FaceKey(face));
-      if (it == input_face.end()) continue;
+      const std::int32_t input = input_face.find(face);
+      if (input < 0) continue;
       // The input normal points out of the solid: a tet whose outward face agrees is inside.
-      ++(same_orientation(face, triangles[it->second]) ? inside_votes : outside_votes)[region[t]];
+      ++(input_face.agrees(face, input) ? inside_votes : outside_votes)[region[t]];
     }
   std::vector<char> solid(raw.tets.size(), 0);
   for (std::size_t t = 0; t < raw.tets.size(); ++t) {
@@ -193,7 +235,8 @@ std::vector<char> solid_tets(const RawMesh& raw, const std::vector<Triangle>& tr
 }
 
 // The solid tets, renumbered, with the Steiner points they use. A face on the boundary of the
-// kept tets must be one of the input triangles, outward, and every input triangle must be one.
+// kept tets must be one of the input triangles, outward, and every input triangle must be one
+// (with split faces: lie in one, facing the same way, and every input triangle must hold one).
 LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid, const std::vector<Triangle>& triangles,
                              const InputFaces& input_face, int piece) {
   const std::vector<std::int32_t> new_index = compact_ids(solid);
@@ -213,13 +256,13 @@ LocalTetMesh keep_solid_tets(const RawMesh& raw, const std::vector<char>& solid,
       nb[j] = old >= 0 ? new_index[old] : -1;
       if (nb[j] >= 0) continue;
       const Triangle face = outward_face(raw.tets[t], j);
-      auto it = input_face.find(FaceKey(face));
-      if (it == input_face.end() || !same_orientation(face, triangles[it->second]) || seen[it->second]) {
+      const std::int32_t input = input_face.find(face);
+      if (input < 0 || !input_face.agrees(face, input) || (seen[input] && !input_face.split)) {
         ++foreign_faces;
         continue;
       }
-      seen[it->second] = 1;
-      ++boundary_faces;
+      boundary_faces += seen[input] ? 0 : 1;
+      seen[input] = 1;
     }
     result.neighbours.push_back(nb);
   }
@@ -292,11 +335,11 @@ LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::v
   if (triangles.empty()) throw MeshingError(FailureKind::bad_surface, piece, "empty surface");
   RawMesh raw = run_tetgen(points, triangles, options, piece);
   orient_positively(raw);
-  const InputFaces input_face = index_input_faces(triangles, piece);
+  const InputFaces input_face = index_input_faces(triangles, raw, options.boundary_points, piece);
   // TetGen removes the tets outside the outermost surface itself, so inside a single manifold
   // shell every tet is solid; otherwise regions are told apart by orientation.
   const std::vector<char> solid = regions == SurfaceRegions::one_shell ? std::vector<char>(raw.tets.size(), 1)
-                                                                       : solid_tets(raw, triangles, input_face, piece);
+                                                                       : solid_tets(raw, input_face, piece);
   LocalTetMesh result = keep_solid_tets(raw, solid, triangles, input_face, piece);
   keep_used_steiner_points(result, raw.points, static_cast<std::int32_t>(points.size()));
   return result;

@@ -13,6 +13,7 @@
 #include "partet/pipeline.hpp"
 #include "partet/validate.hpp"
 #include "stage_helpers.hpp"
+#include "test_support.hpp"
 #include "topology.hpp"
 
 namespace partet {
@@ -372,6 +373,42 @@ TEST(MeshWithRetries, InputTroubleIsNamedWithoutFutileRetries) {
         << e.what();
   }
   EXPECT_EQ(calls, 2);
+}
+
+// An input TetGen cannot mesh keeping its triangles whole (injected: every run that keeps them
+// fails on an input triangle): without --allow-split-faces the error names the faces and points to
+// the option; with it, the whole input is meshed as one piece, split triangles counted, and the
+// check that allows split faces passes.
+TEST(MeshWithRetries, SplitFacesOnlyWhenAllowedAndNeeded) {
+  const SurfaceMesh s = generate_surface("torus", 320);  // TetGen -pq1.2 splits its triangles
+  MeshOptions o = options_for(4, 0.25);
+  o.tetgen.quality = "1.2";
+  ::setenv("PARTET_INJECT_FAILURE", "surface", 1);
+  try {
+    mesh_surface(s, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputMeshingError& e) {
+    EXPECT_TRUE(e.split_faces_may_help);
+    EXPECT_TRUE(contains(e.what(), "without putting points on its surface (on input faces "));
+    EXPECT_TRUE(contains(e.what(), "--allow-split-faces"));
+  }
+  o.allow_split_faces = true;
+  const MeshResult r = mesh_surface(s, o);
+  ::unsetenv("PARTET_INJECT_FAILURE");
+  EXPECT_EQ(r.pieces, 1);
+  EXPECT_GT(r.split_input_faces, 0);
+  EXPECT_GT(r.surface_points_added, 0);
+  ASSERT_LT(r.split_faces_from, r.boundary_faces.size());
+  EXPECT_EQ(r.split_faces_from + r.split_input_faces, s.triangles.size());
+  const CheckReport check = check_mesh(s, r.mesh, BoundaryRule::split_allowed);
+  EXPECT_TRUE(check.ok()) << (check.ok() ? "" : check.violations.front());
+  EXPECT_EQ(check.split_input_faces, r.split_input_faces);
+  EXPECT_EQ(check.boundary_faces, static_cast<std::int64_t>(r.boundary_faces.size()));
+  // Without the injected trouble the option changes nothing: the triangles stay whole.
+  const MeshResult whole = mesh_surface(s, o);
+  EXPECT_EQ(whole.split_input_faces, 0);
+  EXPECT_EQ(whole.split_faces_from, SIZE_MAX);
+  EXPECT_TRUE(check_mesh(s, whole.mesh).ok());
 }
 
 TEST(MeshPiecesHere, ReportsErrorsPerPiece) {

@@ -78,6 +78,7 @@ TEST(Serialize, TaskCarriesEveryTetgenOption) {
   sent.quality = "1.414/10";
   sent.tolerance = "1e-16";
   sent.optimization = "9/7";
+  sent.boundary_points = true;
   TetgenOptions received;
   const PieceSurface back = deserialize_task(serialize_task(region, sent), received);
   expect_same(back, region);
@@ -85,6 +86,7 @@ TEST(Serialize, TaskCarriesEveryTetgenOption) {
   EXPECT_EQ(received.quality, sent.quality);
   EXPECT_EQ(received.tolerance, sent.tolerance);
   EXPECT_EQ(received.optimization, sent.optimization);
+  EXPECT_TRUE(received.boundary_points);
 }
 
 TEST(Serialize, SpecialValuesAndNegativeIds) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "partet/check.hpp"
 #include "partet/closure.hpp"
 #include "partet/errors.hpp"
 #include "partet/generate.hpp"
@@ -17,6 +18,7 @@
 #include "partet/tetgen_mesher.hpp"
 #include "partet/validate.hpp"
 #include "stage_helpers.hpp"
+#include "test_support.hpp"
 
 namespace partet {
 namespace {
@@ -157,6 +159,41 @@ TEST(MeshClosedSurface, QualityAddsSteinerPointsAndKeepsTheBoundary) {
   EXPECT_GT(m.tets.size(), plain.tets.size());
   // Steiner points are strictly inside the unit sphere (no boundary Steiner points with -Y).
   for (const auto& q : m.steiner_points) EXPECT_LT(norm(q), 1.0);
+}
+
+// With points allowed on the surface (TetGen -p without -Y) and a quality bound that coarse
+// triangles cannot meet, TetGen splits input triangles: the result passes the check that allows
+// split faces (parts tile the triangles they split, facing the same way), fails the exact one,
+// keeps the cavity of a nested surface empty, and a surface point moved off its triangle is found.
+TEST(MeshClosedSurface, PointsOnTheSurfaceSplitTrianglesWhenAllowed) {
+  for (const char* name : {"torus", "nested"}) {
+    SCOPED_TRACE(name);
+    const SurfaceMesh s = generate_surface(name, std::string(name) == "torus" ? 320 : 1200);
+    TetgenOptions options;
+    options.quality = "1.2";
+    options.boundary_points = true;
+    const LocalTetMesh m = mesh_closed_surface(s.points, s.triangles, options);
+    TetMesh mesh{all_points(s.points, m), m.tets, m.neighbours, {}};
+    const CheckReport split = check_mesh(s, mesh, BoundaryRule::split_allowed);
+    EXPECT_TRUE(split.ok()) << (split.ok() ? "" : split.violations.front());
+    EXPECT_GT(split.split_input_faces, 0);
+    EXPECT_GT(split.boundary_faces, static_cast<std::int64_t>(s.triangles.size()));
+    const CheckReport exact = check_mesh(s, mesh);
+    ASSERT_FALSE(exact.ok());
+    EXPECT_TRUE(contains(exact.violations.front(), "input triangles are not boundary faces"));
+    // A point TetGen put on the surface, moved outwards off it.
+    std::int32_t on_surface = -1;
+    for (std::size_t t = 0; t < mesh.tets.size() && on_surface < 0; ++t)
+      for (int j = 0; j < 4; ++j)
+        if (mesh.neighbours[t][j] < 0)
+          for (std::int32_t v : outward_face(mesh.tets[t], j))
+            if (v >= static_cast<std::int32_t>(s.points.size())) on_surface = v;
+    ASSERT_GE(on_surface, 0);
+    for (double& c : mesh.points[on_surface]) c *= 1.001;
+    const CheckReport moved = check_mesh(s, mesh, BoundaryRule::split_allowed);
+    EXPECT_TRUE(std::any_of(moved.violations.begin(), moved.violations.end(),
+                            [](const std::string& v) { return v.find("neither input triangles nor parts") != v.npos; }));
+  }
 }
 
 TEST(MeshClosedSurface, SingleTetrahedron) {

@@ -74,7 +74,11 @@ struct MeshingError : Error {
 // No partition can help: TetGen fails on the input itself (as one piece, as TetGen alone), or the
 // quality bound asked for cannot be met. The message says which.
 struct InputMeshingError : MeshingError {
-  using MeshingError::MeshingError;
+  // split_faces_may_help: TetGen failed because it keeps every input triangle whole (-Y); allowing
+  // it points on the surface (MeshOptions::allow_split_faces) may give a mesh.
+  explicit InputMeshingError(Failure f, bool split_faces_may_help = false)
+      : MeshingError(std::move(f)), split_faces_may_help(split_faces_may_help) {}
+  bool split_faces_may_help = false;
 };
 
 // Partitioning or surface closure could not produce valid pieces.

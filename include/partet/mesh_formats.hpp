@@ -32,6 +32,9 @@ std::vector<std::string> format_paths(MeshFormat format, const std::string& pref
 struct MeshOutput {
   const TetMesh& mesh;                    // positively oriented tets; mesh.piece per tet if known
   const std::vector<Triangle>& boundary;  // the input triangles, outward, in mesh numbering
+  // Faces from this index on are parts of input triangles split by points on the surface
+  // (--allow-split-faces): boundary marker 2 instead of 1, in the formats that carry one.
+  std::size_t split_from = SIZE_MAX;
 };
 
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
@@ -49,11 +52,12 @@ void write_pvtu(const MeshOutput& output, const std::string& path, const std::ve
 std::vector<int> pieces_in(const MeshOutput& output);
 
 // Gmsh MSH 4.1: nodes, tetrahedra (physical group 1 "volume") and the boundary triangles
-// (physical group 2 "boundary"), with entities for the volume and the boundary surface.
+// (physical group 2 "boundary"; the parts of split input triangles: physical group 3 "split
+// boundary", a second surface entity), with entities for the volume and the boundary surfaces.
 void write_msh(const MeshOutput& output, const std::string& path, bool binary);
 
 // MEDIT .mesh (ASCII, version 2): Vertices, Tetrahedra (reference = region) and Triangles
-// (reference 1: the boundary).
+// (reference 1: the boundary; 2: parts of split input triangles).
 void write_medit(const MeshOutput& output, const std::string& path);
 
 // Writes the format's files for PREFIX under temporary names into `set` (published together).

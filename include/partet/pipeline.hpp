@@ -1,6 +1,7 @@
 // The stages in order, on plain data. The MPI layer decides only where the pieces are meshed;
 // everything else here runs on rank 0.
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ struct MeshOptions {
   int max_attempts = 40;          // partitions tried at most (see mesh_with_retries)
   Heal heal = Heal::automatic;
   bool polish = true;  // re-mesh the neighbourhoods of poor tets (with a quality bound only)
+  // When TetGen cannot mesh the input without putting points on its surface, accept a mesh (of
+  // the whole input as one piece) whose boundary splits some input triangles, instead of failing.
+  bool allow_split_faces = false;
   TetgenOptions tetgen;
   RunOptions run;
 };
@@ -75,7 +79,12 @@ struct RetryRecord {
 struct MeshResult {
   TetMesh mesh;
   std::vector<CutPlane> planes;          // the cut planes used (around them: the seam zone)
-  std::vector<Triangle> boundary_faces;  // the input triangles, in output numbering
+  // The boundary faces, outward, in output numbering: the input triangles; with split faces the
+  // whole input triangles first, then the parts of the split ones from split_faces_from on.
+  std::vector<Triangle> boundary_faces;
+  std::size_t split_faces_from = SIZE_MAX;  // SIZE_MAX: no input triangle was split
+  std::int64_t split_input_faces = 0;       // input triangles split by points on the surface
+  std::int64_t surface_points_added = 0;    // the points TetGen put on the surface to split them
   SeamStats seam;
   PolishStats polish;
   std::int64_t cut_vertices_inserted = 0;
@@ -152,7 +161,10 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
 // fails, all planes move. Pieces unchanged by the moves keep their earlier result. When the cuts
 // keep failing, other directions are tried, then fewer pieces, then the whole input as one piece
 // (src/retry_plan.hpp has the order). When that fails too, or after max_attempts partitions, the
-// failure is thrown as MeshingError. Input and option errors are thrown at once.
+// failure is thrown as MeshingError. Input and option errors are thrown at once. When TetGen alone
+// cannot mesh the input keeping its triangles whole and options.allow_split_faces is set, the
+// input is meshed as one piece with points allowed on its surface (MeshResult says how many
+// triangles that split).
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
                              StageTimes* times = nullptr);
 MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,

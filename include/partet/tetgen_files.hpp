@@ -2,6 +2,7 @@
 // with the line "# partet mesh ID", the same ID (a fingerprint of the mesh) in all four, so a
 // set mixed from different runs can be told apart.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,13 +19,15 @@ const char* extension(TetgenFile file);  // ".node", ...
 std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces);
 
 // Writes one file of the set to `path` (errors name `shown_path`). Coordinates use 17
-// significant digits so they read back bit-identical; .face holds the boundary faces (marker 1).
+// significant digits so they read back bit-identical; .face holds the boundary faces with marker 1,
+// or 2 from split_from on (the parts of input triangles split by points on the surface).
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                       const std::string& id, const std::string& path, const std::string& shown_path);
+                       const std::string& id, const std::string& path, const std::string& shown_path,
+                       std::size_t split_from = SIZE_MAX);
 
 // Adds PREFIX.node, .ele, .face and .neigh to an output set (published together).
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                      const std::string& prefix);
+                      const std::string& prefix, std::size_t split_from = SIZE_MAX);
 // The same, published at once. Throws OutputError.
 void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces, const std::string& prefix);
 

@@ -17,6 +17,10 @@ struct TetgenOptions {
   // "" = TetGen's default (level 2, every scheme); else TetGen's -O value "LEVEL/SCHEMES". The
   // polish uses the most thorough one, "9/7", on small neighbourhoods only.
   std::string optimization;
+  // TetGen may put points on the surface, splitting input triangles (its -p without -Y). Only for
+  // an input TetGen cannot mesh otherwise, when the user allows it (--allow-split-faces): the
+  // pieces' caps must stay whole, so this meshes the input as one piece.
+  bool boundary_points = false;
 };
 
 // Checks a quality bound before it reaches TetGen: "R" or "R/ANGLE", plain decimal numbers with
@@ -35,7 +39,10 @@ enum class SurfaceRegions {
 
 // Meshes the solid bounded by `triangles` (TetGen -pY, plus -q when asked). Regions the surface
 // encloses with winding number 0 (cavities) get no tets. Verifies that the boundary of the
-// result is exactly the input triangles. Throws MeshingError naming `piece` on any failure.
+// result is exactly the input triangles (with options.boundary_points: that every boundary face
+// lies in an input triangle, facing the same way, and every input triangle holds one; the points
+// TetGen added on the surface are among the Steiner points). Throws MeshingError naming `piece`
+// on any failure.
 // Not thread safe: TetGen keeps global state.
 LocalTetMesh mesh_closed_surface(const std::vector<Point3>& points, const std::vector<Triangle>& triangles,
                                  const TetgenOptions& options, int piece = -1,

@@ -86,6 +86,9 @@ ZoneQuality zone_quality(const partet::TetMesh& mesh, const std::optional<std::v
 void print_check(const partet::CheckReport& report, const ZoneQuality& zones) {
   std::printf("vertices %lld, tets %lld, boundary faces %lld\n", static_cast<long long>(report.vertices),
               static_cast<long long>(report.tets), static_cast<long long>(report.boundary_faces));
+  if (report.split_input_faces > 0)
+    std::printf("split input triangles: %lld (tiled by boundary faces that are parts of them)\n",
+                static_cast<long long>(report.split_input_faces));
   std::printf("volume: tets %.17g, surface %.17g\n", report.tet_volume, report.surface_volume);
   std::printf("euler: mesh %ld, expected %ld\n", report.euler_mesh, report.euler_expected);
   std::printf("quality: %s\n", partet::quality_line(report.quality).c_str());
@@ -113,6 +116,7 @@ void print_check_json(const partet::CheckReport& report, const ZoneQuality& zone
                          {"vertices", report.vertices},
                          {"tets", report.tets},
                          {"boundary_faces", report.boundary_faces},
+                         {"split_input_faces", report.split_input_faces},
                          {"tet_volume", report.tet_volume},
                          {"surface_volume", report.surface_volume},
                          {"euler_mesh", report.euler_mesh},
@@ -131,12 +135,13 @@ void settle(const std::string& prefix) {
   if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
 }
 
-int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json) {
+int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json,
+              partet::BoundaryRule rule) {
   settle(prefix);
   std::optional<std::vector<partet::CutPlane>> planes;  // read first: a bad report fails before the work
   if (!report_path.empty()) planes = report_cut_planes(report_path);
   const partet::TetgenFileSet files = partet::read_tetgen_set(prefix);
-  const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files);
+  const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files, rule);
   const ZoneQuality zones = zone_quality(files.mesh, planes);
   json ? print_check_json(report, zones) : print_check(report, zones);
   return report.ok() ? 0 : 1;
@@ -220,7 +225,7 @@ struct CommandLine {
   std::vector<std::string> formats;
   bool quiet = false, verbose = false, heal = false, no_heal = false, no_polish = false;
   std::string check_input, check_prefix, check_report;
-  bool check_json = false;
+  bool check_json = false, check_split = false;
   std::string shape, generate_output;
   partet::ThinWallPart thin_walls;
   std::string info_file;
@@ -310,6 +315,10 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   mesh->add_option("--report", job.report_path,
                    "write a JSON report: stage times and memory, per-rank and per-piece figures, counts, retries, "
                    "cut planes (with --check also the quality, overall and at the seams)");
+  mesh->add_flag("--allow-split-faces", job.options.allow_split_faces,
+                 "when TetGen cannot mesh the input without putting points on its surface, accept a mesh (of the "
+                 "whole input as one piece, as tetgen -p without -Y) that splits some input triangles, instead of "
+                 "failing; their parts get boundary marker 2");
   mesh->add_flag("--check", job.check_output, "verify the result (as `partet check`) before writing it");
   mesh->add_flag("--compare-tetgen", job.compare_tetgen,
                  "afterwards, mesh the whole input with TetGen alone (same switches, if it fits in memory) and "
@@ -327,6 +336,9 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
   check->add_option("prefix", c.check_prefix, "prefix of the .node/.ele files")->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
+  check->add_flag("--allow-split-faces", c.check_split,
+                  "accept boundary faces that are parts of input triangles, tiling them (a mesh made with mesh "
+                  "--allow-split-faces)");
   check->add_option("--report", c.check_report,
                     "the --report of the run that made the mesh: also give the quality of the seam zone (tets "
                     "crossing a cut plane) and of the rest");
@@ -546,7 +558,9 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*check) return run_check(c.check_input, c.check_prefix, c.check_report, c.check_json);
+    if (*check)
+      return run_check(c.check_input, c.check_prefix, c.check_report, c.check_json,
+                       c.check_split ? partet::BoundaryRule::split_allowed : partet::BoundaryRule::exact);
     if (*generate) return run_generate(c);
     if (*refine) return run_refine(c);
     if (*info) return run_info(c);

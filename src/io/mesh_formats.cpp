@@ -148,7 +148,11 @@ void write_vtu_file(const VtuCells& cells, const std::string& path) {
 class MshWriter {
  public:
   MshWriter(const MeshOutput& output, const std::string& path, bool binary)
-      : mesh_(output.mesh), boundary_(output.boundary), binary_(binary), out_(path) {}
+      : mesh_(output.mesh),
+        boundary_(output.boundary),
+        whole_(std::min(output.split_from, output.boundary.size())),
+        binary_(binary),
+        out_(path) {}
 
   void write() {
     out_.text(binary_ ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
@@ -157,7 +161,9 @@ class MshWriter {
       out_.bytes(&one, sizeof one);
       out_.newline();
     }
-    out_.text("$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"boundary\"\n3 1 \"volume\"\n$EndPhysicalNames\n");
+    out_.text(split() ? "$EndMeshFormat\n$PhysicalNames\n3\n2 2 \"boundary\"\n2 3 \"split boundary\"\n"
+                        "3 1 \"volume\"\n$EndPhysicalNames\n"
+                      : "$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"boundary\"\n3 1 \"volume\"\n$EndPhysicalNames\n");
     entities();
     nodes();
     elements();
@@ -184,13 +190,20 @@ class MshWriter {
   void entities() {
     out_.text("$Entities\n");
     const Bounds box = bounds_of(mesh_.points);
-    size(0), size(0), size(1), size(1), end_line();
+    size(0), size(0), size(split() ? 2 : 1), size(1), end_line();
     tag(1);  // the boundary surface
     box_reals(box);
     size(1), tag(2), size(0), end_line();
-    tag(1);  // the volume, bounded by it
+    if (split()) {
+      tag(2);  // the parts of split input triangles
+      box_reals(box);
+      size(1), tag(3), size(0), end_line();
+    }
+    tag(1);  // the volume, bounded by them
     box_reals(box);
-    size(1), tag(1), size(1), tag(1), end_line();
+    size(1), tag(1), size(split() ? 2 : 1), tag(1);
+    if (split()) tag(2);
+    end_line();
     end_section("$EndEntities\n");
   }
 
@@ -207,14 +220,20 @@ class MshWriter {
   void elements() {
     const std::uint64_t tets = mesh_.tets.size(), triangles = boundary_.size();
     out_.text("$Elements\n");
-    size(2), size(tets + triangles), size(1), size(tets + triangles), end_line();
-    tag(2), tag(1), tag(2), size(triangles), end_line();  // 2: 3-node triangle
+    // Empty blocks are left out (meshio cannot read them).
+    const std::uint64_t blocks = 1 + (whole_ > 0 ? 1 : 0) + (split() ? 1 : 0);
+    size(blocks), size(tets + triangles), size(1), size(tets + triangles), end_line();
     std::uint64_t id = 1;
-    for (const Triangle& f : boundary_) {
-      size(id++);
-      for (std::int32_t v : f) size(static_cast<std::uint64_t>(v) + 1);
-      end_line();
-    }
+    auto surface = [&](std::int32_t entity, std::size_t begin, std::size_t end) {
+      tag(2), tag(entity), tag(2), size(end - begin), end_line();  // 2: 3-node triangle
+      for (std::size_t i = begin; i < end; ++i) {
+        size(id++);
+        for (std::int32_t v : boundary_[i]) size(static_cast<std::uint64_t>(v) + 1);
+        end_line();
+      }
+    };
+    if (whole_ > 0) surface(1, 0, whole_);
+    if (split()) surface(2, whole_, boundary_.size());
     tag(3), tag(1), tag(4), size(tets), end_line();  // 4: 4-node tetrahedron
     for (const Tet& t : mesh_.tets) {
       size(id++);
@@ -224,8 +243,11 @@ class MshWriter {
     end_section("$EndElements\n");
   }
 
+  bool split() const { return whole_ < boundary_.size(); }
+
   const TetMesh& mesh_;
   const std::vector<Triangle>& boundary_;
+  std::size_t whole_;  // boundary faces before the parts of split input triangles
   bool binary_;
   BufferedFile out_;
 };
@@ -290,9 +312,9 @@ void write_medit(const MeshOutput& output, const std::string& path) {
   out.text("Triangles\n");
   out.integer(static_cast<std::int64_t>(output.boundary.size()));
   out.newline();
-  for (const Triangle& f : output.boundary) {
-    for (std::int32_t v : f) out.integer(v + 1), out.space();
-    out.text("1\n");
+  for (std::size_t i = 0; i < output.boundary.size(); ++i) {
+    for (std::int32_t v : output.boundary[i]) out.integer(v + 1), out.space();
+    out.text(i < output.split_from ? "1\n" : "2\n");
   }
   out.text("Tetrahedra\n");
   out.integer(static_cast<std::int64_t>(mesh.tets.size()));
@@ -394,7 +416,7 @@ std::vector<std::string> format_paths(MeshFormat format, const std::string& pref
 void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix) {
   const std::string path = format_paths(format, prefix).front();
   switch (format) {
-    case MeshFormat::tetgen: add_tetgen_files(set, output.mesh, output.boundary, prefix); return;
+    case MeshFormat::tetgen: add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from); return;
     case MeshFormat::vtu: set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); }); return;
     case MeshFormat::msh: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); }); return;
     case MeshFormat::msh_binary: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); }); return;

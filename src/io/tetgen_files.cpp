@@ -38,9 +38,9 @@ void write_id(BufferedFile& out, const std::string& id) {
 }
 
 // Every file has one layout: a header line (the count, then `header_tail`), one line per row
-// (its index, its values, then `row_tail`), and the id line.
-template <class Row>
-void write_rows(const std::vector<Row>& rows, const char* header_tail, const char* row_tail, const std::string& id,
+// (its index, its values, then `row_tail(index)`), and the id line.
+template <class Row, class RowTail>
+void write_rows(const std::vector<Row>& rows, const char* header_tail, RowTail row_tail, const std::string& id,
                 const std::string& path, const std::string& shown) {
   BufferedFile out(path, shown);
   out.integer(static_cast<std::int64_t>(rows.size()));
@@ -54,10 +54,15 @@ void write_rows(const std::vector<Row>& rows, const char* header_tail, const cha
       else
         out.integer(value);
     }
-    out.text(row_tail);
+    out.text(row_tail(i));
   }
   write_id(out, id);
   out.close();
+}
+template <class Row>
+void write_rows(const std::vector<Row>& rows, const char* header_tail, const char* row_tail, const std::string& id,
+                const std::string& path, const std::string& shown) {
+  write_rows(rows, header_tail, [row_tail](std::size_t) { return row_tail; }, id, path, shown);
 }
 
 // Mixes arrays of 32- or 64-bit words into a 64-bit fingerprint, word by word (fast enough for
@@ -341,11 +346,14 @@ std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_f
 }
 
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                       const std::string& id, const std::string& path, const std::string& shown_path) {
+                       const std::string& id, const std::string& path, const std::string& shown_path,
+                       std::size_t split_from) {
   switch (file) {
     case TetgenFile::node: return write_rows(mesh.points, " 3 0 0\n", "\n", id, path, shown_path);
     case TetgenFile::ele: return write_rows(mesh.tets, " 4 0\n", "\n", id, path, shown_path);
-    case TetgenFile::face: return write_rows(boundary_faces, " 1\n", " 1\n", id, path, shown_path);
+    case TetgenFile::face:
+      return write_rows(boundary_faces, " 1\n", [split_from](std::size_t i) { return i < split_from ? " 1\n" : " 2\n"; },
+                        id, path, shown_path);
     case TetgenFile::neigh:
       // A mesh may come without neighbours (e.g. straight from a merge): -1 rather than an
       // inconsistent file.
@@ -356,12 +364,12 @@ void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<T
 }
 
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                      const std::string& prefix) {
+                      const std::string& prefix, std::size_t split_from) {
   const std::string id = mesh_id(mesh, boundary_faces);
   for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh}) {
     const std::string final_path = prefix + extension(file);
     set.add(final_path, [&](const std::string& temporary) {
-      write_tetgen_file(file, mesh, boundary_faces, id, temporary, final_path);
+      write_tetgen_file(file, mesh, boundary_faces, id, temporary, final_path, split_from);
     });
   }
 }

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# Parts that are hard to cut, and bounds that cannot be met (issue 21, classes 3, 7 and 9):
+# Parts that are hard to cut, bounds that cannot be met, inputs that need points on their surface
+# (issue 21, classes 3, 7 and 9):
 #  - CAD-like thin-wall parts (fins, comb, slots, plates) mesh and pass the check at several piece
 #    counts along both axis choices;
 #  - when every partition into pieces fails (injected), the input is meshed as one piece, as TetGen
 #    alone would, with a warning, and the report says 1 piece;
 #  - a quality bound TetGen cannot meet ends within 60 s with exit 1, saying so, without advising
-#    other pieces or axes.
+#    other pieces or axes;
+#  - an input TetGen cannot mesh keeping its triangles whole fails at once, or with
+#    --allow-split-faces gives a mesh whose split triangles are counted, marked and checked.
 # Usage: hard_parts.sh PARTET [LAUNCH...]   (LAUNCH, e.g. "mpiexec -n 2", runs partet mesh under MPI)
 set -uo pipefail
 partet=$(realpath "$1")
@@ -61,5 +64,47 @@ grep -q "the quality bound 1/20 cannot be met" log || fail "-q 1/20: the message
 grep -q -- "try another --pieces" log && fail "-q 1/20: advises other pieces although no partition helps"
 ls q.* > /dev/null 2>&1 && fail "-q 1/20: output files written"
 echo "-q 1/20: exit $code after $elapsed s"
+
+# 4. An input TetGen cannot mesh with its triangles whole (injected: every run that keeps them fails
+# on an input triangle, as on some CAD parts): refused once, naming the faces and the opt-in; with
+# --allow-split-faces, meshed as one piece whose split triangles are counted and marked.
+"$partet" generate fins --walls 4 -o coarse.off > /dev/null || exit 1  # 76 faces; tetgen -pq1.2 splits them
+PARTET_INJECT_FAILURE=surface mesh coarse.off -o whole --pieces 4 -q 1.2 > log 2>&1
+code=$?
+[ "$code" = 1 ] || fail "input needing surface points: exit code $code (want 1)"
+grep -q "without putting points on its surface (on input faces" log || fail "input needing surface points: faces not named: $(grep -m1 error log)"
+grep -q -- "--allow-split-faces accepts" log || fail "input needing surface points: the opt-in is not named"
+ls whole.* > /dev/null 2>&1 && fail "input needing surface points: output files written"
+if ! PARTET_INJECT_FAILURE=surface mesh coarse.off -o split --pieces 4 -q 1.2 --allow-split-faces --check \
+    --format tetgen,msh,medit --report split.json > log 2>&1; then
+  fail "--allow-split-faces: no mesh: $(grep -m1 error log)"
+else
+  split=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["counts"]["split_input_faces"])' split.json)
+  [ "$split" -gt 0 ] || fail "--allow-split-faces: the report counts $split split input triangles"
+  [ "$(report_field split.json pieces)" = 1 ] || fail "--allow-split-faces: not one piece"
+  grep -q "$split input triangles are split" log || fail "--allow-split-faces: the summary does not say how many triangles are split"
+  # Markers: .face lines end in 2 for the parts, the .mesh references and the .msh group agree.
+  parts=$(awk 'NR > 1 && !/^#/ && $5 == 2' split.face | wc -l)
+  whole_faces=$(awk 'NR > 1 && !/^#/ && $5 == 1' split.face | wc -l)
+  [ "$parts" -gt "$split" ] || fail "--allow-split-faces: $parts faces with marker 2 for $split split triangles"
+  [ $((whole_faces + split)) = 76 ] || fail "--allow-split-faces: $whole_faces whole + $split split triangles is not 76"
+  /usr/bin/python3 - split "$parts" <<'PY' || fail "--allow-split-faces: .msh or .mesh markers disagree with .face"
+import sys, meshio
+prefix, parts = sys.argv[1], int(sys.argv[2])
+msh = meshio.read(prefix + ".msh")
+groups = {name: tag for name, (tag, dim) in msh.field_data.items()}
+tri = [i for i, c in enumerate(msh.cells) if c.type == "triangle"]
+phys = msh.cell_data["gmsh:physical"]
+split = sum(len(phys[i]) for i in tri if (phys[i] == groups["split boundary"]).all())
+medit = open(prefix + ".mesh").read().split("Triangles")[1].split("Tetrahedra")[0].split(chr(10))[2:]
+refs = sum(1 for line in medit if line.split() and line.split()[-1] == "2")
+assert split == parts == refs, (split, parts, refs)
+PY
+  "$partet" check --allow-split-faces coarse.off split > check.log 2>&1 ||
+    fail "--allow-split-faces: partet check --allow-split-faces fails: $(grep -m1 VIOLATION check.log)"
+  grep -q "split input triangles: $split" check.log || fail "--allow-split-faces: partet check does not count $split split triangles"
+  "$partet" check coarse.off split > check.log 2>&1 && fail "--allow-split-faces: the exact check passes a mesh with split triangles"
+fi
+echo "split faces: $split input triangles split into $parts faces"
 
 [ "$failures" -eq 0 ] && echo "hard parts: all passed" || { echo "hard parts: $failures failed"; exit 1; }
