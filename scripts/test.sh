@@ -13,6 +13,8 @@ args=(--test-dir build --output-on-failure -j "${PARTET_TEST_JOBS:-2}")
 # Everything but the known failures and the full robustness sweep (sweep_ci runs a part of it).
 if [ -n "${PARTET_TEST_LABEL:-}" ]; then args+=(-L "$PARTET_TEST_LABEL"); else args+=(-LE "known_failure|^sweep$"); fi
 ctest "${args[@]}"
+# The Debian package, installed and removed again (needs root: CI sets PARTET_TEST_PACKAGE=1).
+if [ "${PARTET_TEST_PACKAGE:-0}" = 1 ]; then tests/package/deb.sh build; fi
 if [ "${PARTET_TEST_SLURM:-0}" = 1 ]; then
   # On a shared model when ../shared is beside the checkout, else on a generated surface.
   model=../shared/meshes/fertility.off

@@ -54,10 +54,7 @@ void scale_points(std::vector<Point3>& points, int exponent) {
     for (double& x : p) x = std::ldexp(x, exponent);
 }
 
-SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent) {
-  StageTimer timer(&times);
-  SurfaceMesh input = read_surface(path);
-  timer.lap("read");
+void prepare_input(SurfaceMesh& input, int* exponent) {
   *exponent = unit_scale_exponent(input);
   scale_points(input.points, *exponent);
   validate_topology(input);
@@ -65,6 +62,13 @@ SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* ex
   if (!(volume > 0))
     throw InputError("input is inside out: normals point inwards (enclosed volume " + std::to_string(volume) +
                      "); flip the face orientation");
+}
+
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent) {
+  StageTimer timer(&times);
+  SurfaceMesh input = read_surface(path);
+  timer.lap("read");
+  prepare_input(input, exponent);
   timer.lap("validate");
   return input;
 }

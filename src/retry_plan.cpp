@@ -171,11 +171,7 @@ void RetryPlan::input_trouble(const AttemptFailure& failed) const {
   // TetGen's own trouble keeping every input triangle whole (-Y): without that promise it may
   // manage. Faces it takes for intersecting stay so either way.
   const bool split_faces_may_help = f.kind != FailureKind::self_intersection && f.kind != FailureKind::too_close;
-  trouble.message = what + "; partet keeps every input triangle, so no partition can help" +
-                    (split_faces_may_help && !asked_.allow_split_faces
-                         ? " (--allow-split-faces accepts a mesh that splits some input triangles, as tetgen -p "
-                           "without -Y gives)"
-                         : "");
+  trouble.message = what + "; partet keeps every input triangle, so no partition can help";
   throw InputMeshingError(trouble, split_faces_may_help);
 }
 

@@ -77,6 +77,10 @@ struct PieceRecord {
 int unit_scale_exponent(const SurfaceMesh& surface);
 void scale_points(std::vector<Point3>& points, int exponent);
 
+// Scales a surface to unit size (its exponent goes to *exponent) and runs the cheap checks
+// (closed, manifold, oriented, outward). Throws InputError.
+void prepare_input(SurfaceMesh& input, int* exponent);
+
 // Reads the input, scales it to unit size (its exponent goes to *exponent) and runs the cheap
 // checks (closed, manifold, oriented, outward). Self-intersections are left to TetGen, with a
 // check of the whole input when a piece fails. Throws InputError.

@@ -195,7 +195,12 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
     if (!status.error.empty()) {
       // The library's messages name no flags; what the user can change is said here.
       const bool advise = status.meshing_failed && job.options.pieces > 1;
-      const std::string error = status.error + (advise ? "; try another --pieces value or --axis" : "");
+      const bool split = status.split_faces_may_help && !job.options.allow_split_faces;
+      const std::string error =
+          status.error + (advise ? "; try another --pieces value or --axis" : "") +
+          (split ? " (--allow-split-faces accepts a mesh that splits some input triangles, as tetgen -p without -Y "
+                   "gives)"
+                 : "");
       // The run has failed and says so here: an interrupt now (mpirun ending this rank because
       // another one exited first) says this error, once, instead of its own message.
       partet::interrupts::set_messages("error: " + error, "error: " + error);

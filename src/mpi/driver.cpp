@@ -41,16 +41,32 @@ constexpr double kReplyGraceSeconds = 10;
 constexpr double kWorkerSeconds = 120;
 constexpr double kRootSeconds = 3600;
 
+// The communicator of the job this process runs: MPI_COMM_WORLD for the command, the caller's
+// for the library (mesh_collective). One job at a time per process (TetGen keeps global state),
+// so one variable is enough.
+MPI_Comm current_comm = MPI_COMM_WORLD;
+MPI_Comm job_comm() { return current_comm; }
+class UseComm {
+ public:
+  explicit UseComm(MPI_Comm comm) : saved_(current_comm) { current_comm = comm; }
+  ~UseComm() { current_comm = saved_; }
+  UseComm(const UseComm&) = delete;
+  UseComm& operator=(const UseComm&) = delete;
+
+ private:
+  MPI_Comm saved_;
+};
+
 // Ends the whole job now: a rank stopped answering.
 [[noreturn]] void abort_job(const std::string& message) {
   log::error(message + "; ending the job");
-  MPI_Abort(MPI_COMM_WORLD, 1);
+  MPI_Abort(job_comm(), 1);
   std::abort();  // MPI_Abort does not return
 }
 
 int my_rank() {
   int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_rank(job_comm(), &rank);
   return rank;
 }
 
@@ -72,15 +88,15 @@ auto bounded(Step step) {
 
 // Every rank learns whether all ranks succeeded.
 bool agree(bool ok_here) {
-  return bounded([&] { return all_true(ok_here, MPI_COMM_WORLD, collective_limit()); });
+  return bounded([&] { return all_true(ok_here, job_comm(), collective_limit()); });
 }
 
 void broadcast(Command command) {
-  bounded([&] { return broadcast_int(command, 0, MPI_COMM_WORLD, collective_limit()); });
+  bounded([&] { return broadcast_int(command, 0, job_comm(), collective_limit()); });
 }
 
 Command receive_command() {
-  return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, MPI_COMM_WORLD, collective_limit()); }));
+  return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, job_comm(), collective_limit()); }));
 }
 
 // Adds the seconds an object lives to a total.
@@ -219,7 +235,7 @@ class RootScheduler : public PieceScheduler {
     const double limit = piece ? std::min(kWorkerSeconds, runner_.time_limit(*piece) + kReplyGraceSeconds)
                                : kWorkerSeconds;
     try {
-      stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, MPI_COMM_WORLD, kMaxChunk, limit));
+      stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, limit));
     } catch (const Stalled&) {
       abort_job(piece ? "rank " + std::to_string(worker) + " has not answered for piece " +
                             std::to_string(piece->index) + " within its time limit (stopped or dead?)"
@@ -286,13 +302,13 @@ class RootScheduler : public PieceScheduler {
   bool receive_reply() {
     int arrived = 0;
     MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kTagReply, MPI_COMM_WORLD, &arrived, &status);
+    MPI_Iprobe(MPI_ANY_SOURCE, kTagReply, job_comm(), &arrived, &status);
     if (!arrived) return false;
     const int worker = status.MPI_SOURCE;
     std::size_t position = 0;
     {
       AddSeconds timer{stats_.receive_seconds};
-      const std::string reply = recv_bytes(worker, kTagReply, MPI_COMM_WORLD);
+      const std::string reply = recv_bytes(worker, kTagReply, job_comm());
       stats_.bytes_received += static_cast<double>(reply.size());
       PieceOutcome outcome = deserialize_outcome(reply);
       position = position_.at(outcome.failure ? outcome.failure->piece : outcome.result.index);
@@ -353,7 +369,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       std::string bytes;
       {
         AddSeconds timer{stats.receive_seconds};
-        bytes = bounded([] { return recv_bytes(0, kTagPiece, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); });
+        bytes = bounded([] { return recv_bytes(0, kTagPiece, job_comm(), kMaxChunk, kRootSeconds); });
       }
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
@@ -373,7 +389,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       if (!region) stats.pieces += 1;
       AddSeconds timer{stats.send_seconds};
       stats.bytes_sent += static_cast<double>(
-          bounded([&] { return send_bytes(reply, 0, kTagReply, MPI_COMM_WORLD, kMaxChunk, kRootSeconds); }));
+          bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
       test_hooks::worker_stop(rank);
     }
   }
@@ -394,6 +410,49 @@ struct RankState {
   OutputSet outputs;       // rank 0: the files, under temporary names until every rank agrees
   explicit RankState(const MeshJob& job) : outputs(journal_path(job.output_prefix)) {}
 };
+
+// An error as it crosses ranks: its type and message.
+struct ErrorText {
+  int type = 0;  // 0 Error, 1 InputError, 2 OptionError, 3 MeshingError, 4 InputMeshingError
+  std::string message;
+};
+
+ErrorText error_text(std::exception_ptr failure) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const InputMeshingError& e) {
+    return {4, e.what()};
+  } catch (const MeshingError& e) {
+    return {3, e.what()};
+  } catch (const OptionError& e) {
+    return {2, e.what()};
+  } catch (const InputError& e) {
+    return {1, e.what()};
+  } catch (const std::exception& e) {
+    return {0, e.what()};
+  } catch (...) {
+    return {0, "unknown error"};
+  }
+}
+
+// Rank 0's error to every rank (rank 0 is alive: it has just joined an agreement).
+void broadcast_error(ErrorText& error, MPI_Comm comm) {
+  long long header[2] = {error.type, static_cast<long long>(error.message.size())};
+  MPI_Bcast(header, 2, MPI_LONG_LONG, 0, comm);
+  error.type = static_cast<int>(header[0]);
+  error.message.resize(static_cast<std::size_t>(header[1]));
+  MPI_Bcast(error.message.data(), static_cast<int>(header[1]), MPI_CHAR, 0, comm);
+}
+
+[[noreturn]] void throw_error(const ErrorText& error) {
+  switch (error.type) {
+    case 4: throw InputMeshingError(Failure{FailureKind::other, -1, {}, error.message});
+    case 3: throw MeshingError(Failure{FailureKind::other, -1, {}, error.message});
+    case 2: throw OptionError(error.message);
+    case 1: throw InputError(error.message);
+    default: throw Error(error.message);
+  }
+}
 
 // What an interrupt says on rank 0, before and after the new files are in place.
 std::string interrupted_before(const MeshJob& job) {
@@ -416,7 +475,9 @@ void on_root(RankState& state, Step step) {
     step();
   } catch (const MeshingError& e) {
     state.status.error = e.what();
-    state.status.meshing_failed = dynamic_cast<const InputMeshingError*>(&e) == nullptr;
+    const auto* input_trouble = dynamic_cast<const InputMeshingError*>(&e);
+    state.status.meshing_failed = input_trouble == nullptr;
+    state.status.split_faces_may_help = input_trouble && input_trouble->split_faces_may_help;
   } catch (const OptionError& e) {
     state.status.error = e.what();
     state.status.usage_error = true;
@@ -451,7 +512,7 @@ void finish(const MeshJob& job, RankState& state) {
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
   bounded([&] {
     gather_doubles(reinterpret_cast<const double*>(&state.stats), kRankStatsDoubles,
-                   reinterpret_cast<double*>(all.data()), 0, MPI_COMM_WORLD, collective_limit());
+                   reinterpret_cast<double*>(all.data()), 0, job_comm(), collective_limit());
     return 0;
   });
   bool ok = agree(state.status.error.empty());
@@ -483,10 +544,42 @@ std::string library_version() {
   return version.substr(0, version.find(','));
 }
 
+MeshResult mesh_collective(const SurfaceMesh& input, const MeshOptions& options, MPI_Comm comm, StageTimes* times,
+                           std::exception_ptr failed_before) {
+  const UseComm use(comm);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  log::set_rank(rank);
+  MeshJob job;
+  job.options = options;
+  RankStats stats;
+  MeshResult result;
+  std::exception_ptr failure = rank == 0 ? failed_before : nullptr;
+  if (rank == 0) {
+    if (!failure) try {
+      std::map<int, PieceRecord> records;
+      RootScheduler scheduler(job, size, stats, records, now_seconds());
+      result = mesh_with_retries(input, options, scheduler, times);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    broadcast(kDone);
+  } else {
+    worker_loop(job, rank, stats);
+  }
+  if (agree(!failure)) return result;
+  // Every rank throws: rank 0 its own error, the others one of the same type with its message.
+  ErrorText error = failure ? error_text(failure) : ErrorText{};
+  broadcast_error(error, comm);
+  if (failure) std::rethrow_exception(failure);
+  throw_error(error);
+}
+
 JobStatus run_mesh_job(const MeshJob& job) {
   RankState state(job);
-  MPI_Comm_rank(MPI_COMM_WORLD, &state.rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &state.size);
+  MPI_Comm_rank(job_comm(), &state.rank);
+  MPI_Comm_size(job_comm(), &state.size);
   log::set_rank(state.rank);
   // 1. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
   // rank removes its temporary files; rank 0 says which files are in place.
@@ -498,7 +591,7 @@ JobStatus run_mesh_job(const MeshJob& job) {
     });
   // Only rank 0 can have failed so far: its exit code goes to every rank (2: a usage error).
   const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
-  state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, MPI_COMM_WORLD, collective_limit()); });
+  state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, job_comm(), collective_limit()); });
   if (state.status.exit_code != 0) return state.status;
   // 2-5. Partition, close, mesh everywhere, merge; check and write on rank 0.
   if (state.rank == 0)
