@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "partet/check.hpp"
+#include "stages/check.hpp"
 
 namespace partet {
 namespace {

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "partet/closure.hpp"
+#include "stages/closure.hpp"
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/partition.hpp"
-#include "partet/piece.hpp"
+#include "stages/generate.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece.hpp"
 #include "stage_helpers.hpp"
 
 namespace partet {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "partet/check.hpp"
-#include "partet/partition.hpp"
-#include "partet/pipeline.hpp"
-#include "partet/validate.hpp"
+#include "stages/check.hpp"
+#include "stages/partition.hpp"
+#include "job/pipeline.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {

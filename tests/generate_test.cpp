@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {

@@ -6,12 +6,12 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/merge.hpp"
-#include "partet/pipeline.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "stages/merge.hpp"
+#include "job/pipeline.hpp"
+#include "stages/validate.hpp"
 #include "stage_helpers.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/partition.hpp"
+#include "stages/generate.hpp"
+#include "stages/partition.hpp"
 #include "stage_helpers.hpp"
 
 namespace partet {

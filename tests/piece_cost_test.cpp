@@ -6,9 +6,9 @@
 #include <numeric>
 #include <vector>
 
-#include "partet/generate.hpp"
-#include "partet/piece_cost.hpp"
-#include "partet/pipeline.hpp"
+#include "stages/generate.hpp"
+#include "stages/piece_cost.hpp"
+#include "job/pipeline.hpp"
 
 namespace partet {
 namespace {

@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "partet/closure.hpp"
+#include "stages/closure.hpp"
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/partition.hpp"
-#include "partet/piece.hpp"
-#include "partet/piece_runner.hpp"
-#include "partet/serialize.hpp"
+#include "stages/generate.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece.hpp"
+#include "runner/piece_runner.hpp"
+#include "runner/serialize.hpp"
 
 namespace partet {
 namespace {
@@ -60,15 +60,6 @@ TEST(PieceRunner, ChildGivesTheSameResultAsThisProcess) {
   }
 }
 
-TEST(PieceRunner, SurfaceInAChildIsTheSameAsHere) {
-  const SurfaceMesh s = generate_surface("torus", 1500);
-  const LocalTetMesh a = runner(false).mesh_surface(s.points, s.triangles);
-  const LocalTetMesh b = runner(true).mesh_surface(s.points, s.triangles);
-  EXPECT_EQ(a.tets, b.tets);
-  EXPECT_EQ(a.neighbours, b.neighbours);
-  EXPECT_EQ(a.steiner_points, b.steiner_points);
-}
-
 TEST(PieceRunner, BadPieceIsATypedFailureInBothModes) {
   const PieceSurface piece = open_piece();
   for (bool isolate : {false, true}) {
@@ -78,17 +69,6 @@ TEST(PieceRunner, BadPieceIsATypedFailureInBothModes) {
     EXPECT_EQ(outcome.failure->kind, FailureKind::bad_surface);
     EXPECT_EQ(outcome.failure->piece, 3);
     EXPECT_NE(outcome.failure->text().find("piece 3: "), std::string::npos) << outcome.failure->text();
-  }
-}
-
-TEST(PieceRunner, SurfaceFailureInAChildThrowsItsKind) {
-  SurfaceMesh s = generate_surface("sphere", 500);
-  s.triangles.erase(s.triangles.begin() + 17);
-  try {
-    runner(true).mesh_surface(s.points, s.triangles);
-    ADD_FAILURE() << "open surface accepted";
-  } catch (const MeshingError& e) {
-    EXPECT_EQ(e.failure.kind, FailureKind::tetgen_error);
   }
 }
 
@@ -117,14 +97,6 @@ TEST(PieceRunner, TimeLimitIsATypedFailure) {
   ASSERT_TRUE(outcome.failure);
   EXPECT_EQ(outcome.failure->kind, FailureKind::timed_out);
   EXPECT_NE(outcome.failure->text().find("did not finish"), std::string::npos) << outcome.failure->text();
-
-  const SurfaceMesh s = generate_surface("sphere", 2000);
-  try {
-    runner(true, 1e-6).mesh_surface(s.points, s.triangles);
-    ADD_FAILURE() << "no timeout";
-  } catch (const MeshingError& e) {
-    EXPECT_EQ(e.failure.kind, FailureKind::timed_out);
-  }
 }
 
 TEST(PieceRunner, CrashAndHookFailuresInAChild) {

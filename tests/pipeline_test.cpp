@@ -7,14 +7,14 @@
 #include <string>
 #include <vector>
 
-#include "partet/check.hpp"
+#include "stages/check.hpp"
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/pipeline.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "job/pipeline.hpp"
+#include "stages/validate.hpp"
 #include "stage_helpers.hpp"
 #include "test_support.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

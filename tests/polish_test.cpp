@@ -1,7 +1,7 @@
 // The quality polish: re-meshing the neighbourhoods of poor tets never makes the mesh's worst
 // tet worse, keeps the solid (boundary, volume, adjacency) and leaves a failed neighbourhood as
 // it was.
-#include "partet/polish.hpp"
+#include "stages/polish.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,15 +10,15 @@
 #include <string>
 #include <vector>
 
-#include "partet/check.hpp"
-#include "partet/generate.hpp"
-#include "partet/piece_runner.hpp"
-#include "partet/pipeline.hpp"
-#include "partet/quality.hpp"
-#include "partet/tetgen_mesher.hpp"
-#include "partet/validate.hpp"
+#include "stages/check.hpp"
+#include "stages/generate.hpp"
+#include "runner/piece_runner.hpp"
+#include "job/pipeline.hpp"
+#include "stages/quality.hpp"
+#include "mesher/tetgen_mesher.hpp"
+#include "stages/validate.hpp"
 #include "stage_helpers.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

@@ -1,5 +1,5 @@
 // Element quality figures and the seam zone.
-#include "partet/quality.hpp"
+#include "stages/quality.hpp"
 
 #include <gtest/gtest.h>
 

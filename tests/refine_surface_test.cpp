@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/refine_surface.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "stages/refine_surface.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {

@@ -1,4 +1,4 @@
-// The order of partitions tried after failures (src/retry_plan.hpp), driven with made-up
+// The order of partitions tried after failures (src/job/retry_plan.hpp), driven with made-up
 // failures: no meshing happens here.
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "retry_plan.hpp"
+#include "stages/generate.hpp"
+#include "job/retry_plan.hpp"
 
 namespace partet {
 namespace {

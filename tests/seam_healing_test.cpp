@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "partet/check.hpp"
+#include "stages/check.hpp"
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/merge.hpp"
-#include "partet/pipeline.hpp"
-#include "partet/seam_healing.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "stages/merge.hpp"
+#include "job/pipeline.hpp"
+#include "stages/seam_healing.hpp"
+#include "stages/validate.hpp"
 #include "stage_helpers.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "seam_rounds.hpp"
+#include "stages/seam_rounds.hpp"
 
 namespace partet {
 namespace {

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "partet/generate.hpp"
-#include "partet/pipeline.hpp"
-#include "partet/serialize.hpp"
+#include "stages/generate.hpp"
+#include "job/pipeline.hpp"
+#include "runner/serialize.hpp"
 
 namespace partet {
 namespace {

@@ -12,9 +12,10 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/surface_io.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "io/read_surface.hpp"
+#include "io/write_surface.hpp"
+#include "stages/validate.hpp"
 #include "io/plain_off.hpp"
 #include "test_support.hpp"
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "stage_helpers.hpp"
-#include "tet_region.hpp"
-#include "topology.hpp"
+#include "stages/tet_region.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

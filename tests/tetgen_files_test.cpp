@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/tetgen_files.hpp"
+#include "io/tetgen_files.hpp"
 #include "test_support.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

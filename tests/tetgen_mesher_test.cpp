@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "partet/check.hpp"
-#include "partet/closure.hpp"
+#include "stages/check.hpp"
+#include "stages/closure.hpp"
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/partition.hpp"
-#include "partet/piece.hpp"
-#include "partet/tetgen_mesher.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece.hpp"
+#include "mesher/tetgen_mesher.hpp"
+#include "stages/validate.hpp"
 #include "stage_helpers.hpp"
 #include "test_support.hpp"
 

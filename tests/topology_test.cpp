@@ -4,10 +4,10 @@
 #include <vector>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/tetgen_mesher.hpp"
+#include "stages/generate.hpp"
+#include "mesher/tetgen_mesher.hpp"
 #include "stage_helpers.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

@@ -8,9 +8,9 @@
 #include <utility>
 
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/surface_io.hpp"
-#include "partet/validate.hpp"
+#include "stages/generate.hpp"
+#include "io/read_surface.hpp"
+#include "stages/validate.hpp"
 #include "test_support.hpp"
 
 namespace partet {

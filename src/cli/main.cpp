@@ -14,23 +14,24 @@
 #include <optional>
 #include <string>
 
-#include "partet/check.hpp"
+#include "stages/check.hpp"
 #include "partet/errors.hpp"
-#include "partet/generate.hpp"
-#include "partet/info.hpp"
-#include "partet/job.hpp"
-#include "partet/mesh_formats.hpp"
-#include "partet/log.hpp"
-#include "partet/mpi_driver.hpp"
-#include "partet/quality.hpp"
-#include "partet/refine_surface.hpp"
-#include "partet/surface_io.hpp"
-#include "partet/tetgen_files.hpp"
-#include "partet/tetgen_mesher.hpp"
-#include "partet/version.hpp"
-#include "partet/output_set.hpp"
-#include "process/interrupts.hpp"
-#include "quality_json.hpp"
+#include "stages/generate.hpp"
+#include "stages/info.hpp"
+#include "job/job.hpp"
+#include "io/mesh_formats.hpp"
+#include "common/log.hpp"
+#include "mpi/driver.hpp"
+#include "stages/quality.hpp"
+#include "stages/refine_surface.hpp"
+#include "io/read_surface.hpp"
+#include "io/write_surface.hpp"
+#include "io/tetgen_files.hpp"
+#include "mesher/tetgen_mesher.hpp"
+#include "common/version.hpp"
+#include "io/output_set.hpp"
+#include "runner/interrupts.hpp"
+#include "stages/quality_json.hpp"
 
 namespace {
 
@@ -65,25 +66,13 @@ std::vector<partet::CutPlane> report_cut_planes(const std::string& path) {
   return planes;
 }
 
-// The quality of the seam zone (tets crossing or touching a cut plane) and of the rest, when
-// the run's report names the planes.
-struct ZoneQuality {
-  bool known = false;
-  partet::MeshQuality seam, elsewhere;
-};
-
-ZoneQuality zone_quality(const partet::TetMesh& mesh, const std::optional<std::vector<partet::CutPlane>>& planes_known) {
-  ZoneQuality zones;
-  if (!planes_known) return zones;
-  const std::vector<partet::CutPlane>& planes = *planes_known;
-  const std::vector<char> zone = partet::seam_zone(mesh, planes);
-  zones.known = true;
-  zones.seam = partet::mesh_quality(mesh, [&](std::size_t t) { return zone[t] != 0; });
-  zones.elsewhere = partet::mesh_quality(mesh, [&](std::size_t t) { return zone[t] == 0; });
-  return zones;
+// The quality of the seam zone and of the rest, when the run's report names the planes.
+using KnownZones = std::optional<partet::ZoneQuality>;
+KnownZones zone_quality(const partet::TetMesh& mesh, const std::optional<std::vector<partet::CutPlane>>& planes) {
+  return planes ? KnownZones(partet::zone_quality(mesh, *planes)) : std::nullopt;
 }
 
-void print_check(const partet::CheckReport& report, const ZoneQuality& zones) {
+void print_check(const partet::CheckReport& report, const KnownZones& zones) {
   std::printf("vertices %lld, tets %lld, boundary faces %lld\n", static_cast<long long>(report.vertices),
               static_cast<long long>(report.tets), static_cast<long long>(report.boundary_faces));
   if (report.split_input_faces > 0)
@@ -100,17 +89,17 @@ void print_check(const partet::CheckReport& report, const ZoneQuality& zones) {
                 i + 1 < partet::kDihedralBins.size() ? "," : "\n");
     from = partet::kDihedralBins[i];
   }
-  if (zones.known) {
-    std::printf("seam zone (%lld tets): %s\n", static_cast<long long>(zones.seam.tets),
-                partet::quality_line(zones.seam).c_str());
-    std::printf("elsewhere (%lld tets): %s\n", static_cast<long long>(zones.elsewhere.tets),
-                partet::quality_line(zones.elsewhere).c_str());
+  if (zones) {
+    std::printf("seam zone (%lld tets): %s\n", static_cast<long long>(zones->seam.tets),
+                partet::quality_line(zones->seam).c_str());
+    std::printf("elsewhere (%lld tets): %s\n", static_cast<long long>(zones->elsewhere.tets),
+                partet::quality_line(zones->elsewhere).c_str());
   }
   for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
   std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
 }
 
-void print_check_json(const partet::CheckReport& report, const ZoneQuality& zones) {
+void print_check_json(const partet::CheckReport& report, const KnownZones& zones) {
   nlohmann::json json = {{"ok", report.ok()},
                          {"violations", report.violations},
                          {"vertices", report.vertices},
@@ -122,9 +111,9 @@ void print_check_json(const partet::CheckReport& report, const ZoneQuality& zone
                          {"euler_mesh", report.euler_mesh},
                          {"euler_expected", report.euler_expected},
                          {"quality", partet::quality_json(report.quality)}};
-  if (zones.known) {
-    json["seam_zone_quality"] = partet::quality_json(zones.seam);
-    json["elsewhere_quality"] = partet::quality_json(zones.elsewhere);
+  if (zones) {
+    json["seam_zone_quality"] = partet::quality_json(zones->seam);
+    json["elsewhere_quality"] = partet::quality_json(zones->elsewhere);
   }
   std::printf("%s\n", json.dump(2).c_str());
 }
@@ -142,7 +131,7 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
   if (!report_path.empty()) planes = report_cut_planes(report_path);
   const partet::TetgenFileSet files = partet::read_tetgen_set(prefix);
   const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files, rule);
-  const ZoneQuality zones = zone_quality(files.mesh, planes);
+  const KnownZones zones = zone_quality(files.mesh, planes);
   json ? print_check_json(report, zones) : print_check(report, zones);
   return report.ok() ? 0 : 1;
 }

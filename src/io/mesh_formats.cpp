@@ -1,6 +1,6 @@
 // Writers for the formats users open the mesh in: VTK XML (.vtu/.pvtu), Gmsh MSH 4.1, MEDIT.
 // Each is checked in the tests by an independent reader (meshio, gmsh).
-#include "partet/mesh_formats.hpp"
+#include "io/mesh_formats.hpp"
 
 #include <zlib.h>
 
@@ -14,9 +14,9 @@
 
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
-#include "partet/info.hpp"
-#include "partet/tetgen_files.hpp"
-#include "topology.hpp"
+#include "stages/info.hpp"
+#include "io/tetgen_files.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

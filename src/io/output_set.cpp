@@ -1,4 +1,4 @@
-#include "partet/output_set.hpp"
+#include "io/output_set.hpp"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -21,9 +21,9 @@
 
 #include "io/file_owner.hpp"
 #include "partet/errors.hpp"
-#include "partet/log.hpp"
-#include "process/interrupts.hpp"
-#include "test_hooks.hpp"
+#include "common/log.hpp"
+#include "runner/interrupts.hpp"
+#include "common/test_hooks.hpp"
 
 namespace partet {
 namespace {

@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "geometry.hpp"
+#include "stages/geometry.hpp"
 #include "io/plain_off.hpp"
 #include "io/surface_format.hpp"
 #include "partet/errors.hpp"
-#include "partet/surface_io.hpp"
-#include "polygon_triangulation.hpp"
+#include "io/read_surface.hpp"
+#include "stages/polygon_triangulation.hpp"
 
 namespace partet {
 namespace {

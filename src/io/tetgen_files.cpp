@@ -1,5 +1,5 @@
 // TetGen .node/.ele/.face/.neigh writing and reading.
-#include "partet/tetgen_files.hpp"
+#include "io/tetgen_files.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "io/buffered_file.hpp"
-#include "partet/output_set.hpp"
+#include "io/output_set.hpp"
 #include "partet/errors.hpp"
-#include "topology.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {

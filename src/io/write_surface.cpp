@@ -8,7 +8,7 @@
 
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
-#include "partet/surface_io.hpp"
+#include "io/write_surface.hpp"
 
 namespace partet {
 

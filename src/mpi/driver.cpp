@@ -1,4 +1,4 @@
-#include "partet/mpi_driver.hpp"
+#include "mpi/driver.hpp"
 
 #include <mpi.h>
 
@@ -12,15 +12,16 @@
 #include <numeric>
 #include <thread>
 
+#include "job/report.hpp"
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
-#include "partet/log.hpp"
-#include "partet/output_set.hpp"
-#include "partet/serialize.hpp"
-#include "partet/surface_io.hpp"
-#include "process/interrupts.hpp"
-#include "process/memory.hpp"
-#include "test_hooks.hpp"
+#include "common/log.hpp"
+#include "io/output_set.hpp"
+#include "runner/serialize.hpp"
+#include "io/write_surface.hpp"
+#include "runner/interrupts.hpp"
+#include "common/memory.hpp"
+#include "common/test_hooks.hpp"
 
 namespace partet::mpi {
 namespace {

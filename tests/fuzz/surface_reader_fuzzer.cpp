@@ -12,8 +12,8 @@
 #include <string>
 
 #include "partet/errors.hpp"
-#include "partet/surface_io.hpp"
-#include "partet/validate.hpp"
+#include "io/read_surface.hpp"
+#include "stages/validate.hpp"
 
 namespace {
 

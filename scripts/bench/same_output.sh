@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Whether two partet binaries write the same bytes: every model in a directory (default: the
+# shared models) at each K, with and without --quality, compared file by file (TetGen files).
+# Prints one line per difference and a count; exit 0 when every output is identical.
+# Usage: same_output.sh OLD_PARTET NEW_PARTET [-d DIR] [-k "2 4 8"] [-q "none 1.414"]
+set -uo pipefail
+source "$(dirname "$0")/../common.sh"
+old=$(realpath "$1") new=$(realpath "$2")
+shift 2
+dir=$here/../../shared/meshes ks="2 4 8" qualities="none 1.414"
+while getopts "d:k:q:" opt; do
+  case $opt in d) dir=$OPTARG ;; k) ks=$OPTARG ;; q) qualities=$OPTARG ;; *) sed -n '2,5p' "$0"; exit 2 ;; esac
+done
+make_work_dir
+runs=0 different=0 failed=0
+for model in "$dir"/*.off; do
+  name=$(basename "$model" .off)
+  for k in $ks; do
+    for q in $qualities; do
+      args=(--pieces "$k" --quiet)
+      [ "$q" = none ] || args+=(--quality "$q")
+      runs=$((runs + 1))
+      if ! "$old" mesh "$model" -o "$work/old" "${args[@]}" > /dev/null 2>&1 ||
+         ! "$new" mesh "$model" -o "$work/new" "${args[@]}" > /dev/null 2>&1; then
+        echo "FAILED: $name k=$k q=$q"; failed=$((failed + 1)); continue
+      fi
+      for ext in node ele face neigh; do
+        if ! cmp -s "$work/old.$ext" "$work/new.$ext"; then
+          echo "DIFFERENT: $name k=$k q=$q .$ext"; different=$((different + 1)); break
+        fi
+      done
+    done
+  done
+done
+echo "$runs runs: $((runs - different - failed)) identical, $different different, $failed failed"
+[ "$different" -eq 0 ] && [ "$failed" -eq 0 ]

@@ -1,0 +1,82 @@
+#include "common/test_hooks.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+
+#include "partet/errors.hpp"
+
+namespace partet::test_hooks {
+namespace {
+
+const char* value(const char* name) { return std::getenv(name); }
+
+void sleep_ms(const char* name) {
+  if (const char* ms = value(name)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atoi(ms)));
+}
+
+}  // namespace
+
+void piece_failure(int piece, int rank) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  if (!spec) return;
+  const std::string s(spec);
+  const auto colon = s.find(':');
+  if (colon == std::string::npos || std::atoi(s.substr(0, colon).c_str()) != piece) return;
+  if (s.substr(colon + 1) == "abort") {
+    std::fprintf(stderr, "partet: rank %d: piece %d: injected abort\n", rank, piece);
+    std::fflush(stderr);
+    std::abort();
+  }
+  throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
+}
+
+bool every_cut_fails(std::size_t pieces) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  return pieces > 1 && spec && std::string(spec) == "cuts";
+}
+
+bool input_needs_surface_points() {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  return spec && std::string(spec) == "surface";
+}
+
+void worker_stop(int rank) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") ::raise(SIGSTOP);
+}
+
+void worker_death(int rank) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  if (rank == 1 && spec && std::string(spec) == "worker:abort-before-agreement") {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    std::abort();
+  }
+}
+
+int publish_failure() {
+  const char* spec = value("PARTET_INJECT_PUBLISH_FAILURE");
+  return spec ? std::atoi(spec) : 0;
+}
+
+void publish_step(int step) {
+  sleep_ms("PARTET_TEST_PUBLISH_DELAY_MS");
+  if (const char* spec = value("PARTET_TEST_PUBLISH_SIGNAL")) {
+    int at = 0, signal_number = 0;
+    if (std::sscanf(spec, "%d:%d", &at, &signal_number) == 2 && at == step) ::kill(::getpid(), signal_number);
+  }
+}
+
+void before_publish() { sleep_ms("PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS"); }
+
+double publish_wait_seconds(double fallback) {
+  const char* s = value("PARTET_TEST_PUBLISH_WAIT_S");
+  return s ? std::atof(s) : fallback;
+}
+
+}  // namespace partet::test_hooks

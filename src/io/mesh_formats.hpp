@@ -1,0 +1,66 @@
+// Writing the final tet mesh in the formats users open: VTK XML (.vtu, and .pvtu with one .vtu
+// per piece), Gmsh MSH 4.1 (ASCII or binary) and MEDIT (.mesh). TetGen's own files are in
+// tetgen_files.hpp. Every writer writes exactly one file, to the path it is given (the caller
+// publishes a set of files atomically under their final names). Throws OutputError.
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+#include "io/output_set.hpp"
+
+namespace partet {
+
+enum class MeshFormat { tetgen, vtu, pvtu, msh, msh_binary, medit };
+
+// Names on the command line ("tetgen", "vtu", "pvtu", "msh", "msh-binary", "medit"), in order.
+const std::vector<std::string>& mesh_format_names();
+// Throws OptionError naming the valid names.
+MeshFormat mesh_format(const std::string& name);
+std::string mesh_format_name(MeshFormat format);
+// The format an output path's extension names (.node .vtu .pvtu .msh .mesh), and the path
+// without it; false when the extension names none.
+bool split_format_extension(const std::string& path, MeshFormat& format, std::string& prefix);
+
+// The files a format writes for PREFIX, as far as they are known before the run: TetGen's four;
+// for pvtu the index, whose piece files PREFIX_p<i>.vtu and PREFIX_seams.vtu follow the mesh.
+std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix);
+
+// What the writers write.
+struct MeshOutput {
+  const TetMesh& mesh;                    // positively oriented tets; mesh.piece per tet if known
+  const std::vector<Triangle>& boundary;  // the input triangles, outward, in mesh numbering
+  // Faces from this index on are parts of input triangles split by points on the surface
+  // (--allow-split-faces): boundary marker 2 instead of 1, in the formats that carry one.
+  std::size_t split_from = SIZE_MAX;
+};
+
+// VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
+// that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it belongs
+// to, from 1). With only_piece other than kAllPieces, just the tets with that piece value (-1:
+// the re-meshed tets) and the points they use.
+constexpr int kAllPieces = std::numeric_limits<int>::min();
+void write_vtu(const MeshOutput& output, const std::string& path, int only_piece = kAllPieces);
+
+// The .pvtu index naming one .vtu per piece (as written by write_vtu(output, ..., piece)); the
+// names are stored as given (relative to the .pvtu's directory).
+void write_pvtu(const MeshOutput& output, const std::string& path, const std::vector<std::string>& piece_files);
+
+// The piece indices a .pvtu set has files for, in order (the -1 group included when present).
+std::vector<int> pieces_in(const MeshOutput& output);
+
+// Gmsh MSH 4.1: nodes, tetrahedra (physical group 1 "volume") and the boundary triangles
+// (physical group 2 "boundary"; the parts of split input triangles: physical group 3 "split
+// boundary", a second surface entity), with entities for the volume and the boundary surfaces.
+void write_msh(const MeshOutput& output, const std::string& path, bool binary);
+
+// MEDIT .mesh (ASCII, version 2): Vertices, Tetrahedra (reference = region) and Triangles
+// (reference 1: the boundary; 2: parts of split input triangles).
+void write_medit(const MeshOutput& output, const std::string& path);
+
+// Writes the format's files for PREFIX under temporary names into `set` (published together).
+void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix);
+
+}  // namespace partet

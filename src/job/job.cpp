@@ -1,0 +1,101 @@
+#include "job/job.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "partet/errors.hpp"
+#include "common/log.hpp"
+#include "io/read_surface.hpp"
+#include "io/tetgen_files.hpp"
+#include "stages/validate.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+
+int unit_scale_exponent(const SurfaceMesh& surface) {
+  double largest = 0;
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (double x : surface.points[v]) largest = std::max(largest, std::abs(x));
+  if (!(largest > 0) || !std::isfinite(largest)) return 0;
+  const int magnitude = std::ilogb(largest);
+  if (magnitude >= -40 && magnitude <= 40) return 0;
+  const int exponent = -magnitude;
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (double x : surface.points[v])
+        if (std::ldexp(std::ldexp(x, exponent), -exponent) != x) return 0;  // would lose bits
+  return exponent;
+}
+
+void scale_points(std::vector<Point3>& points, int exponent) {
+  if (exponent == 0) return;
+  for (Point3& p : points)
+    for (double& x : p) x = std::ldexp(x, exponent);
+}
+
+void prepare_input(SurfaceMesh& input, int* exponent) {
+  *exponent = unit_scale_exponent(input);
+  scale_points(input.points, *exponent);
+  validate_topology(input);
+  const double volume = enclosed_volume(input);
+  if (!(volume > 0))
+    throw InputError("input is inside out: normals point inwards (enclosed volume " + std::to_string(volume) +
+                     "); flip the face orientation");
+}
+
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent) {
+  StageTimer timer(&times);
+  SurfaceMesh input = read_surface(path);
+  timer.lap("read");
+  prepare_input(input, exponent);
+  timer.lap("validate");
+  return input;
+}
+
+std::vector<std::string> output_paths(const MeshJob& job) {
+  std::vector<std::string> paths;
+  for (MeshFormat format : job.formats)
+    for (const std::string& path : format_paths(format, job.output_prefix)) paths.push_back(path);
+  if (!job.report_path.empty()) paths.push_back(job.report_path);
+  return paths;
+}
+
+void check_outputs(const MeshJob& job) {
+  // "" or "out/" would write hidden files such as out/.node.
+  const std::string& prefix = job.output_prefix;
+  const std::string name = prefix.substr(prefix.find_last_of('/') + 1);
+  if (name.empty() || name == "." || name == "..")
+    throw OptionError("the output prefix '" + prefix +
+                      "' names no file (give e.g. 'out/model' for out/model.node ...)");
+  try {
+    check_surface_path(job.input);
+  } catch (const InputError& e) {
+    throw OptionError(e.what());  // the command line names no usable input
+  }
+  check_output_paths(output_paths(job), {job.input});
+  // A publish at this prefix that a killed run left half done is completed first.
+  if (const std::string done = settle_publish(prefix); !done.empty()) log::warning(done);
+  remove_stale_temporaries(output_paths(job));
+}
+
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
+                            OutputSet& outputs) {
+  CheckReport check;
+  StageTimer timer(&times);
+  if (job.check_output) {
+    check = check_mesh(input, result.mesh,
+                       result.split_input_faces > 0 ? BoundaryRule::split_allowed : BoundaryRule::exact);
+    timer.lap("check");
+    if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
+  }
+  const MeshOutput output{result.mesh, result.boundary_faces, result.split_faces_from};
+  for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix);
+  timer.lap("write");
+  return check;
+}
+
+}  // namespace partet

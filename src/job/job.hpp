@@ -1,0 +1,81 @@
+// A mesh job as the command line describes it, and the steps rank 0 runs around the pipeline:
+// reading and validating the input, checking and writing the result (the report and summary are
+// in report.hpp, the comparison with TetGen alone in compare_tetgen.hpp). No MPI here: the MPI
+// driver calls these on rank 0.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "stages/check.hpp"
+#include "io/mesh_formats.hpp"
+#include "io/output_set.hpp"
+#include "job/pipeline.hpp"
+#include "stages/quality.hpp"
+
+namespace partet {
+
+struct MeshJob {
+  std::string input;
+  std::string output_prefix;
+  std::vector<MeshFormat> formats{MeshFormat::tetgen};  // what to write at output_prefix
+  std::string report_path;  // empty: no JSON report
+  MeshOptions options;
+  bool check_output = false;    // run check_mesh on the result before writing
+  std::string dump_pieces_dir;  // non-empty: write each piece's surface there before meshing it
+  bool compare_tetgen = false;  // afterwards, mesh the whole input with TetGen alone and compare
+};
+
+// What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.
+struct RankStats {
+  double tetgen_seconds = 0;
+  double peak_rss_mb = 0;
+  double bytes_sent = 0, bytes_received = 0;
+  double pieces = 0;
+  double tetgen_child_peak_rss_mb = 0;
+  double send_seconds = 0, receive_seconds = 0;  // time spent inside MPI sends and receives
+};
+constexpr int kRankStatsDoubles = 8;
+static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
+              "RankStats is gathered as kRankStatsDoubles raw doubles");
+
+// Where and how fast one piece was meshed.
+struct PieceRecord {
+  int index = 0;
+  int rank = 0;
+  std::int64_t triangles = 0;  // of the piece's closed surface
+  std::int64_t tets = 0;       // TetGen made
+  double seconds = 0;          // wall time of its meshing, where it ran
+  double memory_mb = 0;        // peak memory its meshing added (TetGen's own, in a child process)
+};
+
+// Inputs at any scale: multiplying coordinates by a power of two is exact, so an input far from
+// unit size is meshed as a copy scaled by 2^exponent and the mesh is scaled back, bit for bit.
+// The exponent is 0 for inputs already within 2^-40 .. 2^40 (most: their output is unchanged)
+// and when scaling would not be exact.
+int unit_scale_exponent(const SurfaceMesh& surface);
+void scale_points(std::vector<Point3>& points, int exponent);
+
+// Scales a surface to unit size (its exponent goes to *exponent) and runs the cheap checks
+// (closed, manifold, oriented, outward). Throws InputError.
+void prepare_input(SurfaceMesh& input, int* exponent);
+
+// Reads the input, scales it to unit size (its exponent goes to *exponent) and runs the cheap
+// checks (closed, manifold, oriented, outward). Self-intersections are left to TetGen, with a
+// check of the whole input when a piece fails. Throws InputError.
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent);
+
+// Every file the job will write (as far as known before the run): each format's and the report.
+std::vector<std::string> output_paths(const MeshJob& job);
+// Before any work: refuses an input path that names no readable surface file and output paths
+// that cannot be written or collide with each other or the input (OptionError: a usage error),
+// completes a publish a killed run left half done, and removes temporaries killed runs left.
+void check_outputs(const MeshJob& job);
+
+// Checks the result if asked (throws Error when the check fails) and writes the mesh files
+// under temporary names into `outputs` (published once every rank agrees).
+CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
+                            OutputSet& outputs);
+
+}  // namespace partet

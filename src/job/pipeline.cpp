@@ -1,0 +1,496 @@
+#include "job/pipeline.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "partet/errors.hpp"
+#include "common/log.hpp"
+#include "stages/merge.hpp"
+#include "stages/piece_cost.hpp"
+#include "stages/validate.hpp"
+#include "common/memory.hpp"
+#include "job/retry_plan.hpp"
+#include "common/test_hooks.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+// Results of pieces meshed in earlier attempts, by content: a piece identical to one already
+// meshed (same points and triangles in the same local order) reuses that result, so a retry
+// re-meshes only the pieces its moved planes changed. TetGen is deterministic, so the output
+// is the same either way.
+class ResultCache {
+ public:
+  std::optional<PieceTetMesh> find(const PieceSurface& piece) const {
+    auto hit = entries_.find(fingerprint(piece));
+    if (hit == entries_.end() || hit->second.points != piece.points || hit->second.triangles != piece.triangles)
+      return std::nullopt;
+    PieceTetMesh result = hit->second.result;
+    result.index = piece.index;
+    return result;
+  }
+  void keep(const PieceSurface& piece, PieceTetMesh&& result) {
+    entries_[fingerprint(piece)] = Entry{piece.points, piece.triangles, std::move(result)};
+  }
+  void clear() { decltype(entries_)().swap(entries_); }
+
+ private:
+  struct Entry {
+    std::vector<Point3> points;
+    std::vector<Triangle> triangles;
+    PieceTetMesh result;
+  };
+  // FNV-1a over the coordinates and triangles: a quick key (hits are confirmed by comparing).
+  static std::uint64_t fingerprint(const PieceSurface& piece) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](const void* data, std::size_t bytes) {
+      const auto* b = static_cast<const unsigned char*>(data);
+      for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
+    };
+    if (!piece.points.empty()) mix(piece.points.data(), piece.points.size() * sizeof(Point3));
+    if (!piece.triangles.empty()) mix(piece.triangles.data(), piece.triangles.size() * sizeof(Triangle));
+    return h;
+  }
+  std::unordered_map<std::uint64_t, Entry> entries_;
+};
+
+// The planes around piece p (p-1 below it, p above it) among piece_count pieces.
+void add_planes_around(int p, std::size_t piece_count, std::vector<int>& planes) {
+  if (p > 0) planes.push_back(p - 1);
+  if (static_cast<std::size_t>(p) + 1 < piece_count) planes.push_back(p);
+}
+
+// Partition and closure of one attempt, streamed: close() hands each piece on as soon as the caps
+// on both its sides exist.
+class ClosureStream {
+ public:
+  ClosureStream(const SurfaceMesh& input, const MeshOptions& options, PreparedPieces& prepared)
+      : input_(input), options_(options), prepared_(prepared) {}
+
+  // 1. Partition at the given planes (from choose_cut_planes).
+  void partition(std::vector<CutPlane> planes) {
+    prepared_.planes = std::move(planes);
+    if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
+      log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
+                   " distinct cut positions along the cut axis; using " + std::to_string(prepared_.planes.size() + 1) +
+                   " pieces instead of " + std::to_string(options_.pieces));
+    prepared_.split = split_at_planes(input_, prepared_.planes);
+  }
+
+  // 2. Closure, piece by piece; `ready` gets each piece as soon as it is closed.
+  template <class Ready>
+  void close(Ready ready) {
+    const int k = prepared_.split.piece_count;
+    CapBuilder builder(prepared_.split, prepared_.planes, options_.density);
+    PieceAssembler assembler(prepared_.split);
+    std::vector<Cap> caps(static_cast<std::size_t>(std::max(k - 1, 0)));
+    prepared_.pieces.clear();
+    prepared_.pieces.reserve(static_cast<std::size_t>(k));  // submitted pieces must not move
+    for (int p = 0; p < k; ++p) {
+      if (p + 1 < k) {
+        caps[p] = builder.build(p);
+        prepared_.cap_triangles += static_cast<std::int64_t>(caps[p].triangles.size());
+      }
+      prepared_.pieces.push_back(assembler.assemble(p, p > 0 ? &caps[p - 1] : nullptr, p + 1 < k ? &caps[p] : nullptr));
+      if (p > 0) std::vector<Triangle>().swap(caps[p - 1].triangles);  // both its pieces have it now
+      ready(prepared_.pieces.back());
+    }
+  }
+
+ private:
+  const SurfaceMesh& input_;
+  const MeshOptions& options_;
+  PreparedPieces& prepared_;
+};
+
+// One attempt's meshing: the pieces that did not fail, welded as they arrived, and the failures.
+struct MeshedAttempt {
+  Welder welder;
+  std::vector<std::optional<Failure>> failures;  // by piece
+  double weld_seconds = 0;                        // welding while other pieces were still meshed
+};
+
+// Meshes one attempt's pieces as they are closed and welds each result as it arrives. A closure
+// failure still ends the scheduler's round (other ranks are waiting in it) before it propagates;
+// so does a welding error, after the round.
+MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& options, std::vector<CutPlane> planes,
+                             double partition_start, PreparedPieces& prepared, const ResultCache& cache,
+                             PieceScheduler& scheduler, StageTimes* times) {
+  StageTimer timer(times, partition_start);
+  ClosureStream stream(input, options, prepared);
+  stream.partition(std::move(planes));
+  timer.lap("partition");
+  std::vector<PieceTetMesh> reused;  // results of earlier attempts
+  std::vector<int> submitted;        // the piece of each submission
+  scheduler.begin_round(options.tetgen);
+  try {
+    stream.close([&](const PieceSurface& piece) {
+      if (auto cached = cache.find(piece)) {
+        reused.push_back(std::move(*cached));
+      } else {
+        scheduler.submit(piece);
+        submitted.push_back(piece.index);
+      }
+      scheduler.progress();
+    });
+  } catch (...) {
+    scheduler.end_round_all();
+    throw;
+  }
+  timer.lap("closure");
+  MeshedAttempt attempt{Welder(prepared.split, prepared.pieces), std::vector<std::optional<Failure>>(prepared.pieces.size())};
+  std::exception_ptr weld_error;
+  auto take = [&](int piece, PieceOutcome&& outcome) {
+    if (outcome.failure) {
+      attempt.failures[piece] = outcome.failure;
+      return;
+    }
+    const double start = now_seconds();
+    try {
+      if (!weld_error) attempt.welder.add(std::move(outcome.result));
+    } catch (...) {
+      weld_error = std::current_exception();
+    }
+    attempt.weld_seconds += now_seconds() - start;
+  };
+  for (PieceTetMesh& result : reused) {
+    const int piece = result.index;
+    take(piece, PieceOutcome{std::move(result), std::nullopt});
+  }
+  scheduler.end_round([&](std::size_t position, PieceOutcome&& outcome) { take(submitted[position], std::move(outcome)); });
+  timer.lap("tetgen");
+  if (weld_error) std::rethrow_exception(weld_error);
+  return attempt;
+}
+
+// What makes a partition: the same planes, caps and tolerance give the same pieces and results.
+struct Cuts {
+  std::vector<CutPlane> planes;
+  double density;
+  std::string tolerance;
+  bool operator==(const Cuts& o) const {
+    if (planes.size() != o.planes.size() || density != o.density || tolerance != o.tolerance) return false;
+    for (std::size_t i = 0; i < planes.size(); ++i)
+      if (planes[i].normal != o.planes[i].normal || planes[i].offset != o.planes[i].offset) return false;
+    return true;
+  }
+};
+struct Partition {
+  Cuts cuts;
+  std::optional<AttemptFailure> failure;
+};
+
+// The whole input meshed as one piece, welded, with what made it.
+struct OnePieceMesh {
+  PreparedPieces prepared;
+  TetMesh mesh;
+  MeshOptions options;
+};
+
+// PARTET_INJECT_FAILURE=surface: the first piece fails as TetGen does on an input it cannot mesh
+// without points on its surface, naming its first whole input triangle.
+void inject_input_trouble(const PreparedPieces& prepared, std::vector<std::optional<Failure>>& failures) {
+  for (std::size_t t = 0; !failures.empty() && t < prepared.pieces[0].triangles.size(); ++t) {
+    const PieceSurface& piece = prepared.pieces[0];
+    const Triangle& local = piece.triangles[t];
+    if (std::any_of(local.begin(), local.end(), [&](std::int32_t v) {
+          return piece.global_ids[v] >= prepared.split.input_vertex_count;
+        }))
+      continue;
+    failures[0] = Failure(FailureKind::changed_boundary, 0, {},
+                          "injected: TetGen changed the surface (PARTET_INJECT_FAILURE=surface)",
+                          {static_cast<std::int32_t>(t)});
+    return;
+  }
+}
+
+// The input faces a piece's failure names, when every face it names is a whole input triangle
+// (no cut vertex, no cap point); empty otherwise.
+std::vector<std::int64_t> input_faces_named(const Failure& failure, const PreparedPieces& prepared,
+                                            const SurfaceMesh& input) {
+  if (failure.faces.empty() || failure.piece < 0 || static_cast<std::size_t>(failure.piece) >= prepared.pieces.size())
+    return {};
+  const PieceSurface& piece = prepared.pieces[failure.piece];
+  std::unordered_set<FaceKey, FaceKeyHash> wanted;
+  for (std::int32_t t : failure.faces) {
+    if (t < 0 || static_cast<std::size_t>(t) >= piece.triangles.size()) return {};
+    Triangle global;
+    for (int c = 0; c < 3; ++c) {
+      global[c] = piece.global_ids[piece.triangles[t][c]];
+      if (prepared.split.is_cut_vertex(global[c])) return {};
+    }
+    wanted.insert(FaceKey(global));
+  }
+  std::vector<std::int64_t> faces;
+  for (std::size_t f = 0; f < input.triangles.size(); ++f)
+    if (wanted.count(FaceKey(input.triangles[f]))) faces.push_back(static_cast<std::int64_t>(f));
+  return faces;
+}
+
+// Input vertices keep their order in the output; the ones no triangle uses are dropped.
+std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input) {
+  const std::vector<std::int32_t> new_id = compact_ids(used_vertices(input.points.size(), input.triangles));
+  std::vector<Triangle> faces;
+  faces.reserve(input.triangles.size());
+  for (const auto& t : input.triangles) faces.push_back({new_id[t[0]], new_id[t[1]], new_id[t[2]]});
+  return faces;
+}
+
+// With points on the surface: keeps the input triangles that are boundary faces as they are and
+// puts the other boundary faces (the parts of the split ones) after them.
+void add_split_faces(MeshResult& result) {
+  std::unordered_set<FaceKey, FaceKeyHash> boundary;
+  std::vector<Triangle> faces;
+  for (std::size_t t = 0; t < result.mesh.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j)
+      if (result.mesh.neighbours[t][j] < 0) {
+        faces.push_back(outward_face(result.mesh.tets[t], j));
+        boundary.insert(FaceKey(faces.back()));
+      }
+  std::unordered_set<FaceKey, FaceKeyHash> whole;
+  std::vector<Triangle> kept;
+  std::int32_t input_points = 0;
+  for (const Triangle& f : result.boundary_faces) {
+    for (std::int32_t v : f) input_points = std::max(input_points, v + 1);
+    if (boundary.count(FaceKey(f))) {
+      kept.push_back(f);
+      whole.insert(FaceKey(f));
+    }
+  }
+  result.split_input_faces = static_cast<std::int64_t>(result.boundary_faces.size() - kept.size());
+  result.split_faces_from = kept.size();
+  std::unordered_set<std::int32_t> added;
+  for (const Triangle& f : faces) {
+    if (whole.count(FaceKey(f))) continue;
+    kept.push_back(f);
+    for (std::int32_t v : f)
+      if (v >= input_points) added.insert(v);
+  }
+  result.surface_points_added = static_cast<std::int64_t>(added.size());
+  result.boundary_faces = std::move(kept);
+  if (result.split_input_faces == 0) result.split_faces_from = SIZE_MAX;
+}
+
+}  // namespace
+
+PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
+  StageTimer timer(times);
+  PreparedPieces prepared;
+  ClosureStream stream(input, options, prepared);
+  const std::vector<double> fractions =
+      options.balance == Balance::cost && options.pieces > 1
+          ? cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, options.density)
+          : std::vector<double>();
+  stream.partition(choose_cut_planes(input, options.pieces, options.axis, options.plane_shifts, fractions));
+  timer.lap("partition");
+  stream.close([](const PieceSurface&) {});
+  timer.lap("closure");
+  return prepared;
+}
+
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
+  StageTimer timer(times);
+  MeshResult result;
+  result.mesh = std::move(welded);
+  // The regions around the seams and the polish's neighbourhoods are meshed like pieces, on
+  // every rank.
+  auto mesh_regions = [&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+    scheduler.begin_round(tetgen);
+    for (const auto& region : regions) scheduler.submit(region);
+    return scheduler.end_round_all();
+  };
+  // Regions keep their surfaces whole, whatever the pieces were allowed.
+  TetgenOptions region_tetgen = options.tetgen;
+  region_tetgen.boundary_points = false;
+  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) { return mesh_regions(regions, region_tetgen); };
+  const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
+  result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
+  timer.lap("seam_healing");
+  if (polishes(options)) {
+    const PolishMesher polisher = [&](const std::vector<PieceSurface>& regions, const std::string& optimization) {
+      TetgenOptions tetgen = region_tetgen;
+      tetgen.optimization = optimization;
+      return mesh_regions(regions, tetgen);
+    };
+    result.polish = polish_poor_tets(result.mesh, PolishOptions(), polisher);
+    timer.lap("polish");
+  }
+  result.boundary_faces = input_in_output_numbering(input);
+  if (options.tetgen.boundary_points) add_split_faces(result);
+  result.cut_vertices_inserted = prepared.split.cut_vertex_count();
+  result.planes = prepared.planes;
+  result.cap_triangles = prepared.cap_triangles;
+  result.pieces = static_cast<int>(prepared.pieces.size());
+  result.axis = options.axis;
+  return result;
+}
+
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+                       const MeshOptions& options, StageTimes* times) {
+  StageTimer timer(times);
+  TetMesh welded = weld(prepared.split, prepared.pieces, std::move(results));
+  timer.lap("merge");
+  BatchScheduler here([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+    return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
+  });
+  return finish_mesh(input, prepared, std::move(welded), options, here, times);
+}
+
+std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner) {
+  std::vector<PieceOutcome> outcomes;
+  outcomes.reserve(pieces.size());
+  for (const auto& piece : pieces) outcomes.push_back(runner.mesh(piece));
+  return outcomes;
+}
+
+namespace {
+
+// The pipeline with recovery, every input triangle kept whole (see mesh_with_retries).
+MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                                  StageTimes* times) {
+  RetryPlan plan(input, options, available_memory_mb());
+  ResultCache cache;
+  bool input_checked = false;
+  std::optional<OnePieceMesh> one_piece;  // the input meshed as one piece by the diagnosis
+  std::optional<Partition> last;          // the partition that failed last
+  for (;;) {
+    if (plan.use_one_piece_mesh()) {
+      MeshResult result = finish_mesh(input, one_piece->prepared, std::move(one_piece->mesh), one_piece->options,
+                                      scheduler, times);
+      result.retries = plan.take_records();
+      return result;
+    }
+    const double partition_start = now_seconds();
+    const MeshOptions attempt_options = plan.options();
+    std::vector<CutPlane> planes = choose_cut_planes(input, attempt_options.pieces, attempt_options.axis,
+                                                     attempt_options.plane_shifts, plan.fractions());
+    if (plan.fewer_cuts_than_pieces(planes.size())) continue;
+    char density[32];
+    std::snprintf(density, sizeof density, "%g", attempt_options.density);
+    log::debug("attempt " + std::to_string(plan.attempt() + 1) + ": " + std::to_string(planes.size() + 1) +
+               " pieces along " + axis_name(attempt_options.axis) + ", cap density " + density);
+    const Cuts cuts{planes, attempt_options.density, attempt_options.tetgen.tolerance};
+    if (last && last->cuts == cuts && last->failure) {  // no plane could move: the same pieces again
+      plan.skip_repeat(*last->failure);
+      continue;
+    }
+    AttemptFailure failed;
+    try {
+      PreparedPieces prepared;
+      if (!plan.same_cuts_as_before()) cache.clear();
+      MeshedAttempt attempt =
+          close_and_mesh(input, attempt_options, std::move(planes), partition_start, prepared, cache, scheduler, times);
+      if (test_hooks::every_cut_fails(attempt.failures.size()))
+        for (std::size_t p = 0; p < attempt.failures.size(); ++p)
+          attempt.failures[p] = Failure{FailureKind::changed_boundary, static_cast<int>(p), {},
+                                        "injected: TetGen cannot recover a cap (PARTET_INJECT_FAILURE=cuts)"};
+      if (test_hooks::input_needs_surface_points()) inject_input_trouble(prepared, attempt.failures);
+      for (std::size_t p = 0; p < attempt.failures.size(); ++p) {
+        if (!attempt.failures[p]) continue;
+        if (failed.failure.message.empty()) {
+          failed.failure = *attempt.failures[p];
+          failed.input_faces = input_faces_named(failed.failure, prepared, input);
+        }
+        add_planes_around(static_cast<int>(p), attempt.failures.size(), failed.planes);
+      }
+      if (failed.failure.message.empty()) {
+        cache.clear();
+        StageTimer timer(times);
+        TetMesh welded = attempt.welder.finish();
+        timer.lap("merge");
+        if (plan.diagnosing()) {  // kept, in case the other partitions fail too
+          one_piece = OnePieceMesh{std::move(prepared), std::move(welded), attempt_options};
+          plan.diagnosis_passed();
+          last.reset();
+          continue;
+        }
+        MeshResult result = finish_mesh(input, prepared, std::move(welded), attempt_options, scheduler, times);
+        result.retries = plan.take_records();
+        result.merge_seconds_overlapped = attempt.weld_seconds;
+        return result;
+      }
+      for (std::size_t p = 0; p < attempt.failures.size(); ++p)  // the good results, for the next attempt
+        if (!attempt.failures[p]) cache.keep(prepared.pieces[p], attempt.welder.take_back(static_cast<int>(p)));
+    } catch (const InputError&) {
+      throw;
+    } catch (const OptionError&) {
+      throw;
+    } catch (const MeshingError& e) {
+      // From partition, closure, merge or seam healing; only the last knows its planes.
+      failed.failure = e.failure;
+      failed.planes = e.failure.planes;
+    } catch (const Error& e) {
+      failed.failure = Failure{FailureKind::other, -1, {}, e.what()};
+    }
+    // TetGen failing is often the input's fault (pieces are not checked for self-intersections
+    // or the nesting of shells before TetGen): check the whole input once (throws InputError
+    // naming input faces) before blaming the cuts.
+    if (failed.failure.kind != FailureKind::injected && !input_checked) {
+      check_no_self_intersections(input);
+      check_shell_nesting(input);
+      input_checked = true;
+    }
+    last = Partition{cuts, failed};
+    plan.next(failed);
+  }
+}
+
+// The input meshed as one piece, TetGen allowed points on its surface (its -p without -Y).
+MeshResult mesh_splitting_triangles(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                                    StageTimes* times) {
+  MeshOptions one_piece = options;
+  one_piece.pieces = 1;
+  one_piece.plane_shifts.clear();
+  one_piece.tetgen.boundary_points = true;
+  one_piece.tetgen.tolerance.clear();
+  PreparedPieces prepared;
+  MeshedAttempt attempt = close_and_mesh(input, one_piece, {}, now_seconds(), prepared, ResultCache(), scheduler, times);
+  if (attempt.failures.at(0)) {
+    Failure failure = *attempt.failures[0];
+    failure.piece = -1;
+    failure.message = "TetGen cannot mesh this input even with points allowed on its surface: " + failure.message;
+    throw InputMeshingError(failure);
+  }
+  StageTimer timer(times);
+  TetMesh welded = attempt.welder.finish();
+  timer.lap("merge");
+  return finish_mesh(input, prepared, std::move(welded), one_piece, scheduler, times);
+}
+
+}  // namespace
+
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                             StageTimes* times) {
+  try {
+    return mesh_keeping_triangles(input, options, scheduler, times);
+  } catch (const InputMeshingError& e) {
+    if (!options.allow_split_faces || !e.split_faces_may_help) throw;
+    log::warning(std::string(e.what()) + "; meshing it as one piece with points allowed on its surface");
+    MeshResult result = mesh_splitting_triangles(input, options, scheduler, times);
+    result.retries.push_back({0, e.what(), {}});
+    return result;
+  }
+}
+
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
+                             StageTimes* times) {
+  BatchScheduler scheduler(mesher);
+  return mesh_with_retries(input, options, scheduler, times);
+}
+
+MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
+  return mesh_with_retries(
+      input, options,
+      [&](const std::vector<PieceSurface>& pieces, const TetgenOptions& tetgen) {
+        return mesh_pieces_here(pieces, PieceRunner(tetgen, options.run));
+      },
+      times);
+}
+
+}  // namespace partet

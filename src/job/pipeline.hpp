@@ -1,0 +1,176 @@
+// The stages in order, on plain data. The MPI layer decides only where the pieces are meshed;
+// everything else here runs on rank 0.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "stages/closure.hpp"
+#include "partet/mesh_types.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece.hpp"
+#include "runner/piece_runner.hpp"
+#include "stages/polish.hpp"
+#include "stages/seam_healing.hpp"
+#include "common/stage_timer.hpp"
+#include "mesher/tetgen_mesher.hpp"
+
+namespace partet {
+
+// Seam healing: whether the caps' interior points are removed too (the cut vertices on input
+// edges always are). Automatic heals with a quality bound only: without one, TetGen's tets
+// inside a piece span it, the stars of the cap points reach across the pieces, and re-meshing
+// them costs more than meshing the pieces (bob.off refined to 2.74M faces, 16 pieces: 47 s of
+// healing against 58 s of meshing), while the cap points improve those tets.
+enum class Heal { automatic, on, off };
+
+// What the cut planes balance between the pieces.
+enum class Balance {
+  cost,      // equal estimated TetGen cost: triangles, caps included (piece_cost.hpp)
+  vertices,  // equal input vertex counts
+};
+
+struct MeshOptions {
+  int pieces = 2;
+  Balance balance = Balance::cost;
+  double density = 0.25;  // chosen by scripts/bench/density_sweep.sh: best AMIPS avg and max on every model tried
+  CutAxis axis = CutAxis::coordinate_near_pca;
+  std::vector<int> plane_shifts;  // per cut plane, see choose_cut_planes
+  int max_attempts = 40;          // partitions tried at most (see mesh_with_retries)
+  Heal heal = Heal::automatic;
+  bool polish = true;  // re-mesh the neighbourhoods of poor tets (with a quality bound only)
+  // When TetGen cannot mesh the input without putting points on its surface, accept a mesh (of
+  // the whole input as one piece) whose boundary splits some input triangles, instead of failing.
+  bool allow_split_faces = false;
+  TetgenOptions tetgen;
+  RunOptions run;
+};
+
+// Whether these options heal the seams (remove the caps' interior points).
+inline bool heals(const MeshOptions& options) {
+  return options.heal == Heal::on || (options.heal == Heal::automatic && !options.tetgen.quality.empty());
+}
+
+// Whether these options polish the poor tets: only with a quality bound, since without one
+// TetGen's tets are left as Delaunay made them on purpose and most are "poor".
+inline bool polishes(const MeshOptions& options) { return options.polish && !options.tetgen.quality.empty(); }
+
+// One attempt's partition and closure.
+struct PreparedPieces {
+  std::vector<CutPlane> planes;
+  SplitSurface split;  // also holds the cap points
+  std::vector<PieceSurface> pieces;
+  std::int64_t cap_triangles = 0;
+};
+
+// 1-2. Partition, surface closure and piece assembly, all at once (mesh_with_retries streams
+// the same steps instead, handing out each piece as soon as it is closed). The input must already
+// be validated.
+PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);
+
+// One cut-plane move after a failure.
+struct RetryRecord {
+  int attempt = 0;          // the attempt that failed (0 = first)
+  std::string reason;       // what failed
+  std::vector<int> planes;  // planes moved for the next attempt
+};
+
+struct MeshResult {
+  TetMesh mesh;
+  std::vector<CutPlane> planes;          // the cut planes used (around them: the seam zone)
+  // The boundary faces, outward, in output numbering: the input triangles; with split faces the
+  // whole input triangles first, then the parts of the split ones from split_faces_from on.
+  std::vector<Triangle> boundary_faces;
+  std::size_t split_faces_from = SIZE_MAX;  // SIZE_MAX: no input triangle was split
+  std::int64_t split_input_faces = 0;       // input triangles split by points on the surface
+  std::int64_t surface_points_added = 0;    // the points TetGen put on the surface to split them
+  SeamStats seam;
+  PolishStats polish;
+  std::int64_t cut_vertices_inserted = 0;
+  std::int64_t cap_triangles = 0;
+  int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)
+  CutAxis axis = CutAxis::coordinate_near_pca;  // the direction of the cuts that worked
+  std::vector<RetryRecord> retries;
+  double merge_seconds_overlapped = 0;  // welding done while the last pieces were being meshed
+};
+
+// 3. Where the pieces of an attempt are meshed: this process, or the ranks of an MPI job. The
+// pipeline submits each piece as soon as it is closed (so meshing overlaps the closure of the
+// next ones), calls progress() between its own steps, and takes each outcome as it arrives (so
+// welding overlaps the meshing of the last pieces).
+class PieceScheduler {
+ public:
+  virtual ~PieceScheduler() = default;
+  // A round meshes with these TetGen options (a retry may change them).
+  virtual void begin_round(const TetgenOptions& tetgen) = 0;
+  // The piece stays alive and unchanged until end_round returns.
+  virtual void submit(const PieceSurface& piece) = 0;
+  // Hands out work and takes in results without waiting.
+  virtual void progress() {}
+  // Waits for every submitted piece, handing each outcome to `arrived` as soon as it is in, with
+  // its position in submission order. Must not throw from arrived (the other ranks wait in the
+  // round).
+  using Arrived = std::function<void(std::size_t position, PieceOutcome&& outcome)>;
+  virtual void end_round(const Arrived& arrived) = 0;
+  // The same, returning the outcomes in submission order.
+  std::vector<PieceOutcome> end_round_all() {
+    std::vector<PieceOutcome> outcomes;
+    end_round([&](std::size_t position, PieceOutcome&& outcome) {
+      if (outcomes.size() <= position) outcomes.resize(position + 1);
+      outcomes[position] = std::move(outcome);
+    });
+    return outcomes;
+  }
+};
+
+// Meshes every piece with the runner, one after another.
+std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner);
+
+// Meshes a round's pieces all at once, at its end, with a function (tests, one process).
+using PieceMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&, const TetgenOptions&)>;
+class BatchScheduler : public PieceScheduler {
+ public:
+  explicit BatchScheduler(PieceMesher mesher) : mesher_(std::move(mesher)) {}
+  void begin_round(const TetgenOptions& tetgen) override { tetgen_ = tetgen; }
+  void submit(const PieceSurface& piece) override { pieces_.push_back(piece); }
+  void end_round(const Arrived& arrived) override {
+    std::vector<PieceOutcome> outcomes = mesher_(pieces_, tetgen_);
+    pieces_.clear();
+    for (std::size_t i = 0; i < outcomes.size(); ++i) arrived(i, std::move(outcomes[i]));
+  }
+
+ private:
+  PieceMesher mesher_;
+  TetgenOptions tetgen_;
+  std::vector<PieceSurface> pieces_;
+};
+
+// 5. Heal the seams of the welded mesh, the regions around them meshed by the scheduler (in
+// parallel).
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
+// 4-5. Weld the pieces' meshes (consumed: each is freed once welded; ordered by piece index) and
+// heal the seams, the regions meshed in this process, one after another.
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
+                       const MeshOptions& options, StageTimes* times = nullptr);
+
+// The whole pipeline with recovery: when a piece fails (a TetGen error or crash, a changed
+// boundary) the planes bounding it move to other vertex gaps and the job is redone; when the
+// cut-vertex removal fails, the planes of the failing region move; when partition or closure
+// fails, all planes move. Pieces unchanged by the moves keep their earlier result. When the cuts
+// keep failing, other directions are tried, then fewer pieces, then the whole input as one piece
+// (src/job/retry_plan.hpp has the order). When that fails too, or after max_attempts partitions, the
+// failure is thrown as MeshingError. Input and option errors are thrown at once. When TetGen alone
+// cannot mesh the input keeping its triangles whole and options.allow_split_faces is set, the
+// input is meshed as one piece with points allowed on its surface (MeshResult says how many
+// triangles that split).
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, PieceScheduler& scheduler,
+                             StageTimes* times = nullptr);
+MeshResult mesh_with_retries(const SurfaceMesh& input, const MeshOptions& options, const PieceMesher& mesher,
+                             StageTimes* times = nullptr);
+
+// The whole pipeline in one process (pieces meshed one after another).
+MeshResult mesh_surface(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);
+
+}  // namespace partet

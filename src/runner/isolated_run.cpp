@@ -1,0 +1,201 @@
+#include "runner/isolated_run.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/mman.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "partet/errors.hpp"
+#include "common/memory.hpp"
+#include "runner/interrupts.hpp"
+
+namespace partet {
+namespace {
+
+void limit_memory(double megabytes) {
+  const double limit = (virtual_size_mb() + megabytes) * 1024 * 1024;
+  rlimit r{};
+  r.rlim_cur = r.rlim_max = static_cast<rlim_t>(limit);
+  ::setrlimit(RLIMIT_AS, &r);
+}
+
+bool write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeout_seconds, double memory_limit_mb)
+    : timeout_seconds_(timeout_seconds),
+      deadline_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                       std::chrono::duration<double>(timeout_seconds))) {
+  int fds[2];
+  if (::pipe(fds) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  output_fd_ = ::memfd_create("partet-child-output", MFD_CLOEXEC);  // best effort: -1 means no capture
+  std::fflush(nullptr);
+  const pid_t parent = ::getpid();
+  child_ = ::fork();
+  if (child_ < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw Error(std::string("cannot fork: ") + std::strerror(errno));
+  }
+  if (child_ == 0) {
+    // The child dies with its parent: a killed rank must not leave TetGen running.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(4);
+    // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
+    ::close(fds[0]);
+    interrupts::reset_in_child();  // the parent's interrupt thread is not here; its files are not ours
+    // TetGen prints some findings (two facets intersect, with their ids) on stdout even when told
+    // to be quiet, and an assertion's text on stderr: they go where the parent can read them (a
+    // --quiet run must print nothing).
+    const int sink = output_fd_ >= 0 ? output_fd_ : ::open("/dev/null", O_WRONLY);
+    if (sink >= 0) {
+      ::dup2(sink, STDOUT_FILENO);
+      ::dup2(sink, STDERR_FILENO);
+    }
+    if (memory_limit_mb > 0) limit_memory(memory_limit_mb);
+    bool ok = false;
+    try {
+      // The size first, so the parent can reserve the whole result at once.
+      const std::string bytes = work();
+      const std::uint64_t size = bytes.size();
+      ok = write_all(fds[1], reinterpret_cast<const char*>(&size), sizeof size) &&
+           write_all(fds[1], bytes.data(), bytes.size());
+    } catch (...) {
+    }
+    ::close(fds[1]);
+    ::_exit(ok ? 0 : 3);
+  }
+  ::close(fds[1]);
+  fd_ = fds[0];
+  ::fcntl(fd_, F_SETPIPE_SZ, 1 << 20);  // fewer wake-ups for large results (best effort)
+}
+
+IsolatedRun::~IsolatedRun() {
+  if (end_ == ProcessEnd::running && child_ > 0) {
+    ::kill(child_, SIGKILL);
+    int status = 0;
+    while (::waitpid(child_, &status, 0) < 0 && errno == EINTR) {
+    }
+  }
+  if (fd_ >= 0) ::close(fd_);
+  if (output_fd_ >= 0) ::close(output_fd_);
+}
+
+std::string IsolatedRun::output() const {
+  if (output_fd_ < 0 || end_ == ProcessEnd::running) return "";
+  std::string text(64 * 1024, '\0');
+  const ssize_t n = ::pread(output_fd_, text.data(), text.size(), 0);
+  text.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+  return text;
+}
+
+bool IsolatedRun::poll(int wait_ms) {
+  if (end_ != ProcessEnd::running) return true;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
+  for (;;) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline_) {
+      finish(true);
+      return true;
+    }
+    // Rounded up: a timeout rounded down to 0 ms would make this loop spin until `until`.
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(std::min(until, deadline_) - now);
+    pollfd pfd{fd_, POLLIN, 0};
+    const int r = ::poll(&pfd, 1, static_cast<int>(std::max<long long>(0, left.count())));
+    if (r < 0 && errno == EINTR) continue;
+    if (r == 0) {
+      if (std::chrono::steady_clock::now() >= until) return false;
+      continue;
+    }
+    if (!read_available()) {  // end of file: the child has ended
+      finish(false);
+      return true;
+    }
+  }
+}
+
+bool IsolatedRun::read_available() {
+  constexpr std::size_t kHeader = sizeof(std::uint64_t);
+  char spare[4096];
+  char* target;
+  std::size_t room;
+  if (header_.size() < kHeader) {
+    target = spare;
+    room = kHeader - header_.size();
+  } else if (filled_ < received_.size()) {
+    target = received_.data() + filled_;
+    room = std::min<std::size_t>(received_.size() - filled_, std::size_t{1} << 20);
+  } else {
+    target = spare;  // everything announced has arrived: only the end of the pipe should follow
+    room = sizeof spare;
+  }
+  const ssize_t n = ::read(fd_, target, room);
+  if (n < 0 && errno == EINTR) return true;
+  if (n <= 0) return false;
+  if (header_.size() < kHeader) {
+    header_.append(spare, static_cast<std::size_t>(n));
+    if (header_.size() == kHeader) {
+      std::uint64_t size = 0;
+      std::memcpy(&size, header_.data(), kHeader);
+      received_.resize(size);
+    }
+  } else if (target == spare) {
+    overflow_ = true;  // more than announced: not a valid result
+  } else {
+    filled_ += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+void IsolatedRun::wait() {
+  while (!poll(1000)) {
+  }
+}
+
+void IsolatedRun::finish(bool timed_out) {
+  ::close(fd_);
+  fd_ = -1;
+  if (timed_out) ::kill(child_, SIGKILL);
+  int status = 0;
+  rusage usage{};
+  while (::wait4(child_, &status, 0, &usage) < 0 && errno == EINTR) {
+  }
+  peak_mb_ = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  if (timed_out) {
+    end_ = ProcessEnd::timed_out;
+  } else if (WIFSIGNALED(status)) {
+    end_ = ProcessEnd::crashed;
+    signal_ = WTERMSIG(status);
+  } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || header_.size() != sizeof(std::uint64_t) ||
+             filled_ != received_.size() || overflow_) {
+    end_ = ProcessEnd::no_result;
+  } else {
+    end_ = ProcessEnd::finished;
+    return;
+  }
+  received_.clear();
+  received_.shrink_to_fit();
+}
+
+}  // namespace partet

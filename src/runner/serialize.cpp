@@ -1,0 +1,233 @@
+#include "runner/serialize.hpp"
+
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/array_wrapper.hpp>
+#include <boost/serialization/string.hpp>
+#include <cstring>
+#include <streambuf>
+
+namespace partet {
+namespace {
+
+// Archives read from and write to memory directly: results can be hundreds of MB, and a
+// stringstream would copy them once more.
+class ReadBuffer : public std::streambuf {
+ public:
+  explicit ReadBuffer(std::string_view bytes) {
+    char* begin = const_cast<char*>(bytes.data());
+    setg(begin, begin, begin + bytes.size());
+  }
+};
+
+class WriteBuffer : public std::streambuf {
+ public:
+  std::string bytes;
+
+ protected:
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    bytes.append(s, static_cast<std::size_t>(n));
+    return n;
+  }
+  int_type overflow(int_type c) override {
+    if (!traits_type::eq_int_type(c, traits_type::eof())) bytes.push_back(traits_type::to_char_type(c));
+    return traits_type::not_eof(c);
+  }
+};
+
+// Flat vectors of fixed-size arrays go through as one contiguous block each.
+template <class Archive, class T, std::size_t N>
+void save_block(Archive& ar, const std::vector<std::array<T, N>>& v) {
+  std::uint64_t n = v.size();
+  ar << n;
+  if (n) ar << boost::serialization::make_array(v.front().data(), n * N);
+}
+template <class Archive, class T, std::size_t N>
+void load_block(Archive& ar, std::vector<std::array<T, N>>& v) {
+  std::uint64_t n = 0;
+  ar >> n;
+  v.resize(n);
+  if (n) ar >> boost::serialization::make_array(v.front().data(), n * N);
+}
+template <class Archive, class T>
+void save_block(Archive& ar, const std::vector<T>& v) {
+  std::uint64_t n = v.size();
+  ar << n;
+  if (n) ar << boost::serialization::make_array(v.data(), n);
+}
+template <class Archive, class T>
+void load_block(Archive& ar, std::vector<T>& v) {
+  std::uint64_t n = 0;
+  ar >> n;
+  v.resize(n);
+  if (n) ar >> boost::serialization::make_array(v.data(), n);
+}
+
+constexpr unsigned kArchiveFlags = boost::archive::no_header;
+
+// Runs save(archive) into a string reserved for `expected` bytes.
+template <class Save>
+std::string encode(std::size_t expected, Save save, std::string_view prefix = {}) {
+  WriteBuffer buffer;
+  buffer.bytes.reserve(expected + prefix.size());
+  buffer.bytes.append(prefix);
+  {
+    boost::archive::binary_oarchive ar(buffer, kArchiveFlags);
+    save(ar);
+  }
+  return std::move(buffer.bytes);
+}
+
+template <class T, class Load>
+T decode(std::string_view bytes, Load load) {
+  ReadBuffer buffer(bytes);
+  boost::archive::binary_iarchive ar(buffer, kArchiveFlags);
+  T value;
+  load(ar, value);
+  return value;
+}
+
+}  // namespace
+
+namespace {
+
+template <class Archive>
+void save_piece(Archive& ar, const PieceSurface& piece) {
+  std::int32_t index = piece.index;
+  ar << index;
+  save_block(ar, piece.global_ids);
+  save_block(ar, piece.points);
+  save_block(ar, piece.triangles);
+}
+
+template <class Archive>
+void load_piece(Archive& ar, PieceSurface& piece) {
+  std::int32_t index = 0;
+  ar >> index;
+  piece.index = index;
+  load_block(ar, piece.global_ids);
+  load_block(ar, piece.points);
+  load_block(ar, piece.triangles);
+}
+
+std::size_t piece_bytes(const PieceSurface& piece) {
+  return 64 + piece.global_ids.size() * 4 + piece.points.size() * 24 + piece.triangles.size() * 12;
+}
+
+}  // namespace
+
+std::string serialize_piece(const PieceSurface& piece) {
+  return encode(piece_bytes(piece), [&](auto& ar) { save_piece(ar, piece); });
+}
+
+PieceSurface deserialize_piece(std::string_view bytes) {
+  return decode<PieceSurface>(bytes, [](auto& ar, PieceSurface& piece) { load_piece(ar, piece); });
+}
+
+std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
+  const std::size_t bytes = piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
+  return encode(bytes, [&](auto& ar) {
+    save_piece(ar, piece);
+    const std::int32_t seam_region = piece.seam_region ? 1 : 0, boundary_points = tetgen.boundary_points ? 1 : 0;
+    ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region << boundary_points;
+  });
+}
+
+PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
+  return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
+    load_piece(ar, piece);
+    std::int32_t seam_region = 0, boundary_points = 0;
+    ar >> tetgen.quality >> tetgen.tolerance >> tetgen.optimization >> seam_region >> boundary_points;
+    piece.seam_region = seam_region != 0;
+    tetgen.boundary_points = boundary_points != 0;
+  });
+}
+
+namespace {
+
+std::string encode_result(const PieceTetMesh& result, std::string_view prefix) {
+  const std::size_t expected = 64 + result.mesh.steiner_points.size() * 24 + result.mesh.tets.size() * 32;
+  return encode(
+      expected,
+      [&](auto& ar) {
+        std::int32_t index = result.index, count = result.surface_point_count;
+        ar << index << count;
+        save_block(ar, result.mesh.steiner_points);
+        save_block(ar, result.mesh.tets);
+        save_block(ar, result.mesh.neighbours);
+      },
+      prefix);
+}
+
+std::string encode_failure(const Failure& failure, std::string_view prefix) {
+  return encode(
+      64 + failure.message.size(),
+      [&](auto& ar) {
+        std::int32_t kind = static_cast<std::int32_t>(failure.kind), piece = failure.piece;
+        std::vector<std::int32_t> planes(failure.planes.begin(), failure.planes.end());
+        ar << kind << piece;
+        save_block(ar, planes);
+        ar << failure.message;
+        save_block(ar, failure.faces);
+      },
+      prefix);
+}
+
+constexpr char kResultTag = 'R', kFailureTag = 'F';
+
+}  // namespace
+
+std::string serialize_result(const PieceTetMesh& result) { return encode_result(result, {}); }
+
+PieceTetMesh deserialize_result(std::string_view bytes) {
+  return decode<PieceTetMesh>(bytes, [](auto& ar, PieceTetMesh& result) {
+    std::int32_t index = 0, count = 0;
+    ar >> index >> count;
+    result.index = index;
+    result.surface_point_count = count;
+    load_block(ar, result.mesh.steiner_points);
+    load_block(ar, result.mesh.tets);
+    load_block(ar, result.mesh.neighbours);
+  });
+}
+
+std::string serialize_failure(const Failure& failure) { return encode_failure(failure, {}); }
+
+Failure deserialize_failure(std::string_view bytes) {
+  return decode<Failure>(bytes, [](auto& ar, Failure& failure) {
+    std::int32_t kind = 0, piece = 0;
+    std::vector<std::int32_t> planes;
+    ar >> kind >> piece;
+    load_block(ar, planes);
+    ar >> failure.message;
+    load_block(ar, failure.faces);
+    failure.kind = static_cast<FailureKind>(kind);
+    failure.piece = piece;
+    failure.planes.assign(planes.begin(), planes.end());
+  });
+}
+
+std::string serialize_outcome(const PieceOutcome& outcome) {
+  char prefix[1 + 2 * sizeof(double)];
+  prefix[0] = outcome.failure ? kFailureTag : kResultTag;
+  std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
+  std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
+  const std::string_view head(prefix, sizeof prefix);
+  return outcome.failure ? encode_failure(*outcome.failure, head) : encode_result(outcome.result, head);
+}
+
+PieceOutcome deserialize_outcome(std::string_view bytes) {
+  constexpr std::size_t kHead = 1 + 2 * sizeof(double);
+  if (bytes.size() < kHead || (bytes[0] != kResultTag && bytes[0] != kFailureTag))
+    throw InternalError("a meshing reply has no valid tag");
+  PieceOutcome outcome;
+  std::memcpy(&outcome.seconds, bytes.data() + 1, sizeof(double));
+  std::memcpy(&outcome.memory_mb, bytes.data() + 1 + sizeof(double), sizeof(double));
+  if (bytes[0] == kResultTag)
+    outcome.result = deserialize_result(bytes.substr(kHead));
+  else
+    outcome.failure = deserialize_failure(bytes.substr(kHead));
+  return outcome;
+}
+
+}  // namespace partet

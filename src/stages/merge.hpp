@@ -1,0 +1,48 @@
+// Merge: weld the pieces' tet meshes at the caps into one mesh with global numbering.
+#pragma once
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+#include "stages/piece.hpp"
+
+namespace partet {
+
+// Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
+// meshing of the last pieces. The mesh's points are the split surface's (input, cut and cap
+// points), then each piece's Steiner points in piece order; tets follow in piece order. Cap
+// vertices are welded by id, never by coordinates; neighbours across caps are restored by
+// matching the open faces that can lie on a cap (those without an input vertex).
+class Welder {
+ public:
+  // Both must outlive the welder; the pieces are ordered by index.
+  Welder(const SplitSurface& split, const std::vector<PieceSurface>& pieces);
+
+  // Renumbers a piece's mesh into global vertex ids (its Steiner points provisionally: they
+  // are numbered after all earlier pieces' at the end) and frees its arrays. Throws
+  // InternalError when it does not match its piece or arrives twice.
+  void add(PieceTetMesh&& result);
+  bool has(int piece) const;
+  // Gives a piece's mesh back in its local numbering (a retry keeps the pieces it does not change).
+  PieceTetMesh take_back(int piece);
+
+  // Once every piece is in: the welded mesh (the welder is then empty).
+  TetMesh finish();
+
+ private:
+  struct Block {
+    bool in = false;
+    std::vector<Point3> steiner_points;
+    std::vector<Tet> tets;        // global ids; Steiner point s of the piece is first_steiner_ + s
+    std::vector<Tet> neighbours;  // local tet ids
+  };
+  const SplitSurface& split_;
+  const std::vector<PieceSurface>& pieces_;
+  std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point
+  std::vector<Block> blocks_;
+};
+
+// All at once: results ordered by piece index. Each piece's arrays are freed as soon as they
+// are welded.
+TetMesh weld(const SplitSurface& split, const std::vector<PieceSurface>& pieces, std::vector<PieceTetMesh>&& results);
+
+}  // namespace partet

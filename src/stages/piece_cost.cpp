@@ -1,0 +1,171 @@
+#include "stages/piece_cost.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "stages/geometry.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+double centroid(const std::vector<double>& proj, const Triangle& t) { return (proj[t[0]] + proj[t[1]] + proj[t[2]]) / 3; }
+
+// Each edge of a closed oriented surface once: where it runs from the lower id to the higher
+// (it runs the other way in its other triangle).
+template <class F>
+void for_each_edge(const Triangle& t, F f) {
+  for (int e = 0; e < 3; ++e)
+    if (t[e] < t[(e + 1) % 3]) f(t[e], t[(e + 1) % 3]);
+}
+
+// The input along the cut axis: where its triangles, edges and vertices lie.
+class AxisProfile {
+ public:
+  AxisProfile(const SurfaceMesh& surface, const Point3& axis) {
+    const std::vector<char> used = used_vertices(surface.points.size(), surface.triangles);
+    std::vector<double> proj(surface.points.size());
+    for (std::size_t i = 0; i < surface.points.size(); ++i) {
+      proj[i] = dot(axis, surface.points[i]);
+      if (used[i]) vertices_.push_back(proj[i]);
+    }
+    for (const Triangle& t : surface.triangles) {
+      centroids_.push_back(centroid(proj, t));
+      for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
+        edge_low_.push_back(std::min(proj[a], proj[b]));
+        edge_high_.push_back(std::max(proj[a], proj[b]));
+      });
+    }
+    for (auto* v : {&vertices_, &centroids_, &edge_low_, &edge_high_}) std::sort(v->begin(), v->end());
+  }
+
+  double triangles() const { return static_cast<double>(centroids_.size()); }
+  double triangles_below(double x) const { return count_below(centroids_, x); }
+  // Input edges a plane at x crosses (low < x <= high).
+  double crossings(double x) const { return count_below(edge_low_, x) - count_below(edge_high_, x); }
+  // The position with `count` triangle centroids below it (between two centroids).
+  double position_of(double count) const {
+    const auto m = centroids_.size();
+    const auto r = static_cast<std::size_t>(std::clamp(std::round(count), 1.0, static_cast<double>(m - 1)));
+    return (centroids_[r - 1] + centroids_[r]) / 2;
+  }
+  double vertex_fraction_below(double x) const {
+    return count_below(vertices_, x) / static_cast<double>(vertices_.size());
+  }
+  double vertex_quantile(double fraction) const {
+    const auto n = vertices_.size();
+    const auto r = static_cast<std::size_t>(std::clamp(std::round(fraction * static_cast<double>(n)), 1.0,
+                                                       static_cast<double>(n - 1)));
+    return (vertices_[r - 1] + vertices_[r]) / 2;
+  }
+  bool usable(int k) const { return vertices_.size() > static_cast<std::size_t>(k) && centroids_.size() > 2; }
+
+ private:
+  static double count_below(const std::vector<double>& sorted, double x) {
+    return static_cast<double>(std::lower_bound(sorted.begin(), sorted.end(), x) - sorted.begin());
+  }
+  std::vector<double> vertices_, centroids_, edge_low_, edge_high_;
+};
+
+// Cost of each piece between consecutive positions.
+std::vector<double> piece_costs(const AxisProfile& profile, const std::vector<double>& positions, double per_crossing) {
+  std::vector<double> cost;
+  double below = 0;
+  for (std::size_t j = 0; j <= positions.size(); ++j) {
+    const double upto = j < positions.size() ? profile.triangles_below(positions[j]) : profile.triangles();
+    cost.push_back(upto - below);
+    below = upto;
+  }
+  for (std::size_t j = 0; j < positions.size(); ++j) {
+    const double sides = per_crossing * profile.crossings(positions[j]);
+    cost[j] += sides;
+    cost[j + 1] += sides;
+  }
+  return cost;
+}
+
+// One step: with the caps measured at the current positions, the positions that make every
+// piece's input share plus its caps equal. Empty when a piece's caps alone exceed most of it.
+std::vector<double> equalized(const AxisProfile& profile, const std::vector<double>& positions, double per_crossing) {
+  const std::size_t k = positions.size() + 1;
+  std::vector<double> cap(k + 1, 0);  // cap[j + 1]: what plane j adds to each side
+  double total = profile.triangles();
+  for (std::size_t j = 0; j < positions.size(); ++j) {
+    cap[j + 1] = per_crossing * profile.crossings(positions[j]);
+    total += 2 * cap[j + 1];
+  }
+  const double each = total / static_cast<double>(k);
+  std::vector<double> next;
+  double below = 0;
+  for (std::size_t i = 0; i + 1 < k; ++i) {
+    const double share = each - cap[i] - cap[i + 1];
+    if (share < 0.1 * each) return {};
+    below += share;
+    next.push_back(profile.position_of(below));
+  }
+  return next;
+}
+
+}  // namespace
+
+double triangles_per_crossing(double density) { return 2 + 8 * std::max(density, 0.0); }
+
+std::vector<double> estimated_piece_costs(const SurfaceMesh& surface, const std::vector<CutPlane>& planes,
+                                          double density) {
+  // One pass, no sorting (a report asks for this at the end of a run): counted exactly as
+  // AxisProfile counts at the planes' offsets.
+  std::vector<double> offsets;
+  for (const CutPlane& p : planes) offsets.push_back(p.offset);
+  const Point3 axis = planes.empty() ? Point3{1, 0, 0} : planes.front().normal;
+  std::vector<double> proj(surface.points.size());
+  for (std::size_t i = 0; i < proj.size(); ++i) proj[i] = dot(axis, surface.points[i]);
+  std::vector<double> cost(planes.size() + 1, 0), crossings(planes.size(), 0);
+  for (const Triangle& t : surface.triangles) {
+    cost[std::upper_bound(offsets.begin(), offsets.end(), centroid(proj, t)) - offsets.begin()] += 1;
+    for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
+      const auto [low, high] = std::minmax(proj[a], proj[b]);
+      for (auto j = std::upper_bound(offsets.begin(), offsets.end(), low);
+           j != offsets.end() && *j <= high; ++j)
+        crossings[j - offsets.begin()] += 1;
+    });
+  }
+  const double per_crossing = triangles_per_crossing(density);
+  for (std::size_t j = 0; j < planes.size(); ++j) {
+    cost[j] += per_crossing * crossings[j];
+    cost[j + 1] += per_crossing * crossings[j];
+  }
+  return cost;
+}
+
+std::vector<double> cost_balanced_fractions(const SurfaceMesh& surface, const Point3& axis, int k, double density) {
+  if (k < 2) return {};
+  const AxisProfile profile(surface, axis);
+  if (!profile.usable(k)) return {};
+  const double per_crossing = triangles_per_crossing(density);
+  auto largest_ratio = [&](const std::vector<double>& positions) {
+    const std::vector<double> cost = piece_costs(profile, positions, per_crossing);
+    double sum = 0;
+    for (double c : cost) sum += c;
+    return *std::max_element(cost.begin(), cost.end()) * static_cast<double>(cost.size()) / sum;
+  };
+  // From the equal split of the vertices, a few steps (the caps change where the planes move),
+  // keeping the best estimate.
+  std::vector<double> positions;
+  for (int j = 1; j < k; ++j) positions.push_back(profile.vertex_quantile(static_cast<double>(j) / k));
+  std::vector<double> best = positions;
+  double best_ratio = largest_ratio(positions);
+  for (int step = 0; step < 4; ++step) {
+    positions = equalized(profile, positions, per_crossing);
+    if (positions.empty()) break;
+    const double ratio = largest_ratio(positions);
+    if (ratio < best_ratio) best = positions, best_ratio = ratio;
+  }
+  std::vector<double> fractions;
+  for (double x : best) fractions.push_back(profile.vertex_fraction_below(x));
+  // choose_cut_planes needs increasing fractions inside (0, 1).
+  for (std::size_t j = 0; j < fractions.size(); ++j)
+    if (!(fractions[j] > 0 && fractions[j] < 1) || (j > 0 && !(fractions[j] > fractions[j - 1]))) return {};
+  return fractions;
+}
+
+}  // namespace partet

@@ -1,0 +1,186 @@
+#include "stages/quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "stages/geometry.hpp"
+
+namespace partet {
+namespace {
+
+// The measures of one tet.
+struct TetMeasures {
+  double amips;
+  double largest_cos, smallest_cos;  // of its dihedral angles (the smallest angle has the largest)
+  double cos[6];                     // every dihedral angle's cosine
+  bool degenerate;                   // a face without area: angles undefined
+  double radius_edge;
+};
+
+double signed_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  return dot(sub(b, a), cross(sub(c, a), sub(d, a)));
+}
+
+// Dihedral angles from consistently oriented face normals: the angle at the edge shared by faces
+// i and j is pi minus the angle between their normals.
+void dihedral_cosines(const Point3* p[4], TetMeasures& m) {
+  Point3 normal[4];
+  double length[4];
+  for (int j = 0; j < 4; ++j) {
+    const Triangle f = outward_face(Tet{0, 1, 2, 3}, j);
+    normal[j] = cross(sub(*p[f[1]], *p[f[0]]), sub(*p[f[2]], *p[f[0]]));
+    length[j] = norm(normal[j]);
+  }
+  m.largest_cos = -1;
+  m.smallest_cos = 1;
+  m.degenerate = false;
+  int k = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j, ++k) {
+      if (!(length[i] > 0 && length[j] > 0)) {
+        m.degenerate = true;
+        m.cos[k] = 1;
+        continue;
+      }
+      m.cos[k] = std::clamp(-dot(normal[i], normal[j]) / (length[i] * length[j]), -1.0, 1.0);
+      m.largest_cos = std::max(m.largest_cos, m.cos[k]);
+      m.smallest_cos = std::min(m.smallest_cos, m.cos[k]);
+    }
+  // A face without area has no defined angles: count it as both extremes.
+  if (m.degenerate) m.largest_cos = 1, m.smallest_cos = -1;
+}
+
+// Circumradius over the shortest edge.
+double radius_edge_ratio(const Point3* p[4]) {
+  const Point3 a = sub(*p[1], *p[0]), b = sub(*p[2], *p[0]), c = sub(*p[3], *p[0]);
+  const double det = 2 * dot(a, cross(b, c));
+  if (det == 0) return std::numeric_limits<double>::infinity();
+  Point3 center = cross(b, c);
+  for (int i = 0; i < 3; ++i) center[i] *= dot(a, a);
+  const Point3 cb = cross(c, a), ab = cross(a, b);
+  for (int i = 0; i < 3; ++i) center[i] = (center[i] + cb[i] * dot(b, b) + ab[i] * dot(c, c)) / det;
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, distance(*p[i], *p[j]));
+  return norm(center) / shortest;
+}
+
+TetMeasures measure(const TetMesh& mesh, const Tet& t) {
+  const Point3* p[4] = {&mesh.points[t[0]], &mesh.points[t[1]], &mesh.points[t[2]], &mesh.points[t[3]]};
+  TetMeasures m{};
+  m.amips = amips_energy(*p[0], *p[1], *p[2], *p[3]);
+  dihedral_cosines(p, m);
+  m.radius_edge = radius_edge_ratio(p);
+  return m;
+}
+
+// Bins by cosine (decreasing with the angle), without an acos per angle.
+void add_to_histogram(const TetMeasures& m, MeshQuality& q) {
+  static const auto kBinCos = [] {
+    std::array<double, kDihedralBins.size()> c{};
+    for (std::size_t i = 0; i < c.size(); ++i) c[i] = std::cos(kDihedralBins[i] * kPi / 180);
+    return c;
+  }();
+  for (double c : m.cos) {
+    std::size_t bin = 0;
+    while (bin + 1 < kBinCos.size() && c <= kBinCos[bin]) ++bin;
+    ++q.dihedral_histogram[bin];
+  }
+}
+
+}  // namespace
+
+double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  // J = M * W^-1, with M = [b-a, c-a, d-a] and W the same matrix for the unit regular tet
+  // a=0, b=(1,0,0), c=(1/2, sqrt3/2, 0), d=(1/2, sqrt3/6, sqrt(2/3)). W^-1 is upper triangular:
+  //   [1, -1/sqrt3, -1/sqrt6; 0, 2/sqrt3, -1/sqrt6; 0, 0, sqrt(3/2)]
+  // so J's columns are m0, (2 m1 - m0)/sqrt3, (3 m2 - m0 - m1)/sqrt6, and det J = sqrt2 det M.
+  static const double kInvSqrt3 = 1 / std::sqrt(3.0), kInvSqrt6 = 1 / std::sqrt(6.0), kSqrt2 = std::sqrt(2.0);
+  const Point3 m0 = sub(b, a), m1 = sub(c, a), m2 = sub(d, a);
+  const double det_m = signed_volume6(a, b, c, d);
+  if (!(det_m > 0)) return std::numeric_limits<double>::infinity();
+  double trace = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double j0 = m0[k];
+    const double j1 = (2 * m1[k] - m0[k]) * kInvSqrt3;
+    const double j2 = (3 * m2[k] - m0[k] - m1[k]) * kInvSqrt6;
+    trace += j0 * j0 + j1 * j1 + j2 * j2;
+  }
+  const double det_j = kSqrt2 * det_m;
+  return trace / std::cbrt(det_j * det_j);
+}
+
+TetShape tet_shape(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  const Point3* p[4] = {&a, &b, &c, &d};
+  TetMeasures m{};
+  dihedral_cosines(p, m);
+  return {amips_energy(a, b, c, d), std::acos(m.largest_cos) * 180 / kPi};
+}
+
+double amips_lower_bound(double dihedral_deg) {
+  if (!(dihedral_deg > 0)) return std::numeric_limits<double>::infinity();
+  const double half_regular = std::atan(std::sqrt(0.5));  // half of acos(1/3), the regular tet's angle
+  const double k = std::tan(half_regular) / std::tan(std::min(dihedral_deg, 70.0) * kPi / 360);
+  return 1.5 * std::cbrt(2.0) * std::pow((k * k + 1) / k, 2.0 / 3.0);
+}
+
+MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size_t)>& include) {
+  static const double kCos5 = std::cos(5 * kPi / 180), kCos175 = std::cos(175 * kPi / 180);
+  MeshQuality q;
+  long double amips_sum = 0, radius_edge_sum = 0;
+  double largest_cos = -1, smallest_cos = 1;
+  std::vector<float> amips;  // for the 99th percentile
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (include && !include(t)) continue;
+    const TetMeasures m = measure(mesh, mesh.tets[t]);
+    ++q.tets;
+    amips_sum += m.amips;
+    amips.push_back(static_cast<float>(std::min(m.amips, 3.0e38)));
+    q.amips_max = std::max(q.amips_max, m.amips);
+    largest_cos = std::max(largest_cos, m.largest_cos);
+    smallest_cos = std::min(smallest_cos, m.smallest_cos);
+    if (m.largest_cos > kCos5) ++q.below_5deg;
+    if (m.smallest_cos < kCos175) ++q.above_175deg;
+    radius_edge_sum += m.radius_edge;
+    q.radius_edge_max = std::max(q.radius_edge_max, m.radius_edge);
+    if (m.radius_edge > 2) ++q.radius_edge_above_2;
+    add_to_histogram(m, q);
+  }
+  if (q.tets == 0) return q;
+  q.amips_avg = static_cast<double>(amips_sum / q.tets);
+  q.radius_edge_avg = static_cast<double>(radius_edge_sum / q.tets);
+  const std::size_t rank99 = static_cast<std::size_t>(0.99 * static_cast<double>(amips.size() - 1));
+  std::nth_element(amips.begin(), amips.begin() + static_cast<long>(rank99), amips.end());
+  q.amips_p99 = amips[rank99];
+  q.min_dihedral_deg = std::acos(largest_cos) * 180 / kPi;
+  q.max_dihedral_deg = std::acos(smallest_cos) * 180 / kPi;
+  return q;
+}
+
+std::vector<char> seam_zone(const TetMesh& mesh, const std::vector<CutPlane>& planes) {
+  std::vector<char> zone(mesh.tets.size(), 0);
+  if (planes.empty()) return zone;
+  const Point3& n = planes.front().normal;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (auto v : mesh.tets[t]) {
+      const double x = dot(n, mesh.points[v]);
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    // Planes are sorted by offset: is one in [lo, hi]?
+    auto it = std::lower_bound(planes.begin(), planes.end(), lo,
+                               [](const CutPlane& plane, double x) { return plane.offset < x; });
+    zone[t] = it != planes.end() && it->offset <= hi;
+  }
+  return zone;
+}
+
+ZoneQuality zone_quality(const TetMesh& mesh, const std::vector<CutPlane>& planes) {
+  const std::vector<char> zone = seam_zone(mesh, planes);
+  return {mesh_quality(mesh, [&](std::size_t t) { return zone[t] != 0; }),
+          mesh_quality(mesh, [&](std::size_t t) { return zone[t] == 0; })};
+}
+
+}  // namespace partet

@@ -1,0 +1,395 @@
+#include "stages/seam_healing.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <unordered_map>
+
+#include "partet/errors.hpp"
+#include "common/log.hpp"
+#include "common/stage_timer.hpp"
+#include "stages/seam_rounds.hpp"
+#include "stages/tet_region.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+// The vertices seam healing removes, ids [first, end) of the merged mesh: the cut vertices
+// [first, first_cap), then (when healing) the caps' interior points. A round takes those
+// selected for it.
+struct Removed {
+  std::int32_t first, first_cap, end;
+  const SplitSurface& split;
+  const std::vector<char>* selected = nullptr;  // by v - first; all when null
+  bool in_round(std::int32_t v) const { return !selected || (*selected)[v - first]; }
+  bool contains(std::int32_t v) const { return v >= first && v < end && in_round(v); }
+  bool is_cut_vertex(std::int32_t v) const { return v >= first && v < first_cap && in_round(v); }
+  bool touches(const Triangle& f) const { return is_cut_vertex(f[0]) || is_cut_vertex(f[1]) || is_cut_vertex(f[2]); }
+  int plane_of(std::int32_t v) const {
+    return v < first_cap ? split.cut_vertex_plane[v - first] : split.cap_point_plane[v - first_cap];
+  }
+  std::size_t size() const { return static_cast<std::size_t>(end - first); }
+};
+
+using FragmentParents = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
+
+// Each split fragment of an input triangle (a triangle with a cut vertex), by its input triangle.
+FragmentParents fragment_parents(const SplitSurface& split) {
+  FragmentParents parent;
+  for (std::size_t t = 0; t < split.triangles.size(); ++t)
+    for (auto v : split.triangles[t])
+      if (split.is_cut_vertex(v)) {
+        parent.emplace(FaceKey(split.triangles[t]), split.parent[t]);
+        break;
+      }
+  return parent;
+}
+
+// One connected part of the region: the closed surface around it and its new tets.
+struct Part {
+  std::vector<Triangle> faces;        // its boundary, global ids
+  std::vector<std::int32_t> parents;  // input triangles replacing its boundary fragments
+  std::vector<int> planes;            // cut planes of its cut vertices
+  RegionMesh remeshed;
+};
+
+// Splits the region into parts, numbered in tet order. Removed vertices that share a tet are in
+// one part (a vertex's whole star must be re-meshed at once); tets without a removed vertex join
+// the part of a neighbour. Tets of different cuts that merely touch stay in different parts (with
+// the faces between them fixed), so a solid whose interior tets span two cuts still heals as
+// several regions, on several ranks. Returns the number of parts.
+std::int32_t label_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
+                         const std::vector<char>& in_region, const Removed& removed,
+                         std::vector<std::int32_t>& part_of) {
+  DisjointSets sets(removed.first, removed.size());
+  for (auto t : region) {
+    std::int32_t first = -1;
+    for (auto v : mesh.tets[t])
+      if (removed.contains(v)) {
+        if (first < 0)
+          first = v;
+        else
+          sets.join(v, first);
+      }
+  }
+  // Parts of the tets with removed vertices, then the others by breadth-first search.
+  part_of.assign(mesh.tets.size(), -1);
+  std::vector<std::int32_t> number(sets.size(), -1), frontier;
+  std::int32_t count = 0;
+  for (auto t : region)
+    for (auto v : mesh.tets[t])
+      if (removed.contains(v)) {
+        std::int32_t& n = number[sets.find(v)];
+        if (n < 0) n = count++;
+        part_of[t] = n;
+        frontier.push_back(t);
+        break;
+      }
+  for (std::size_t i = 0; i < frontier.size(); ++i)
+    for (auto nb : mesh.neighbours[frontier[i]])
+      if (nb >= 0 && in_region[nb] && part_of[nb] < 0) {
+        part_of[nb] = part_of[frontier[i]];
+        frontier.push_back(nb);
+      }
+  if (frontier.size() != region.size()) throw InternalError("seam healing: a region tet reaches no removed vertex");
+  return count;
+}
+
+// Collects each part's boundary: faces towards tets outside the part, and mesh-boundary faces
+// without a cut vertex. Mesh-boundary faces with a
+// cut vertex are fragments of split input triangles, recorded by their input triangle (all
+// fragments of a triangle share cut vertices, so they lie in one part).
+std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
+                               const std::vector<char>& in_region, const std::vector<std::int32_t>& component,
+                               std::int32_t component_count, const Removed& removed, const FragmentParents& parent_of) {
+  std::vector<Part> parts(component_count);
+  for (auto t : region) {
+    Part& part = parts[component[t]];
+    for (auto v : mesh.tets[t])
+      if (removed.contains(v)) part.planes.push_back(removed.plane_of(v));
+    for (int j = 0; j < 4; ++j) {
+      const auto nb = mesh.neighbours[t][j];
+      if (nb >= 0 && in_region[nb] && component[nb] == component[t]) continue;
+      const Triangle face = outward_face(mesh.tets[t], j);
+      if (nb < 0 && removed.touches(face)) {
+        auto it = parent_of.find(FaceKey(face));
+        if (it == parent_of.end())
+          throw InternalError("seam healing: a boundary face with a cut vertex is no fragment of an input triangle");
+        part.parents.push_back(it->second);
+        continue;
+      }
+      part.faces.push_back(face);
+    }
+  }
+  return parts;
+}
+
+template <class T>
+void sort_unique(std::vector<T>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// Closes a part's boundary with its input triangles; its surface for TetGen.
+PieceSurface close_part(Part& part, const TetMesh& mesh, const SurfaceMesh& input, int index,
+                        std::vector<std::int32_t>& scratch) {
+  sort_unique(part.parents);
+  for (auto f : part.parents) part.faces.push_back(input.triangles[f]);
+  sort_unique(part.planes);
+  return region_surface(part.faces, mesh, index, part.remeshed.ids, scratch);
+}
+
+// Re-meshed regions by content: after a region grows, the regions it did not touch come back
+// unchanged and need no new TetGen run.
+class RegionCache {
+ public:
+  const LocalTetMesh* find(const PieceSurface& region) const {
+    auto it = meshes_.find(key(region));
+    return it == meshes_.end() ? nullptr : &it->second;
+  }
+  void keep(const PieceSurface& region, LocalTetMesh mesh) { meshes_[key(region)] = std::move(mesh); }
+
+ private:
+  static std::pair<std::vector<Point3>, std::vector<Triangle>> key(const PieceSurface& region) {
+    return {region.points, region.triangles};
+  }
+  std::map<std::pair<std::vector<Point3>, std::vector<Triangle>>, LocalTetMesh> meshes_;
+};
+
+// Meshes every part (those not in the cache in one batch); returns the parts that failed, with
+// the failure of the first.
+std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& mesh, const SurfaceMesh& input,
+                                     const RegionMesher& mesher, RegionCache& cache, Failure& failure) {
+  std::vector<std::int32_t> scratch(mesh.points.size(), -1);
+  std::vector<PieceSurface> regions(parts.size()), batch;
+  std::vector<std::size_t> in_batch;
+  for (std::size_t c = 0; c < parts.size(); ++c) {
+    Part& part = parts[c];
+    PieceSurface& region = regions[c] = close_part(part, mesh, input, static_cast<int>(c), scratch);
+    if (const LocalTetMesh* known = cache.find(region)) {
+      part.remeshed.mesh = *known;
+    } else {
+      batch.push_back(region);
+      in_batch.push_back(c);
+    }
+  }
+  std::vector<PieceOutcome> outcomes = batch.empty() ? std::vector<PieceOutcome>() : mesher(batch);
+  std::vector<std::int32_t> failed;
+  for (std::size_t i = 0; i < in_batch.size(); ++i) {
+    const std::size_t c = in_batch[i];
+    if (outcomes[i].failure) {
+      if (failed.empty()) failure = *outcomes[i].failure;
+      failed.push_back(static_cast<std::int32_t>(c));
+      continue;
+    }
+    std::string planes;
+    for (int p : parts[c].planes) planes += (planes.empty() ? "" : ",") + std::to_string(p);
+    log::debug("seam region " + std::to_string(c) + ": " + std::to_string(regions[c].triangles.size()) +
+               " triangles, cut(s) " + planes + " -> " + std::to_string(outcomes[i].result.mesh.tets.size()) +
+               " tets in " + std::to_string(outcomes[i].seconds) + " s");
+    parts[c].remeshed.mesh = std::move(outcomes[i].result.mesh);
+    cache.keep(regions[c], parts[c].remeshed.mesh);
+  }
+  std::sort(failed.begin(), failed.end());
+  return failed;
+}
+
+// Adds to the region every tet sharing a vertex with a failed part.
+void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component,
+                 const std::vector<std::int32_t>& failed, std::vector<char>& in_region) {
+  std::vector<char> failing(failed.empty() ? 0 : static_cast<std::size_t>(failed.back()) + 1, 0);
+  for (auto c : failed) failing[c] = 1;
+  add_layer(
+      mesh,
+      [&](std::size_t t) {
+        return component[t] >= 0 && static_cast<std::size_t>(component[t]) < failing.size() && failing[component[t]];
+      },
+      in_region);
+}
+
+// Counts the removed vertices gone from the mesh and drops them (and input vertices no
+// triangle uses), keeping order.
+void drop_removed_points(TetMesh& mesh, const Removed& removed, SeamStats& stats) {
+  const std::vector<char> used = drop_unused_points(mesh);
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    const auto id = static_cast<std::int32_t>(v);
+    if (used[v] && removed.contains(id)) throw InternalError("seam healing left a vertex it had to remove in the mesh");
+    if (used[v]) continue;
+    if (removed.is_cut_vertex(id))
+      ++stats.cut_vertices_removed;
+    else if (removed.contains(id))
+      ++stats.cap_points_removed;
+  }
+}
+
+// Groups of cuts that must heal together: cuts that split one input triangle between them (the
+// triangle returns whole).
+std::vector<int> groups_of_planes(const SplitSurface& split) {
+  int planes = 0;
+  for (auto p : split.cut_vertex_plane) planes = std::max(planes, p + 1);
+  for (auto p : split.cap_point_plane) planes = std::max(planes, p + 1);
+  std::vector<char> joined_to_previous(static_cast<std::size_t>(planes), 0);
+  std::unordered_map<std::int32_t, int> lowest_plane;  // input triangle -> lowest plane cutting it
+  for (std::size_t t = 0; t < split.triangles.size(); ++t)
+    for (auto v : split.triangles[t])
+      if (split.is_cut_vertex(v)) {
+        const int plane = split.cut_vertex_plane[v - split.input_vertex_count];
+        auto [it, fresh] = lowest_plane.emplace(split.parent[t], plane);
+        for (int j = std::min(it->second, plane) + 1; j <= std::max(it->second, plane); ++j) joined_to_previous[j] = 1;
+        it->second = std::min(it->second, plane);
+      }
+  std::vector<int> group(static_cast<std::size_t>(planes), 0);
+  for (int j = 1; j < planes; ++j) group[j] = group[j - 1] + (joined_to_previous[j] ? 0 : 1);
+  return group;
+}
+
+// The round's region: the stars of its removed vertices (among `candidates`, ascending) grown by
+// `layers` layers of tets across their faces. Marks it in `in_region`; returns it ascending.
+std::vector<std::int32_t> round_region(const TetMesh& mesh, const Removed& removed,
+                                       const std::vector<std::int32_t>& candidates, int layers,
+                                       std::vector<char>& in_region) {
+  in_region.assign(mesh.tets.size(), 0);
+  std::vector<std::int32_t> region;
+  for (auto t : candidates)
+    for (auto v : mesh.tets[t])
+      if (removed.contains(v)) {
+        in_region[t] = 1;
+        region.push_back(t);
+        break;
+      }
+  for (std::size_t layer = 0, begin = 0; layer < static_cast<std::size_t>(layers); ++layer) {
+    const std::size_t end = region.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (auto nb : mesh.neighbours[region[i]])
+        if (nb >= 0 && !in_region[nb]) in_region[nb] = 1, region.push_back(nb);
+    begin = end;
+  }
+  std::sort(region.begin(), region.end());
+  return region;
+}
+
+// After a round, the only tets that can hold a vertex still to remove: the round's star tets
+// outside its region (at their slots after the splice) and the new tets (their boundary
+// vertices include any vertex left on the region's boundary). Ascending.
+std::vector<std::int32_t> surviving_stars(const std::vector<std::int32_t>& star_tets,
+                                          const std::vector<char>& in_region, const Replacement& where) {
+  const std::unordered_map<std::int32_t, std::int32_t> moved_to(where.moved.begin(), where.moved.end());
+  std::vector<std::int32_t> survivors = where.new_tets;
+  for (auto t : star_tets) {
+    if (in_region[t]) continue;
+    const auto it = moved_to.find(t);
+    survivors.push_back(it == moved_to.end() ? t : it->second);
+  }
+  std::sort(survivors.begin(), survivors.end());
+  return survivors;
+}
+
+// Seconds rank 0 spends on a round's steps, for --verbose: the bookkeeping around TetGen is
+// serial, so it is worth watching.
+struct RoundClock {
+  double last = now_seconds();
+  std::string steps;
+  void lap(const char* step) {
+    const double now = now_seconds();
+    char text[64];
+    std::snprintf(text, sizeof text, "%s%s %.3f s", steps.empty() ? "" : ", ", step, now - last);
+    steps += text;
+    last = now;
+  }
+};
+
+// Re-meshes the stars of the round's removed vertices (grown by options.layers). The region
+// falls into parts, each re-meshed on its own, in parallel: smaller TetGen runs, and a failure
+// names the cut planes involved so only those need to move. A part TetGen cannot re-mesh without
+// touching its boundary (the faces of the often flat tets around it) grows by a layer of tets
+// and is tried again: the larger it is, the closer the job gets to meshing the input triangles
+// alone.
+// Returns the tets that may hold a vertex left for later rounds (see surviving_stars).
+std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
+                                     const FragmentParents& parent_of, const std::vector<std::int32_t>& star_tets,
+                                     const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
+                                     RoundClock& clock) {
+  std::vector<char> in_region;
+  std::vector<std::int32_t> region = round_region(mesh, removed, star_tets, options.layers, in_region);
+  if (region.empty()) return star_tets;
+  clock.lap("region");
+
+  constexpr int kMaxGrowth = 3;
+  std::vector<std::int32_t> component;
+  std::vector<Part> parts;
+  RegionCache cache;
+  for (int growth = 0;; ++growth) {
+    const std::int32_t count = label_parts(mesh, region, in_region, removed, component);
+    parts = region_parts(mesh, region, in_region, component, count, removed, parent_of);
+    clock.lap("parts");
+    Failure failure;
+    const std::vector<std::int32_t> failed = mesh_parts(parts, mesh, input, mesher, cache, failure);
+    clock.lap("meshing");
+    if (failed.empty()) break;
+    // A larger region helps TetGen keep its boundary, not meet a quality bound it cannot meet.
+    if (growth == kMaxGrowth || failure.kind == FailureKind::runaway) {
+      const Part& part = parts[failed.front()];
+      std::string planes;
+      for (int p : part.planes) planes += (planes.empty() ? "" : ", ") + std::to_string(p);
+      failure.message = "re-meshing the seam near cut plane(s) " + planes + ": " + failure.text();
+      failure.piece = -1;
+      failure.planes = part.planes;
+      throw MeshingError(failure);
+    }
+    grow_region(mesh, component, failed, in_region);
+    region = marked_tets(in_region);
+  }
+  stats.regions += static_cast<std::int64_t>(parts.size());
+  std::vector<RegionMesh> remeshed;
+  remeshed.reserve(parts.size());
+  for (Part& part : parts) remeshed.push_back(std::move(part.remeshed));
+  const Replacement where = replace_region(mesh, in_region, remeshed);
+  clock.lap("splice");
+  log::debug("seam healing round: " + std::to_string(parts.size()) + " regions of " + std::to_string(region.size()) +
+             " tets; " + clock.steps);
+  return surviving_stars(star_tets, in_region, where);
+}
+
+}  // namespace
+
+SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
+                     const RegionMesher& mesher) {
+  SeamStats stats;
+  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
+  const Removed all{
+      split.input_vertex_count, first_cap,
+      first_cap + (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0), split};
+  const FragmentParents parent_of = fragment_parents(split);
+  const std::vector<int> group_of_plane = groups_of_planes(split);
+  // The piece array marks re-meshed tets (-1), so the figures count each tet once even when a
+  // later round re-meshes tets of an earlier one.
+  const bool had_pieces = mesh.piece.size() == mesh.tets.size();
+  if (!had_pieces) mesh.piece.assign(mesh.tets.size(), 0);
+  const std::int64_t tets_before = static_cast<std::int64_t>(mesh.tets.size());
+  // The group of cuts of each vertex still to remove (-1 once removed).
+  std::vector<int> group_left(all.size());
+  for (std::size_t v = 0; v < group_left.size(); ++v)
+    group_left[v] = group_of_plane[all.plane_of(all.first + static_cast<std::int32_t>(v))];
+  Removed healing = all;
+  // The first round looks at every tet; later ones only at the tets the previous one left.
+  std::vector<std::int32_t> candidates;
+  for (bool first_round = true;; first_round = false) {
+    RoundClock clock;
+    const SeamRound round = plan_seam_round(mesh, all.first, group_left, first_round ? nullptr : &candidates);
+    clock.lap("plan");
+    if (std::find(round.heals.begin(), round.heals.end(), 1) == round.heals.end()) break;
+    healing.selected = &round.heals;
+    candidates = heal_round(mesh, input, healing, parent_of, round.star_tets, options, mesher, stats, clock);
+    for (std::size_t v = 0; v < round.heals.size(); ++v)
+      if (round.heals[v]) group_left[v] = -1;
+  }
+  stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
+  stats.tets_in = tets_before - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
+  if (!had_pieces) std::vector<std::int32_t>().swap(mesh.piece);
+  drop_removed_points(mesh, all, stats);
+  return stats;
+}
+
+}  // namespace partet

@@ -1,0 +1,51 @@
+// Seam healing: after the merge, the vertices the cuts added are taken out again and the region
+// around each cut is re-tetrahedralized, so every input triangle is a face of the mesh and, with
+// the caps' interior points removed too, no trace of the cuts is left: the region is meshed
+// across the plane by one TetGen run, like the rest of the solid.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece.hpp"
+
+namespace partet {
+
+struct SeamStats {
+  std::int64_t cut_vertices_removed = 0;  // vertices partitioning put on input edges
+  std::int64_t cap_points_removed = 0;    // the caps' interior points (when healing)
+  std::int64_t regions = 0;               // regions re-meshed (after growth)
+  std::int64_t tets_in = 0;               // tets replaced
+  std::int64_t tets_out = 0;              // tets that replaced them
+};
+
+struct HealOptions {
+  bool remove_cap_points = true;  // also the caps' interior points (healing); else only the cut vertices
+  // Layers of tets added across the faces of the removed vertices' stars before re-meshing: the
+  // stars' outer faces were shaped by the cap, and with a quality bound TetGen needs room beyond
+  // them to grade the mesh across the plane as it would without a cut (2 when refining, else 0:
+  // the seam zone's AMIPS average is then within 1% of TetGen's own mesh there; one layer of tets
+  // sharing a vertex costs as much and leaves fertility's 2% worse).
+  int layers = 0;
+};
+
+// Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
+// seam_region set), possibly in parallel; one outcome per surface, in order.
+using RegionMesher = std::function<std::vector<PieceOutcome>(const std::vector<PieceSurface>&)>;
+
+// The union of the stars of the removed vertices (the cut vertices; with remove_cap_points also
+// the caps' interior points), grown by options.layers, is re-meshed, one connected part at a
+// time, with its boundary fixed, except that the split fragments of input triangles are replaced
+// by the input triangles themselves. Vertices that share a tet are healed together; all other
+// parts heal in parallel, on any rank, in rounds planned on the mesh as it stands (parts where
+// neighbouring cuts meet may take turns; see seam_rounds.hpp). A part that fails grows by a layer
+// of tets (up to three times) first.
+// Afterwards the mesh has none of the removed vertices and no unused points; input vertices
+// keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
+// MeshingError of the region that failed, with the cut planes of that region.
+SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
+                     const RegionMesher& mesher);
+
+}  // namespace partet

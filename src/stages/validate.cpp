@@ -1,0 +1,462 @@
+// Surface checks run before meshing. TetGen either aborts or silently produces an empty mesh
+// on surfaces that are open, non-manifold, inconsistently oriented or self-intersecting, so we
+// name the first problem ourselves. The checks work on the triangle soup directly, which keeps
+// them valid for inputs that a halfedge structure could not even represent.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "stages/geometry.hpp"
+#include "partet/errors.hpp"
+#include "stages/validate.hpp"
+
+namespace partet {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using KPoint = Kernel::Point_3;
+
+std::string str(long long n) { return std::to_string(n); }
+
+KPoint to_kernel(const Point3& p) { return {p[0], p[1], p[2]}; }
+
+std::uint64_t mix(std::uint64_t x) {
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdULL;
+  x ^= x >> 33;
+  x *= 0xc4ceb9fe1a85ec53ULL;
+  x ^= x >> 33;
+  return x;
+}
+
+// Open addressing with linear probing: the few hundred thousand entries of a large surface
+// fit in flat arrays, which is several times faster than std::unordered_map's node allocation.
+// Keys are never erased; kEmpty is never a valid key.
+class FlatIndexMap {
+ public:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+  explicit FlatIndexMap(std::size_t expected) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * expected) capacity *= 2;
+    mask_ = capacity - 1;
+    keys_.assign(capacity, kEmpty);
+    values_.resize(capacity);
+  }
+
+  // Returns the value stored for key, storing `value` first if key was absent.
+  std::uint32_t find_or_insert(std::uint64_t key, std::uint32_t value) {
+    for (std::size_t slot = mix(key) & mask_;; slot = (slot + 1) & mask_) {
+      if (keys_[slot] == key) return values_[slot];
+      if (keys_[slot] == kEmpty) {
+        keys_[slot] = key;
+        values_[slot] = value;
+        return value;
+      }
+    }
+  }
+
+ private:
+  std::size_t mask_;
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> values_;
+};
+
+std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+  auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return lo << 32 | hi;
+}
+
+bool is_collinear(const Triangle& t, const std::vector<Point3>& points) {
+  return CGAL::collinear(to_kernel(points[t[0]]), to_kernel(points[t[1]]), to_kernel(points[t[2]]));
+}
+
+void check_indices_and_coordinates(const SurfaceMesh& surface, const char* what) {
+  const auto vertex_count = static_cast<std::int64_t>(surface.points.size());
+  if (surface.triangles.empty()) throw InputError(std::string(what) + " is empty: it has no faces");
+  for (std::size_t f = 0; f < surface.triangles.size(); ++f)
+    for (std::int32_t v : surface.triangles[f])
+      if (v < 0 || v >= vertex_count)
+        throw InputError(std::string(what) + " has an invalid face: face " + str(f) + " refers to vertex " + str(v) +
+                         ", but there are only " + str(vertex_count) + " vertices");
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t) {
+      const Point3& p = surface.points[v];
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        throw InputError(std::string(what) + " has a non-finite coordinate at vertex " + str(v) + " " +
+                         coordinates_text(p));
+    }
+}
+
+void check_degenerate_faces(const SurfaceMesh& surface, const char* what) {
+  const std::string prefix = std::string(what) + " has a degenerate face: face ";
+  for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
+    const Triangle& t = surface.triangles[f];
+    if (t[0] == t[1] || t[0] == t[2]) throw InputError(prefix + str(f) + " repeats vertex " + str(t[0]));
+    if (t[1] == t[2]) throw InputError(prefix + str(f) + " repeats vertex " + str(t[1]));
+  }
+  for (std::size_t f = 0; f < surface.triangles.size(); ++f)
+    if (is_collinear(surface.triangles[f], surface.points))
+      throw InputError(prefix + str(f) + " has collinear corners");
+}
+
+// Two used vertices at the same position make the surface touch itself there, which TetGen
+// cannot mesh; an unmerged soup (e.g. from STL) also shows up here first.
+void check_duplicate_vertices(const SurfaceMesh& surface, const char* what) {
+  const std::vector<Point3>& points = surface.points;
+  std::vector<char> used(points.size(), 0);
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t) used[v] = 1;
+
+  auto hash_point = [](const Point3& p) {
+    std::uint64_t h = 0;
+    for (double c : p) {
+      double normalized = c == 0 ? 0.0 : c;  // -0.0 and 0.0 are the same position
+      std::uint64_t bits;
+      std::memcpy(&bits, &normalized, sizeof bits);
+      h = mix(h ^ bits);
+    }
+    return h;
+  };
+  std::size_t capacity = 16;
+  while (capacity < 2 * points.size()) capacity *= 2;
+  const std::size_t mask = capacity - 1;
+  constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> slots(capacity, kEmpty);
+
+  long long duplicates = 0;
+  std::int64_t first_a = -1, first_b = -1;
+  for (std::size_t v = 0; v < points.size(); ++v) {
+    if (!used[v]) continue;
+    for (std::size_t slot = hash_point(points[v]) & mask;; slot = (slot + 1) & mask) {
+      if (slots[slot] == kEmpty) {
+        slots[slot] = static_cast<std::uint32_t>(v);
+        break;
+      }
+      if (points[slots[slot]] == points[v]) {
+        if (duplicates++ == 0) {
+          first_a = slots[slot];
+          first_b = static_cast<std::int64_t>(v);
+        }
+        break;
+      }
+    }
+  }
+  if (duplicates > 0)
+    throw InputError(std::string(what) + " has duplicate vertices: vertices " + str(first_a) + " and " + str(first_b) +
+                     " are both at " + coordinates_text(points[first_a]) +
+                     (duplicates > 1 ? " (" + str(duplicates) + " duplicates)" : ""));
+}
+
+struct EdgeUse {
+  std::uint32_t count = 0;
+  std::int32_t faces[2] = {-1, -1};
+  bool forward[2] = {false, false};  // traversed from the lower to the higher vertex index
+};
+
+// Every edge of the surface with the faces using it, and for each corner (3 f + c) the edge
+// leaving it.
+struct EdgeTable {
+  std::vector<EdgeUse> edges;
+  std::vector<std::uint32_t> corner_edge;
+};
+
+EdgeTable edge_table(const std::vector<Triangle>& triangles) {
+  const std::size_t face_count = triangles.size();
+  EdgeTable table;
+  FlatIndexMap edge_ids(face_count * 3 / 2 + 1);
+  table.edges.reserve(face_count * 3 / 2 + 1);
+  table.corner_edge.resize(face_count * 3);
+  for (std::size_t f = 0; f < face_count; ++f) {
+    const Triangle& t = triangles[f];
+    for (int c = 0; c < 3; ++c) {
+      std::int32_t from = t[c], to = t[(c + 1) % 3];
+      std::uint32_t id = edge_ids.find_or_insert(edge_key(from, to), static_cast<std::uint32_t>(table.edges.size()));
+      if (id == table.edges.size()) table.edges.emplace_back();
+      EdgeUse& edge = table.edges[id];
+      if (edge.count < 2) {
+        edge.faces[edge.count] = static_cast<std::int32_t>(f);
+        edge.forward[edge.count] = from < to;
+      }
+      ++edge.count;
+      table.corner_edge[3 * f + c] = id;
+    }
+  }
+  return table;
+}
+
+// Every undirected edge must be used by exactly two faces, traversing it in opposite directions.
+void check_edges(const SurfaceMesh& surface, const EdgeTable& table, const std::string& subject) {
+  const std::vector<Triangle>& triangles = surface.triangles;
+  long long border = 0, crowded = 0, misoriented = 0;
+  std::size_t first_border_corner = 0;
+  const EdgeUse* first_misoriented = nullptr;
+  std::uint64_t first_crowded_key = 0, first_misoriented_key = 0;
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const EdgeUse& edge = table.edges[table.corner_edge[3 * f + c]];
+      // Visit each edge once, from the face that introduced it.
+      if (edge.faces[0] != static_cast<std::int32_t>(f)) continue;
+      std::uint64_t key = edge_key(triangles[f][c], triangles[f][(c + 1) % 3]);
+      if (edge.count == 1) {
+        if (border++ == 0) first_border_corner = 3 * f + c;
+      } else if (edge.count > 2) {
+        if (crowded++ == 0) first_crowded_key = key;
+      } else if (edge.forward[0] == edge.forward[1]) {
+        if (misoriented++ == 0) {
+          first_misoriented = &edge;
+          first_misoriented_key = key;
+        }
+      }
+    }
+  }
+  if (border > 0)
+    throw InputError(subject + " is not closed: " + str(border) + " border edge" + (border > 1 ? "s" : "") +
+                     ", first at vertex " + str(triangles[first_border_corner / 3][first_border_corner % 3]));
+  if (crowded > 0)
+    throw InputError(subject + " is not manifold: " + str(crowded) + " edge" + (crowded > 1 ? "s" : "") +
+                     " shared by more than two faces, first between vertices " +
+                     str(static_cast<long long>(first_crowded_key >> 32)) + " and " +
+                     str(static_cast<long long>(first_crowded_key & 0xffffffffu)));
+  if (misoriented > 0)
+    throw InputError(subject + " is not consistently oriented: faces " + str(first_misoriented->faces[0]) + " and " +
+                     str(first_misoriented->faces[1]) + " traverse the edge between vertices " +
+                     str(static_cast<long long>(first_misoriented_key >> 32)) + " and " +
+                     str(static_cast<long long>(first_misoriented_key & 0xffffffffu)) + " in the same direction" +
+                     (misoriented > 1 ? " (" + str(misoriented) + " such edges)" : ""));
+}
+
+// The faces around each vertex must form a single fan. Walk around each vertex: from corner
+// (f, v), cross the edge leaving v to the other face of that edge. With every edge shared by
+// exactly two opposite faces this is a permutation of the corners, and its cycles at v are the
+// fans of faces around v.
+void check_fans(const SurfaceMesh& surface, const EdgeTable& table, const std::string& subject) {
+  const std::vector<Triangle>& triangles = surface.triangles;
+  const std::size_t face_count = triangles.size();
+  std::vector<char> visited(face_count * 3, 0);
+  std::vector<std::uint32_t> fans(surface.points.size(), 0);
+  for (std::size_t start = 0; start < face_count * 3; ++start) {
+    if (visited[start]) continue;
+    const std::int32_t v = triangles[start / 3][start % 3];
+    ++fans[v];
+    std::size_t corner = start;
+    while (!visited[corner]) {
+      visited[corner] = 1;
+      const EdgeUse& edge = table.edges[table.corner_edge[corner]];
+      const auto f = static_cast<std::int32_t>(corner / 3);
+      const std::int32_t g = edge.faces[0] == f ? edge.faces[1] : edge.faces[0];
+      int c = 0;
+      while (triangles[g][c] != v) ++c;
+      corner = 3 * static_cast<std::size_t>(g) + c;
+    }
+  }
+  long long split_vertices = 0;
+  std::int64_t first_split = -1;
+  for (std::size_t v = 0; v < fans.size(); ++v)
+    if (fans[v] > 1 && split_vertices++ == 0) first_split = static_cast<std::int64_t>(v);
+  if (split_vertices > 0)
+    throw InputError(subject + " is not manifold: vertex " + str(first_split) + " joins " + str(fans[first_split]) +
+                     " separate fans of faces" +
+                     (split_vertices > 1 ? " (" + str(split_vertices) + " such vertices)" : ""));
+}
+
+void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
+  const EdgeTable table = edge_table(surface.triangles);
+  check_edges(surface, table, what);
+  check_fans(surface, table, what);
+}
+
+// True if faces a and b share more than a common edge or vertex (mirrors the rules of CGAL's
+// Polygon_mesh_processing::does_self_intersect, but on indices so it works on any soup).
+bool faces_intersect(const Triangle& a, const Triangle& b, const std::vector<Point3>& points) {
+  int shared = 0, shared_a[3], shared_b[3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a[i] == b[j]) {
+        shared_a[shared] = i;
+        shared_b[shared] = j;
+        ++shared;
+      }
+  auto p = [&](std::int32_t v) { return to_kernel(points[v]); };
+  if (shared == 3) return true;
+  if (shared == 2) {
+    // Sharing an edge, they overlap only if coplanar with both far corners on the same side.
+    const int far_a = 3 - shared_a[0] - shared_a[1];
+    const int far_b = 3 - shared_b[0] - shared_b[1];
+    const KPoint s = p(a[shared_a[0]]), t = p(a[shared_a[1]]);
+    const KPoint ra = p(a[far_a]), rb = p(b[far_b]);
+    return CGAL::coplanar(s, t, ra, rb) && CGAL::coplanar_orientation(s, t, ra, rb) == CGAL::POSITIVE;
+  }
+  const Kernel::Triangle_3 ta(p(a[0]), p(a[1]), p(a[2]));
+  const Kernel::Triangle_3 tb(p(b[0]), p(b[1]), p(b[2]));
+  if (shared == 1) {
+    // Sharing a vertex, they overlap elsewhere only if an opposite edge meets the other face.
+    const int i = shared_a[0], j = shared_b[0];
+    const Kernel::Segment_3 opposite_a(p(a[(i + 1) % 3]), p(a[(i + 2) % 3]));
+    const Kernel::Segment_3 opposite_b(p(b[(j + 1) % 3]), p(b[(j + 2) % 3]));
+    return CGAL::do_intersect(ta, opposite_b) || CGAL::do_intersect(tb, opposite_a);
+  }
+  return CGAL::do_intersect(ta, tb);
+}
+
+// The shells: triangles joined across shared edges; returns each triangle's shell.
+std::vector<std::int32_t> shell_of_triangles(const SurfaceMesh& surface, std::int32_t& count) {
+  const EdgeTable table = edge_table(surface.triangles);
+  std::vector<std::int32_t> shell(surface.triangles.size(), -1);
+  count = 0;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < shell.size(); ++seed) {
+    if (shell[seed] >= 0) continue;
+    shell[seed] = count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t f = stack.back();
+      stack.pop_back();
+      for (int c = 0; c < 3; ++c)
+        for (std::int32_t g : table.edges[table.corner_edge[3 * f + c]].faces)
+          if (g >= 0 && shell[g] < 0) {
+            shell[g] = count;
+            stack.push_back(static_cast<std::size_t>(g));
+          }
+    }
+    ++count;
+  }
+  return shell;
+}
+
+// How many times the triangles wind around p (a point on none of them): the sum of their signed
+// solid angles over 4 pi, rounded (Van Oosterom and Strackee).
+long winding_number(const SurfaceMesh& surface, const std::vector<std::size_t>& triangles, const Point3& p) {
+  long double total = 0;
+  for (std::size_t f : triangles) {
+    const Triangle& t = surface.triangles[f];
+    const Point3 a = sub(surface.points[t[0]], p), b = sub(surface.points[t[1]], p), c = sub(surface.points[t[2]], p);
+    const double la = norm(a), lb = norm(b), lc = norm(c);
+    const double numerator = dot(a, cross(b, c));
+    const double denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+    total += 2 * std::atan2(numerator, denominator);
+  }
+  return std::lround(static_cast<double>(total / (4 * kPi)));
+}
+
+}  // namespace
+
+void check_shell_nesting(const SurfaceMesh& surface) {
+  std::int32_t count = 0;
+  const std::vector<std::int32_t> shell = shell_of_triangles(surface, count);
+  if (count < 2) return;
+  std::vector<std::vector<std::size_t>> faces(count);
+  for (std::size_t f = 0; f < shell.size(); ++f) faces[shell[f]].push_back(f);
+  for (std::int32_t s = 0; s < count; ++s) {
+    const std::int32_t vertex = surface.triangles[faces[s].front()][0];
+    long depth = 0;
+    for (std::int32_t t = 0; t < count; ++t)
+      if (t != s && winding_number(surface, faces[t], surface.points[vertex]) != 0) ++depth;
+    SurfaceMesh one{surface.points, {}};
+    for (std::size_t f : faces[s]) one.triangles.push_back(surface.triangles[f]);
+    const bool outward = enclosed_volume_precise(one) > 0;
+    if (outward != (depth % 2 == 0))
+      throw InputError("input shells are nested inconsistently: the shell through vertex " + str(vertex) +
+                       " lies inside " + str(depth) + " other shell" + (depth == 1 ? "" : "s") + " but faces " +
+                       (outward ? "outwards" : "inwards") +
+                       " (a cavity must face into the void, an island inside a cavity outwards)");
+  }
+}
+
+void validate_topology(const SurfaceMesh& surface) {
+  const char* what = "input";
+  check_indices_and_coordinates(surface, what);
+  check_degenerate_faces(surface, what);
+  check_duplicate_vertices(surface, what);
+  check_edges_and_fans(surface, what);
+}
+
+void check_no_self_intersections(const SurfaceMesh& surface, const char* what) {
+  // The intersection predicates require proper triangles.
+  check_indices_and_coordinates(surface, what);
+  check_degenerate_faces(surface, what);
+
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+  const std::vector<Point3>& points = surface.points;
+  const std::vector<Triangle>& triangles = surface.triangles;
+  std::vector<Box> boxes;
+  boxes.reserve(triangles.size());
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    const Triangle& t = triangles[f];
+    CGAL::Bbox_3 box = to_kernel(points[t[0]]).bbox() + to_kernel(points[t[1]]).bbox() + to_kernel(points[t[2]]).bbox();
+    boxes.emplace_back(box, static_cast<std::uint32_t>(f));
+  }
+
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  auto report = [&](const Box& a, const Box& b) {
+    std::uint32_t f = a.info(), g = b.info();
+    if (faces_intersect(triangles[f], triangles[g], points)) pairs.emplace_back(std::min(f, g), std::max(f, g));
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), report);
+  if (pairs.empty()) return;
+
+  // The box traversal order is an implementation detail; report the lowest pair.
+  auto first = *std::min_element(pairs.begin(), pairs.end());
+  throw InputError(std::string(what) + " self-intersects: faces " + str(first.first) + " and " + str(first.second) +
+                   " intersect (" + str(static_cast<long long>(pairs.size())) + " intersecting pair" +
+                   (pairs.size() > 1 ? "s" : "") + ")");
+}
+
+double enclosed_volume(const SurfaceMesh& surface) { return static_cast<double>(enclosed_volume_precise(surface)); }
+
+long double enclosed_volume_precise(const SurfaceMesh& surface) {
+  if (surface.triangles.empty()) return 0.0;
+  // Measuring from the centre of the used vertices' bounding box keeps the terms small, so that
+  // far-from-origin inputs (or a far unused vertex) do not lose the volume to cancellation.
+  Point3 lo = surface.points[surface.triangles[0][0]], hi = lo;
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (int i = 0; i < 3; ++i) {
+        lo[i] = std::min(lo[i], surface.points[v][i]);
+        hi[i] = std::max(hi[i], surface.points[v][i]);
+      }
+  long double origin[3];
+  for (int i = 0; i < 3; ++i) origin[i] = (static_cast<long double>(lo[i]) + hi[i]) / 2;
+
+  long double six_volume = 0;
+  for (const Triangle& t : surface.triangles) {
+    long double a[3], b[3], c[3];
+    for (int i = 0; i < 3; ++i) {
+      a[i] = surface.points[t[0]][i] - origin[i];
+      b[i] = surface.points[t[1]][i] - origin[i];
+      c[i] = surface.points[t[2]][i] - origin[i];
+    }
+    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                  a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  return six_volume / 6;
+}
+
+void validate_surface(const SurfaceMesh& surface) {
+  validate_topology(surface);
+  check_no_self_intersections(surface);
+  const double volume = enclosed_volume(surface);
+  if (volume <= 0) {
+    std::ostringstream message;
+    if (volume < 0)
+      message << "input is inside out: normals point inwards (enclosed volume " << volume
+              << " < 0); flip the face orientation";
+    else
+      message << "input encloses no volume (enclosed volume 0)";
+    throw InputError(message.str());
+  }
+}
+
+}  // namespace partet
