@@ -10,9 +10,10 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <thread>
 
-#include "job/report.hpp"
+#include "job/root_run.hpp"
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
 #include "common/log.hpp"
@@ -396,20 +397,13 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   }
 }
 
-// What one rank knows about the job as it runs.
+// What one rank knows about the job as it runs (rank 0's story is in RootRun).
 struct RankState {
   int rank = 0, size = 1;
   double start = now_seconds();
-  StageTimes times;
   RankStats stats;
   JobStatus status;
   std::map<int, PieceRecord> records;  // piece index -> where and how long it was meshed (rank 0 only)
-  SurfaceMesh input;
-  MeshResult result;
-  CheckReport check;
-  int scale_exponent = 0;  // the input is meshed scaled by 2^scale_exponent
-  OutputSet outputs;       // rank 0: the files, under temporary names until every rank agrees
-  explicit RankState(const MeshJob& job) : outputs(journal_path(job.output_prefix)) {}
 };
 
 // An error as it crosses ranks: its type and message.
@@ -489,25 +483,8 @@ void on_root(RankState& state, Step step) {
   }
 }
 
-// Rank 0: partition, close, mesh (on all ranks), merge, then check and write.
-void mesh_on_root(const MeshJob& job, RankState& state) {
-  on_root(state, [&] {
-    RootScheduler scheduler(job, state.size, state.stats, state.records, state.start);
-    state.result = mesh_with_retries(state.input, job.options, scheduler, &state.times);
-  });
-  broadcast(kDone);
-  // Back to the input's own scale (exact), before the check and the files.
-  scale_points(state.input.points, -state.scale_exponent);
-  scale_points(state.result.mesh.points, -state.scale_exponent);
-  for (CutPlane& plane : state.result.planes) plane.offset = std::ldexp(plane.offset, -state.scale_exponent);
-  if (state.status.error.empty())
-    on_root(state, [&] { state.check = check_and_write(job, state.input, state.result, state.times, state.outputs); });
-}
-
-// Per-rank figures to rank 0, then the agreement: only when every rank succeeded does rank 0
-// publish the files (all at once), and every rank learns whether that worked too.
-void finish(const MeshJob& job, RankState& state) {
-  test_hooks::worker_death(state.rank);
+// Every rank's figures, gathered on rank 0 (empty elsewhere).
+std::vector<RankStats> gather_rank_stats(RankState& state) {
   state.stats.peak_rss_mb = own_peak_rss_mb();
   state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
@@ -516,19 +493,18 @@ void finish(const MeshJob& job, RankState& state) {
                    reinterpret_cast<double*>(all.data()), 0, job_comm(), collective_limit());
     return 0;
   });
+  return all;
+}
+
+// Only when every rank succeeded does rank 0 publish the files (all at once); then every rank
+// learns whether that worked too.
+void agree_and_publish(RankState& state, std::optional<RootRun>& root) {
+  test_hooks::worker_death(state.rank);
+  const std::vector<RankStats> ranks = gather_rank_stats(state);
   bool ok = agree(state.status.error.empty());
-  if (ok && state.rank == 0) {
-    std::vector<PieceRecord> pieces;
-    for (const auto& [index, record] : state.records)
-      if (index < state.result.pieces) pieces.push_back(record);
-    const JobSummary summary{job,         state.input, state.result, state.check,
-                             state.times, all,         pieces,       now_seconds() - state.start};
-    on_root(state, [&] {
-      add_report(state.outputs, summary);
-      state.outputs.publish();
-    });
-    if (state.status.error.empty()) print_summary(summary);
-    if (job.compare_tetgen) state.status.figures = run_figures(summary);
+  if (ok && root) {
+    on_root(state, [&] { root->publish(ranks, state.records, now_seconds() - state.start); });
+    state.status.figures = root->figures();
   }
   state.status.ranks = state.size;
   if (ok) ok = agree(state.status.error.empty());
@@ -578,28 +554,36 @@ MeshResult mesh_collective(const SurfaceMesh& input, const MeshOptions& options,
 }
 
 JobStatus run_mesh_job(const MeshJob& job) {
-  RankState state(job);
+  RankState state;
   MPI_Comm_rank(job_comm(), &state.rank);
   MPI_Comm_size(job_comm(), &state.size);
   log::set_rank(state.rank);
-  // 1. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
+  std::optional<RootRun> root;  // rank 0's story
+  if (state.rank == 0) root.emplace(job);
+  // 1-2. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
   // rank removes its temporary files; rank 0 says which files are in place.
-  if (state.rank == 0) interrupts::set_messages(interrupted_before(job), interrupted_after(job));
-  if (state.rank == 0)
-    on_root(state, [&] {
-      check_outputs(job);
-      state.input = read_valid_input(job.input, state.times, &state.scale_exponent);
-    });
+  if (root) {
+    interrupts::set_messages(interrupted_before(job), interrupted_after(job));
+    on_root(state, [&] { root->prepare(); });
+  }
   // Only rank 0 can have failed so far: its exit code goes to every rank (2: a usage error).
   const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
   state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, job_comm(), collective_limit()); });
   if (state.status.exit_code != 0) return state.status;
-  // 2-5. Partition, close, mesh everywhere, merge; check and write on rank 0.
-  if (state.rank == 0)
-    mesh_on_root(job, state);
-  else
+  // 3-8. Rank 0 partitions, closes, merges and heals; every rank meshes pieces and regions.
+  if (root) {
+    on_root(state, [&] {
+      RootScheduler scheduler(job, state.size, state.stats, state.records, state.start);
+      root->mesh(scheduler);
+    });
+    broadcast(kDone);
+    // 9. Back to the input's scale, checked and written under temporary names.
+    if (state.status.error.empty()) on_root(state, [&] { root->check_and_write(); });
+  } else {
     worker_loop(job, state.rank, state.stats);
-  finish(job, state);
+  }
+  // 10. Every rank agrees; rank 0 publishes and reports.
+  agree_and_publish(state, root);
   return state.status;
 }
 

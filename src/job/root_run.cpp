@@ -1,0 +1,38 @@
+#include "job/root_run.hpp"
+
+#include <cmath>
+
+#include "io/tetgen_files.hpp"
+#include "job/compare_tetgen.hpp"
+#include "job/report.hpp"
+
+namespace partet {
+
+RootRun::RootRun(const MeshJob& job) : job_(job), outputs_(journal_path(job.output_prefix)) {}
+
+void RootRun::prepare() {
+  check_outputs(job_);
+  input_ = read_valid_input(job_.input, times_, &scale_exponent_);
+}
+
+void RootRun::mesh(PieceScheduler& scheduler) { result_ = mesh_with_retries(input_, job_.options, scheduler, &times_); }
+
+void RootRun::check_and_write() {
+  scale_points(input_.points, -scale_exponent_);
+  scale_points(result_.mesh.points, -scale_exponent_);
+  for (CutPlane& plane : result_.planes) plane.offset = std::ldexp(plane.offset, -scale_exponent_);
+  check_ = partet::check_and_write(job_, input_, result_, times_, outputs_);
+}
+
+void RootRun::publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& records, double seconds) {
+  std::vector<PieceRecord> pieces;
+  for (const auto& [index, record] : records)
+    if (index < result_.pieces) pieces.push_back(record);
+  const JobSummary summary{job_, input_, result_, check_, times_, ranks, pieces, seconds};
+  add_report(outputs_, summary);
+  outputs_.publish();
+  print_summary(summary);
+  if (job_.compare_tetgen) figures_ = run_figures(summary);
+}
+
+}  // namespace partet

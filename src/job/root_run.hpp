@@ -1,0 +1,50 @@
+// The story of a mesh job on rank 0, its steps in the order they run (the numbers of the
+// README's Method are steps 3-8 here). The MPI driver calls them between its agreements and
+// supplies where pieces are meshed; nothing here knows of MPI.
+#pragma once
+#include <map>
+#include <vector>
+
+#include "common/stage_timer.hpp"
+#include "io/output_set.hpp"
+#include "job/compare_tetgen.hpp"
+#include "job/job.hpp"
+#include "job/pipeline.hpp"
+#include "stages/check.hpp"
+
+namespace partet {
+
+class RootRun {
+ public:
+  explicit RootRun(const MeshJob& job);
+
+  // 1. Where the output goes: usage errors (OptionError) before any work; a publish a killed run
+  //    left half done is completed, stale temporaries removed.
+  // 2. The input: read, validated (closed, manifold, oriented) and scaled to unit size.
+  void prepare();
+  // 3-8. Partition, closure, meshing (on the scheduler's ranks), merge, seam healing and polish,
+  //      with the retries of mesh_with_retries.
+  void mesh(PieceScheduler& scheduler);
+  // 9. Back to the input's own scale (exactly); the result checked (--check) and written under
+  //    temporary names.
+  void check_and_write();
+  // 10. Once every rank has agreed: the report joins the files, the set is published, the summary
+  //     printed. `pieces` says where each piece was meshed (by index).
+  void publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& pieces, double seconds);
+
+  const MeshResult& result() const { return result_; }
+  // The figures for --compare-tetgen (after publish).
+  RunFigures figures() const { return figures_; }
+
+ private:
+  const MeshJob& job_;
+  StageTimes times_;
+  SurfaceMesh input_;
+  int scale_exponent_ = 0;  // the input is meshed scaled by 2^scale_exponent_
+  MeshResult result_;
+  CheckReport check_;
+  OutputSet outputs_;  // under temporary names until every rank agrees
+  RunFigures figures_;
+};
+
+}  // namespace partet
