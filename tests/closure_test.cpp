@@ -16,6 +16,7 @@
 #include "stages/partition.hpp"
 #include "stages/piece.hpp"
 #include "stage_helpers.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

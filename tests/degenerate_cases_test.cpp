@@ -12,6 +12,7 @@
 #include "stages/partition.hpp"
 #include "job/pipeline.hpp"
 #include "stages/validate.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

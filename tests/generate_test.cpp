@@ -11,6 +11,7 @@
 #include "partet/errors.hpp"
 #include "stages/generate.hpp"
 #include "stages/validate.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

@@ -12,6 +12,7 @@
 #include "stages/validate.hpp"
 #include "stage_helpers.hpp"
 #include "stages/topology.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

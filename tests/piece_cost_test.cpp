@@ -9,6 +9,7 @@
 #include "stages/generate.hpp"
 #include "stages/piece_cost.hpp"
 #include "job/pipeline.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

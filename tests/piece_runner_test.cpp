@@ -14,6 +14,7 @@
 #include "stages/piece.hpp"
 #include "runner/piece_runner.hpp"
 #include "runner/serialize.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

@@ -14,6 +14,7 @@
 #include "stages/piece.hpp"
 #include "stages/validate.hpp"
 #include "stage_helpers.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

@@ -15,6 +15,7 @@
 #include "stage_helpers.hpp"
 #include "test_support.hpp"
 #include "stages/topology.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

@@ -8,6 +8,7 @@
 #include "stages/generate.hpp"
 #include "stages/refine_surface.hpp"
 #include "stages/validate.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

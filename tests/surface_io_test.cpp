@@ -18,6 +18,7 @@
 #include "stages/validate.hpp"
 #include "io/plain_off.hpp"
 #include "test_support.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

@@ -11,12 +11,20 @@
 #include <vector>
 
 #include "partet/errors.hpp"
+#include "io/output_set.hpp"
 #include "io/tetgen_files.hpp"
 #include "test_support.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
 namespace {
+
+// The TetGen files of a mesh, published at once, as a run publishes its set.
+void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& faces, const std::string& prefix) {
+  OutputSet set(journal_path(prefix));
+  add_tetgen_files(set, mesh, faces, prefix);
+  set.publish();
+}
 
 namespace fs = std::filesystem;
 

@@ -19,6 +19,7 @@
 #include "stages/validate.hpp"
 #include "stage_helpers.hpp"
 #include "test_support.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

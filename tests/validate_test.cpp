@@ -12,6 +12,7 @@
 #include "io/read_surface.hpp"
 #include "stages/validate.hpp"
 #include "test_support.hpp"
+#include "stage_batches.hpp"
 
 namespace partet {
 namespace {

@@ -341,9 +341,14 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
 
 CLI::App* add_generate_command(CLI::App& app, CommandLine& c) {
   auto* generate = app.add_subcommand("generate", "write a generated closed test surface");
+  const auto listed = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+    return text;
+  };
   generate->add_option("shape", c.shape,
-                       "sphere, torus, genus3, nested, two_spheres; or a CAD-like part with thin walls: fins, comb, "
-                       "slots, plates")
+                       listed(partet::generated_shape_names()) + "; or a CAD-like part with thin walls: " +
+                           listed(partet::thin_wall_kinds()))
       ->required();
   generate->add_option("--walls", c.thin_walls.walls, "thin-wall parts: number of walls")
       ->check(CLI::Range(1, 100000))

@@ -374,12 +374,6 @@ void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Tri
   }
 }
 
-void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces, const std::string& prefix) {
-  OutputSet set(journal_path(prefix));
-  add_tetgen_files(set, mesh, boundary_faces, prefix);
-  set.publish();
-}
-
 TetgenFileSet read_tetgen_set(const std::string& prefix) {
   TetgenFileSet set;
   std::int64_t vertex_base = 0, tet_base = 0;

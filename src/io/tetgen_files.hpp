@@ -28,8 +28,6 @@ void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<T
 // Adds PREFIX.node, .ele, .face and .neigh to an output set (published together).
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                       const std::string& prefix, std::size_t split_from = SIZE_MAX);
-// The same, published at once. Throws OutputError.
-void write_tetgen_files(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces, const std::string& prefix);
 
 // Everything a set of TetGen files holds. Accepts 0- or 1-based numbering as TetGen does.
 struct TetgenFileSet {

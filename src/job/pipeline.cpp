@@ -278,21 +278,6 @@ void add_split_faces(MeshResult& result) {
 
 }  // namespace
 
-PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times) {
-  StageTimer timer(times);
-  PreparedPieces prepared;
-  ClosureStream stream(input, options, prepared);
-  const std::vector<double> fractions =
-      options.balance == Balance::cost && options.pieces > 1
-          ? cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, options.density)
-          : std::vector<double>();
-  stream.partition(choose_cut_planes(input, options.pieces, options.axis, options.plane_shifts, fractions));
-  timer.lap("partition");
-  stream.close([](const PieceSurface&) {});
-  timer.lap("closure");
-  return prepared;
-}
-
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
   StageTimer timer(times);

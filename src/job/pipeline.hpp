@@ -64,11 +64,6 @@ struct PreparedPieces {
   std::int64_t cap_triangles = 0;
 };
 
-// 1-2. Partition, surface closure and piece assembly, all at once (mesh_with_retries streams
-// the same steps instead, handing out each piece as soon as it is closed). The input must already
-// be validated.
-PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options, StageTimes* times = nullptr);
-
 // One cut-plane move after a failure.
 struct RetryRecord {
   int attempt = 0;          // the attempt that failed (0 = first)

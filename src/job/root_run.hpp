@@ -1,6 +1,6 @@
-// The story of a mesh job on rank 0, its steps in the order they run (the numbers of the
-// README's Method are steps 3-8 here). The MPI driver calls them between its agreements and
-// supplies where pieces are meshed; nothing here knows of MPI.
+// The story of a mesh job on rank 0, its steps in the order they run, numbered as in the
+// README's Method. The MPI driver calls them between its agreements and supplies where pieces
+// are meshed; nothing here knows of MPI.
 #pragma once
 #include <map>
 #include <vector>

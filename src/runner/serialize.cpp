@@ -116,14 +116,6 @@ std::size_t piece_bytes(const PieceSurface& piece) {
 
 }  // namespace
 
-std::string serialize_piece(const PieceSurface& piece) {
-  return encode(piece_bytes(piece), [&](auto& ar) { save_piece(ar, piece); });
-}
-
-PieceSurface deserialize_piece(std::string_view bytes) {
-  return decode<PieceSurface>(bytes, [](auto& ar, PieceSurface& piece) { load_piece(ar, piece); });
-}
-
 std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
   const std::size_t bytes = piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
   return encode(bytes, [&](auto& ar) {
@@ -175,10 +167,6 @@ std::string encode_failure(const Failure& failure, std::string_view prefix) {
 
 constexpr char kResultTag = 'R', kFailureTag = 'F';
 
-}  // namespace
-
-std::string serialize_result(const PieceTetMesh& result) { return encode_result(result, {}); }
-
 PieceTetMesh deserialize_result(std::string_view bytes) {
   return decode<PieceTetMesh>(bytes, [](auto& ar, PieceTetMesh& result) {
     std::int32_t index = 0, count = 0;
@@ -190,8 +178,6 @@ PieceTetMesh deserialize_result(std::string_view bytes) {
     load_block(ar, result.mesh.neighbours);
   });
 }
-
-std::string serialize_failure(const Failure& failure) { return encode_failure(failure, {}); }
 
 Failure deserialize_failure(std::string_view bytes) {
   return decode<Failure>(bytes, [](auto& ar, Failure& failure) {
@@ -206,6 +192,8 @@ Failure deserialize_failure(std::string_view bytes) {
     failure.planes.assign(planes.begin(), planes.end());
   });
 }
+
+}  // namespace
 
 std::string serialize_outcome(const PieceOutcome& outcome) {
   char prefix[1 + 2 * sizeof(double)];

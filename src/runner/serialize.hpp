@@ -12,21 +12,13 @@
 
 namespace partet {
 
-std::string serialize_piece(const PieceSurface& piece);
-PieceSurface deserialize_piece(std::string_view bytes);
-
 // A piece and the TetGen options to mesh it with, as a worker receives it.
 std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen);
 PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen);
 
-std::string serialize_result(const PieceTetMesh& result);
-PieceTetMesh deserialize_result(std::string_view bytes);
-
-std::string serialize_failure(const Failure& failure);
-Failure deserialize_failure(std::string_view bytes);
-
 // A meshing run's reply: one tag byte ('R' result, 'F' failure), the seconds and memory it took,
-// then the result or failure.
+// then the result or failure. (A piece travels as a task, a result or failure as an outcome:
+// there is no other form.)
 std::string serialize_outcome(const PieceOutcome& outcome);
 // Throws InternalError on bytes that are no reply.
 PieceOutcome deserialize_outcome(std::string_view bytes);

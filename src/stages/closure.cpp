@@ -395,11 +395,4 @@ Cap CapBuilder::build(int plane) {
   return cap;
 }
 
-std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
-  CapBuilder builder(split, planes, density);
-  std::vector<Cap> caps;
-  for (std::size_t j = 0; j < planes.size(); ++j) caps.push_back(builder.build(static_cast<int>(j)));
-  return caps;
-}
-
 }  // namespace partet

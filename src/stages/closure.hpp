@@ -36,7 +36,5 @@ class CapBuilder {
   std::vector<std::vector<std::array<std::int32_t, 2>>> chords_;  // per plane, as the piece below runs them
 };
 
-// All caps, in plane order.
-std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density);
 
 }  // namespace partet

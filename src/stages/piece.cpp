@@ -27,15 +27,6 @@ PieceSurface PieceAssembler::assemble(int p, const Cap* below, const Cap* above)
   return piece;
 }
 
-std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps) {
-  PieceAssembler assembler(split);
-  std::vector<PieceSurface> pieces;
-  const int k = split.piece_count;
-  for (int p = 0; p < k; ++p)
-    pieces.push_back(assembler.assemble(p, p > 0 ? &caps[p - 1] : nullptr, p + 1 < k ? &caps[p] : nullptr));
-  return pieces;
-}
-
 void check_piece_topology(const PieceSurface& piece) {
   const auto fail = [&](const std::string& what) { throw MeshingError(FailureKind::bad_surface, piece.index, what); };
   // Every directed edge must appear once and its reverse once: closed and consistently oriented.

@@ -45,8 +45,6 @@ class PieceAssembler {
   std::vector<std::int32_t> scratch_;
 };
 
-// All pieces (caps in plane order).
-std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps);
 
 // Cheap combinatorial checks of a piece (closed, manifold, oriented). Throws MeshingError
 // (bad_surface) naming the piece.

@@ -444,19 +444,4 @@ long double enclosed_volume_precise(const SurfaceMesh& surface) {
   return six_volume / 6;
 }
 
-void validate_surface(const SurfaceMesh& surface) {
-  validate_topology(surface);
-  check_no_self_intersections(surface);
-  const double volume = enclosed_volume(surface);
-  if (volume <= 0) {
-    std::ostringstream message;
-    if (volume < 0)
-      message << "input is inside out: normals point inwards (enclosed volume " << volume
-              << " < 0); flip the face orientation";
-    else
-      message << "input encloses no volume (enclosed volume 0)";
-    throw InputError(message.str());
-  }
-}
-
 }  // namespace partet

@@ -18,9 +18,6 @@ void check_no_self_intersections(const SurfaceMesh& surface, const char* what = 
 // inwards. Costs shells x faces: used to explain a failure, not on every run.
 void check_shell_nesting(const SurfaceMesh& surface);
 
-// Both of the above, plus a positive enclosed volume (outward orientation).
-void validate_surface(const SurfaceMesh& surface);
-
 // Volume enclosed by a closed oriented surface (cavities count negative).
 double enclosed_volume(const SurfaceMesh& surface);
 // The same in long double, whose range does not underflow at any double input's scale.

@@ -1,0 +1,52 @@
+#include "stage_batches.hpp"
+
+#include <string>
+
+#include "partet/errors.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece_cost.hpp"
+#include "stages/validate.hpp"
+
+namespace partet {
+
+std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density) {
+  CapBuilder builder(split, planes, density);
+  std::vector<Cap> caps;
+  for (std::size_t j = 0; j < planes.size(); ++j) caps.push_back(builder.build(static_cast<int>(j)));
+  return caps;
+}
+
+std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps) {
+  PieceAssembler assembler(split);
+  std::vector<PieceSurface> pieces;
+  const int k = split.piece_count;
+  for (int p = 0; p < k; ++p)
+    pieces.push_back(assembler.assemble(p, p > 0 ? &caps[p - 1] : nullptr, p + 1 < k ? &caps[p] : nullptr));
+  return pieces;
+}
+
+PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options) {
+  PreparedPieces prepared;
+  const std::vector<double> fractions =
+      options.balance == Balance::cost && options.pieces > 1
+          ? cost_balanced_fractions(input, cut_axis(input, options.axis), options.pieces, options.density)
+          : std::vector<double>();
+  prepared.planes = choose_cut_planes(input, options.pieces, options.axis, options.plane_shifts, fractions);
+  prepared.split = split_at_planes(input, prepared.planes);
+  const std::vector<Cap> caps = build_caps(prepared.split, prepared.planes, options.density);
+  for (const Cap& cap : caps) prepared.cap_triangles += static_cast<std::int64_t>(cap.triangles.size());
+  prepared.pieces = assemble_pieces(prepared.split, caps);
+  return prepared;
+}
+
+void validate_surface(const SurfaceMesh& surface) {
+  validate_topology(surface);
+  check_no_self_intersections(surface);
+  const double volume = enclosed_volume(surface);
+  if (!(volume > 0))
+    throw InputError(volume < 0 ? "input is inside out: normals point inwards (enclosed volume " +
+                                      std::to_string(volume) + " < 0); flip the face orientation"
+                                : std::string("input encloses no volume (enclosed volume 0)"));
+}
+
+}  // namespace partet

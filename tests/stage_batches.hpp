@@ -1,0 +1,22 @@
+// The stages in one batch each, for the unit tests: the pipeline streams the same steps (each
+// piece handed out as soon as it is closed), so partet itself has no use for these forms.
+#pragma once
+#include <vector>
+
+#include "job/pipeline.hpp"
+#include "partet/mesh_types.hpp"
+#include "stages/closure.hpp"
+#include "stages/piece.hpp"
+
+namespace partet {
+
+// All caps, in plane order.
+std::vector<Cap> build_caps(SplitSurface& split, const std::vector<CutPlane>& planes, double density);
+// All pieces (caps in plane order).
+std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::vector<Cap>& caps);
+// Partition, closure and assembly at once, as the first attempt of mesh_with_retries makes them.
+PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options);
+// Closed, manifold, oriented, free of self-intersections and enclosing a positive volume.
+void validate_surface(const SurfaceMesh& surface);
+
+}  // namespace partet
