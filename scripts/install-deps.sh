@@ -13,7 +13,9 @@ packages=(
   libcli11-dev                         # command line
   nlohmann-json3-dev                   # --report FILE.json
   zlib1g-dev                           # compressed .vtu output
-  python3-meshio gmsh                  # tests: independent readers of the mesh formats
+  libhdf5-openmpi-dev                  # XDMF output: one HDF5 file all ranks write at once
+  python3-meshio python3-h5py gmsh      # tests: independent readers of the mesh formats
+  python3-dolfinx                      # tests: a FEM code reads the XDMF output in parallel
   python3-matplotlib                   # scripts/render.py pictures and the benchmark plots
   libgtest-dev                         # unit tests
   time python3                         # GNU time and JSON parsing for the benchmark scripts

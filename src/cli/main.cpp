@@ -256,12 +256,12 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
   auto& job = c.job;
   mesh->add_option("input", job.input, "closed triangle surface (.off .obj .ply .stl)")->required();
   mesh->add_option("-o,--output", job.output_prefix,
-                   "output prefix (PREFIX.node .ele .face .neigh); an extension .vtu .pvtu .msh .mesh .node "
-                   "chooses the format")
+                   "output prefix (PREFIX.node .ele .face .neigh); an extension .vtu .pvtu .msh .mesh .xdmf "
+                   ".node chooses the format")
       ->required();
   mesh->add_option("--format", c.formats,
                    "formats to write, comma-separated: tetgen (default), vtu, pvtu (one .vtu per piece), msh "
-                   "(Gmsh 4.1), msh-binary, medit (.mesh)")
+                   "(Gmsh 4.1), msh-binary, medit (.mesh), xdmf (XDMF + one HDF5 file all ranks write at once)")
       ->delimiter(',')
       ->check(CLI::IsMember(partet::mesh_format_names()));
   mesh->add_option("-k,--pieces", job.options.pieces, "number of pieces (cut planes + 1)")

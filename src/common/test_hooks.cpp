@@ -27,7 +27,9 @@ void piece_failure(int piece, int rank) {
   if (!spec) return;
   const std::string s(spec);
   const auto colon = s.find(':');
-  if (colon == std::string::npos || std::atoi(s.substr(0, colon).c_str()) != piece) return;
+  const std::string number = s.substr(0, colon == std::string::npos ? 0 : colon);  // not "worker:..."
+  if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos || std::stoi(number) != piece)
+    return;
   if (s.substr(colon + 1) == "abort") {
     std::fprintf(stderr, "partet: rank %d: piece %d: injected abort\n", rank, piece);
     std::fflush(stderr);
@@ -57,6 +59,11 @@ void worker_death(int rank) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     std::abort();
   }
+}
+
+bool block_lost(int rank) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  return rank == 1 && spec && std::string(spec) == "worker:lose-block";
 }
 
 int publish_failure() {

@@ -1,6 +1,6 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh, tests/cli/hard_parts.sh,
-// tests/mpi/stopped_rank.sh, tests/cli/outputs.sh, tests/cli/publish.sh.
+// tests/mpi/stopped_rank.sh, tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh.
 #pragma once
 #include <cstddef>
 
@@ -21,6 +21,10 @@ void worker_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:abort-before-agreement": rank 1 dies after its last piece, while
 // rank 0 writes (the job must then publish nothing).
 void worker_death(int rank);
+
+// PARTET_INJECT_FAILURE="worker:lose-block": rank 1 loses its block of an XDMF set's HDF5 files
+// (as if it ran out of memory taking it), so the collective write must fail on every rank.
+bool block_lost(int rank);
 
 // PARTET_INJECT_PUBLISH_FAILURE=N: the N-th new file's move into place fails (0: none).
 int publish_failure();

@@ -16,6 +16,7 @@
 #include "partet/errors.hpp"
 #include "stages/info.hpp"
 #include "io/tetgen_files.hpp"
+#include "io/xdmf.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
@@ -23,20 +24,6 @@ namespace {
 
 // ---------------------------------------------------------------------------------------------
 // Shared
-
-// Connected solids, numbered from 1 in the order of their first tet (MEDIT references and VTU
-// cell data). From the neighbours when present, else from the tets.
-std::vector<std::int32_t> region_of_tets(const TetMesh& mesh) {
-  const std::vector<Tet> computed = mesh.neighbours.size() == mesh.tets.size()
-                                        ? std::vector<Tet>{}
-                                        : compute_neighbours(mesh.tets, mesh.points.size());
-  const std::vector<Tet>& neighbours = computed.empty() ? mesh.neighbours : computed;
-  std::vector<std::int32_t> label;
-  label_tet_regions(
-      neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label);
-  for (std::int32_t& l : label) ++l;
-  return label;
-}
 
 std::int32_t piece_of(const TetMesh& mesh, std::size_t t) { return mesh.piece.empty() ? -1 : mesh.piece[t]; }
 
@@ -256,6 +243,18 @@ class MshWriter {
 
 // ---------------------------------------------------------------------------------------------
 
+std::vector<std::int32_t> region_of_tets(const TetMesh& mesh) {
+  const std::vector<Tet> computed = mesh.neighbours.size() == mesh.tets.size()
+                                        ? std::vector<Tet>{}
+                                        : compute_neighbours(mesh.tets, mesh.points.size());
+  const std::vector<Tet>& neighbours = computed.empty() ? mesh.neighbours : computed;
+  std::vector<std::int32_t> label;
+  label_tet_regions(
+      neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label);
+  for (std::int32_t& l : label) ++l;
+  return label;
+}
+
 std::vector<int> pieces_in(const MeshOutput& output) {
   std::vector<int> pieces;
   if (output.mesh.piece.empty()) return output.mesh.tets.empty() ? pieces : std::vector<int>{-1};
@@ -340,7 +339,8 @@ struct FormatInfo {
 };
 constexpr FormatInfo kFormats[] = {{MeshFormat::tetgen, "tetgen", ".node"},   {MeshFormat::vtu, "vtu", ".vtu"},
                                    {MeshFormat::pvtu, "pvtu", ".pvtu"},        {MeshFormat::msh, "msh", ".msh"},
-                                   {MeshFormat::msh_binary, "msh-binary", ""}, {MeshFormat::medit, "medit", ".mesh"}};
+                                   {MeshFormat::msh_binary, "msh-binary", ""}, {MeshFormat::medit, "medit", ".mesh"},
+                                   {MeshFormat::xdmf, "xdmf", ".xdmf"}};
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return !tail.empty() && s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -409,11 +409,13 @@ std::vector<std::string> format_paths(MeshFormat format, const std::string& pref
     case MeshFormat::msh: return {prefix + ".msh"};
     case MeshFormat::msh_binary: return {prefix + ".msh"};
     case MeshFormat::medit: return {prefix + ".mesh"};
+    case MeshFormat::xdmf: return xdmf_paths(prefix);
   }
   return {};
 }
 
-void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix) {
+void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix,
+                    const Hdf5Write& write_hdf5) {
   const std::string path = format_paths(format, prefix).front();
   switch (format) {
     case MeshFormat::tetgen: add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from); return;
@@ -421,6 +423,7 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
     case MeshFormat::msh: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); }); return;
     case MeshFormat::msh_binary: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); }); return;
     case MeshFormat::medit: set.add(path, [&](const std::string& tmp) { write_medit(output, tmp); }); return;
+    case MeshFormat::xdmf: add_xdmf_files(set, output, prefix, write_hdf5); return;
     case MeshFormat::pvtu: {
       // The index names its piece files relative to its own directory.
       const std::string base = prefix.substr(prefix.find_last_of('/') + 1);

@@ -4,6 +4,7 @@
 // publishes a set of files atomically under their final names). Throws OutputError.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -13,19 +14,20 @@
 
 namespace partet {
 
-enum class MeshFormat { tetgen, vtu, pvtu, msh, msh_binary, medit };
+enum class MeshFormat { tetgen, vtu, pvtu, msh, msh_binary, medit, xdmf };
 
-// Names on the command line ("tetgen", "vtu", "pvtu", "msh", "msh-binary", "medit"), in order.
+// Names on the command line ("tetgen", "vtu", "pvtu", "msh", "msh-binary", "medit", "xdmf"), in order.
 const std::vector<std::string>& mesh_format_names();
 // Throws OptionError naming the valid names.
 MeshFormat mesh_format(const std::string& name);
 std::string mesh_format_name(MeshFormat format);
-// The format an output path's extension names (.node .vtu .pvtu .msh .mesh), and the path
+// The format an output path's extension names (.node .vtu .pvtu .msh .mesh .xdmf), and the path
 // without it; false when the extension names none.
 bool split_format_extension(const std::string& path, MeshFormat& format, std::string& prefix);
 
 // The files a format writes for PREFIX, as far as they are known before the run: TetGen's four;
-// for pvtu the index, whose piece files PREFIX_p<i>.vtu and PREFIX_seams.vtu follow the mesh.
+// for pvtu the index, whose piece files PREFIX_p<i>.vtu and PREFIX_seams.vtu follow the mesh; for
+// xdmf PREFIX.xdmf, PREFIX_boundary.xdmf and PREFIX.h5 (see xdmf.hpp).
 std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix);
 
 // What the writers write.
@@ -36,6 +38,10 @@ struct MeshOutput {
   // (--allow-split-faces): boundary marker 2 instead of 1, in the formats that carry one.
   std::size_t split_from = SIZE_MAX;
 };
+
+// Connected solids, numbered from 1 in the order of their first tet (MEDIT references, VTU and
+// XDMF cell data). From the neighbours when present, else from the tets.
+std::vector<std::int32_t> region_of_tets(const TetMesh& mesh);
 
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
 // that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it belongs
@@ -60,7 +66,21 @@ void write_msh(const MeshOutput& output, const std::string& path, bool binary);
 // (reference 1: the boundary; 2: parts of split input triangles).
 void write_medit(const MeshOutput& output, const std::string& path);
 
+// Writes the HDF5 files of an XDMF set (the mesh's and the boundary's) to temporary paths;
+// returns the counts of points, tets and faces written. The MPI driver gives one that has every
+// rank write its block at once.
+struct MeshTotals {
+  std::uint64_t points = 0, tets = 0, faces = 0;
+};
+struct Hdf5Paths {
+  std::string mesh, boundary;              // where to write
+  std::string mesh_shown, boundary_shown;  // the final names, for messages
+};
+using Hdf5Write = std::function<MeshTotals(const MeshOutput& output, const Hdf5Paths& paths)>;
+
 // Writes the format's files for PREFIX under temporary names into `set` (published together).
-void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix);
+// write_hdf5 is used for xdmf only.
+void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix,
+                    const Hdf5Write& write_hdf5);
 
 }  // namespace partet

@@ -74,8 +74,9 @@ std::vector<std::string> output_paths(const MeshJob& job);
 void check_outputs(const MeshJob& job);
 
 // Checks the result if asked (throws Error when the check fails) and writes the mesh files
-// under temporary names into `outputs` (published once every rank agrees).
+// under temporary names into `outputs` (published once every rank agrees); an XDMF set's HDF5
+// file through write_hdf5.
 CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
-                            OutputSet& outputs);
+                            OutputSet& outputs, const Hdf5Write& write_hdf5);
 
 }  // namespace partet

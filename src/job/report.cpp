@@ -176,6 +176,10 @@ void print_summary(const JobSummary& s) {
     written += f == MeshFormat::tetgen ? s.job.output_prefix + ".node/.ele/.face/.neigh"
                                        : format_paths(f, s.job.output_prefix).front();
     if (f == MeshFormat::pvtu) written += " (with one .vtu per piece)";
+    if (f == MeshFormat::xdmf) {
+      const std::vector<std::string> paths = format_paths(f, s.job.output_prefix);
+      written += " (with " + paths[1] + ", " + paths[2] + " and " + paths[3] + ")";
+    }
   }
   log::info("wrote " + written + (s.job.report_path.empty() ? "" : " and " + s.job.report_path));
 }

@@ -17,11 +17,11 @@ void RootRun::prepare() {
 
 void RootRun::mesh(PieceScheduler& scheduler) { result_ = mesh_with_retries(input_, job_.options, scheduler, &times_); }
 
-void RootRun::check_and_write() {
+void RootRun::check_and_write(const Hdf5Write& write_hdf5) {
   scale_points(input_.points, -scale_exponent_);
   scale_points(result_.mesh.points, -scale_exponent_);
   for (CutPlane& plane : result_.planes) plane.offset = std::ldexp(plane.offset, -scale_exponent_);
-  check_ = partet::check_and_write(job_, input_, result_, times_, outputs_);
+  check_ = partet::check_and_write(job_, input_, result_, times_, outputs_, write_hdf5);
 }
 
 void RootRun::publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& records, double seconds) {

@@ -11,13 +11,17 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <thread>
+
+#include <unistd.h>
 
 #include "job/root_run.hpp"
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
 #include "common/log.hpp"
 #include "io/output_set.hpp"
+#include "io/parallel_hdf5.hpp"
 #include "runner/serialize.hpp"
 #include "io/write_surface.hpp"
 #include "runner/interrupts.hpp"
@@ -29,6 +33,7 @@ namespace {
 
 constexpr int kTagPiece = 1;
 constexpr int kTagReply = 2;
+constexpr int kTagBlock = 3;
 // How long rank 0 sleeps between looks at MPI when idle: the pause doubles from the shortest to
 // the longest while nothing happens, so replies to small regions (seams, polish) are taken at
 // once and long pieces still leave the core to the TetGen processes.
@@ -397,6 +402,89 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// 9. The HDF5 file of an XDMF set, written by every rank at once (parallel HDF5). Rank 0 sends
+// every rank the temporary file's name and its block of the mesh; an empty name ends the writes.
+// (Until the pieces' tets stay with the ranks that meshed them, rank 0 deals the blocks out.)
+
+std::string absolute_path(const std::string& path) {
+  if (!path.empty() && path[0] == '/') return path;
+  std::string directory(4096, '\0');
+  if (!::getcwd(directory.data(), directory.size())) throw OutputError("cannot find the working directory");
+  return directory.c_str() + std::string("/") + path;
+}
+
+bool writes_hdf5(const MeshJob& job) {
+  return std::find(job.formats.begin(), job.formats.end(), MeshFormat::xdmf) != job.formats.end();
+}
+
+// Rank 0's text to every rank.
+std::string broadcast_text(const std::string& text) {
+  const int size = bounded([&] {
+    return broadcast_int(static_cast<int>(text.size()), 0, job_comm(), collective_limit());
+  });
+  std::string received = text;
+  received.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(received.data(), size, MPI_CHAR, 0, job_comm());
+  return received;
+}
+
+// Rank 0's Hdf5Write. A block it cannot make goes as no bytes, so every rank still joins the
+// collective write and learns of the failure there.
+MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& relative) {
+  // Absolute paths: the ranks' working directories may differ.
+  Hdf5Paths paths = relative;
+  paths.mesh = absolute_path(relative.mesh), paths.boundary = absolute_path(relative.boundary);
+  broadcast_text(paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' + paths.boundary_shown);
+  int size = 1;
+  MPI_Comm_size(job_comm(), &size);
+  std::vector<std::int32_t> region;
+  bool ok = true;
+  try {
+    region = region_of_tets(output.mesh);
+  } catch (const std::bad_alloc&) {
+    ok = false;
+  }
+  for (int r = 1; r < size; ++r) {
+    std::string bytes;
+    if (ok) try {
+        bytes = block_bytes(mesh_block(output, region, r, size));
+      } catch (const std::bad_alloc&) {
+        ok = false;
+      }
+    bounded([&] { return send_bytes(bytes, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  }
+  MeshBlock own;
+  if (ok) own = mesh_block(output, region, 0, size);
+  return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+}
+
+void end_hdf5_writes() { broadcast_text(""); }
+
+// A worker's side: joins each write rank 0 orders until it says there are no more.
+void join_hdf5_writes(JobStatus& status) {
+  for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
+    std::istringstream lines(order);
+    Hdf5Paths paths;
+    std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
+    std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
+    const std::string bytes =
+        bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    MeshBlock block;
+    bool ok = !bytes.empty() && !test_hooks::block_lost(my_rank());
+    if (ok) try {
+        block = block_from_bytes(bytes);
+      } catch (const std::exception&) {
+        ok = false;
+      }
+    try {
+      write_mesh_hdf5(job_comm(), block, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+    } catch (const std::exception& e) {
+      status.error = e.what();  // rank 0 has the same error and reports it
+    }
+  }
+}
+
 // What one rank knows about the job as it runs (rank 0's story is in RootRun).
 struct RankState {
   int rank = 0, size = 1;
@@ -578,9 +666,11 @@ JobStatus run_mesh_job(const MeshJob& job) {
     });
     broadcast(kDone);
     // 9. Back to the input's scale, checked and written under temporary names.
-    if (state.status.error.empty()) on_root(state, [&] { root->check_and_write(); });
+    if (state.status.error.empty()) on_root(state, [&] { root->check_and_write(write_hdf5_on_every_rank); });
+    if (writes_hdf5(job)) end_hdf5_writes();
   } else {
     worker_loop(job, state.rank, state.stats);
+    if (writes_hdf5(job)) join_hdf5_writes(state.status);
   }
   // 10. Every rank agrees; rank 0 publishes and reports.
   agree_and_publish(state, root);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every output format round-trips through independent readers (tests/formats/round_trip.py):
 # a generated surface meshed on 2 ranks into all formats at once, then checked against the
-# TetGen files of the same run. Two shapes: one solid (genus 3) and two disjoint solids.
+# TetGen files of the same run (and the XDMF set read by DOLFINx in parallel). Two shapes: one
+# solid (genus 3) and two disjoint solids.
 # Usage: formats.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -12,22 +13,34 @@ for case in "genus3 1" "two_spheres 2"; do
   read -r shape regions <<< "$case"
   "$partet" generate "$shape" --faces 4000 -o "$work/$shape.off" > /dev/null
   "$mpiexec" -n 2 "$partet" mesh "$work/$shape.off" -o "$work/$shape" --pieces 4 --quiet \
-    --format tetgen,vtu,pvtu,msh,medit
+    --format tetgen,vtu,pvtu,msh,medit,xdmf
   # -o with an extension chooses the format.
   "$mpiexec" -n 2 "$partet" mesh "$work/$shape.off" -o "$work/${shape}_binary.msh" --pieces 4 --quiet \
     --format msh-binary
   "$partet" check "$work/$shape.off" "$work/$shape" | tail -n 1
   /usr/bin/python3 "$here/round_trip.py" "$work/$shape" 4 "$regions"
+  # DOLFINx reads the XDMF set in parallel, as a FEM code would.
+  "$mpiexec" -n 2 /usr/bin/python3 "$here/dolfinx_read.py" "$work/$shape" 2>&1 | grep -v "^INFO:"
+  # The HDF5 file is written by every rank at once, each its own block: on 1 and 4 ranks (and
+  # with -o NAME.xdmf choosing the format) the set is the same, byte for byte.
+  for n in 1 4; do
+    "$mpiexec" -n $n "$partet" mesh "$work/$shape.off" -o "$work/${shape}_n$n.xdmf" --pieces 4 --quiet
+    cmp "$work/$shape.h5" "$work/${shape}_n$n.h5"
+    cmp "$work/${shape}_boundary.h5" "$work/${shape}_n${n}_boundary.h5"
+    sed "s/${shape}_n$n/$shape/" "$work/${shape}_n$n.xdmf" | cmp - "$work/$shape.xdmf"
+    sed "s/${shape}_n$n/$shape/g" "$work/${shape}_n${n}_boundary.xdmf" | cmp - "$work/${shape}_boundary.xdmf"
+  done
+  echo "ok: the XDMF set of 2 ranks is byte-identical to that of 1 and 4 ranks"
 done
 
-# A publish that fails midway (the 7th of 13 moves) keeps the whole previous set, the per-piece
+# A publish that fails midway (the 7th of 17 moves) keeps the whole previous set, the per-piece
 # .vtu files included, and leaves no temporaries.
 cd "$work"
 mkdir before
 cp genus3.node genus3.ele genus3.face genus3.neigh genus3.vtu genus3.pvtu genus3_p*.vtu genus3_seams.vtu genus3.msh \
-  genus3.mesh before/
+  genus3.mesh genus3.xdmf genus3_boundary.xdmf genus3.h5 genus3_boundary.h5 before/
 if PARTET_INJECT_PUBLISH_FAILURE=7 "$partet" mesh two_spheres.off -o genus3 --pieces 4 --quiet \
-  --format tetgen,vtu,pvtu,msh,medit 2> log; then
+  --format tetgen,vtu,pvtu,msh,medit,xdmf 2> log; then
   echo "FAIL: the injected publish failure exited 0"; exit 1
 fi
 for f in before/*; do

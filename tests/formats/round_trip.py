@@ -94,6 +94,24 @@ refs = dict(zip([c.type for c in medit.cells], medit.cell_data["medit:ref"]))
 expect(set(np.asarray(refs["triangle"]).ravel().tolist()) == {1}, "medit: triangle references")
 expect(np.array_equal(np.asarray(refs["tetra"]).ravel(), region), "medit: tet references differ from the vtu regions")
 
+# XDMF + HDF5: the tets (cell data region and piece as in the vtu) and, in _boundary.xdmf, the
+# boundary triangles with marker 1; ids stored as 64-bit integers.
+import os
+if os.path.exists(prefix + ".xdmf"):
+    import h5py
+    x = meshio.read(prefix + ".xdmf")
+    same_mesh("xdmf", x, with_faces=False)
+    expect(np.array_equal(np.concatenate(x.cell_data["region"]).ravel(), region), "xdmf: regions differ from the vtu's")
+    expect(np.array_equal(np.concatenate(x.cell_data["piece"]).ravel(), piece), "xdmf: pieces differ from the vtu's")
+    b = meshio.read(prefix + "_boundary.xdmf")
+    expect(np.array_equal(b.get_cells_type("triangle"), faces), "xdmf: boundary triangles differ")
+    expect(set(np.concatenate(b.cell_data["boundary"]).ravel().tolist()) == {1}, "xdmf: boundary markers")
+    for h5_path, name in ((prefix + ".h5", "Mesh/mesh/topology"), (prefix + "_boundary.h5", "MeshTags/boundary/topology")):
+        with h5py.File(h5_path, "r") as h5:
+            expect(h5[name].dtype == np.int64, f"xdmf: {name} is {h5[name].dtype}, not int64")
+    print(f"xdmf: {len(x.points)} points, {len(x.get_cells_type('tetra'))} tets, "
+          f"{len(b.get_cells_type('triangle'))} boundary triangles, int64 ids")
+
 for f in failures:
     print("FAIL:", f)
 sys.exit(1 if failures else 0)

@@ -1,0 +1,196 @@
+// The HDF5 file of an XDMF set, written collectively: every rank its own rows at once through
+// parallel HDF5 (MPI-IO). The only file that includes hdf5.h.
+#include "io/parallel_hdf5.hpp"
+
+#include <hdf5.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+
+#include "partet/errors.hpp"
+
+namespace partet {
+namespace {
+
+// Rows per collective write call at most: MPI-IO counts are int, and one call per 256 MB keeps
+// every transfer far below 2 GiB whatever the block size.
+constexpr std::size_t kMaxBytesPerWrite = std::size_t{256} << 20;
+
+// Closes an HDF5 object when it goes out of scope.
+class Hid {
+ public:
+  Hid(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~Hid() {
+    if (id_ >= 0) close_(id_);
+  }
+  Hid(const Hid&) = delete;
+  Hid& operator=(const Hid&) = delete;
+  hid_t get() const { return id_; }
+  bool ok() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+// Where this rank's rows go: its first row and the totals, from every rank's counts.
+struct Placement {
+  std::uint64_t first[3] = {0, 0, 0};
+  std::uint64_t total[3] = {0, 0, 0};
+};
+
+Placement place(MPI_Comm comm, const MeshBlock& block) {
+  const std::uint64_t mine[3] = {block.points.size(), block.tets.size(), block.faces.size()};
+  Placement p;
+  MPI_Exscan(mine, p.first, 3, MPI_UINT64_T, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) std::fill(p.first, p.first + 3, 0);  // MPI_Exscan leaves rank 0's undefined
+  MPI_Allreduce(mine, p.total, 3, MPI_UINT64_T, MPI_SUM, comm);
+  return p;
+}
+
+bool all_ranks(MPI_Comm comm, bool mine) {
+  int here = mine ? 1 : 0, all = 0;
+  MPI_Allreduce(&here, &all, 1, MPI_INT, MPI_MIN, comm);
+  return all == 1;
+}
+
+// One rank's rows of a 2D dataset [total x columns] starting at `first`.
+struct Rows {
+  const char* dataset;
+  hid_t type;            // the file's and memory's type
+  std::size_t columns;   // values per row
+  std::size_t row_bytes;
+  const void* data;
+  std::uint64_t count, first, total;
+};
+
+class Hdf5File {
+ public:
+  Hdf5File(MPI_Comm comm, const std::string& path, const std::string& shown) : comm_(comm), shown_(shown) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+    Hid access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL);
+    // Our own lock guards the temporary; HDF5's flock() would fail on filesystems without it.
+    H5Pset_file_locking(access.get(), false, true);
+    file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get());
+    if (!all_ranks(comm, file_ >= 0)) fail("create it");
+  }
+  ~Hdf5File() {
+    if (file_ >= 0) H5Fclose(file_);
+  }
+  Hdf5File(const Hdf5File&) = delete;
+  Hdf5File& operator=(const Hdf5File&) = delete;
+
+  // Collective: creates the dataset and writes every rank's rows, in calls of bounded size.
+  void write(const Rows& rows) {
+    const hsize_t dims[2] = {rows.total, rows.columns};
+    Hid file_space(H5Screate_simple(rows.columns == 1 ? 1 : 2, dims, nullptr), H5Sclose);
+    Hid link(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    H5Pset_create_intermediate_group(link.get(), 1);
+    // No modification times: the same mesh gives the same bytes, on any number of ranks.
+    Hid creation(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    H5Pset_obj_track_times(creation.get(), false);
+    Hid dataset(H5Dcreate2(file_, rows.dataset, rows.type, file_space.get(), link.get(), creation.get(), H5P_DEFAULT),
+                H5Dclose);
+    if (!all_ranks(comm_, dataset.ok())) fail(std::string("create ") + rows.dataset);
+    Hid transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
+    H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE);
+    const std::uint64_t rows_per_call = std::max<std::uint64_t>(1, kMaxBytesPerWrite / rows.row_bytes);
+    std::uint64_t calls = (rows.count + rows_per_call - 1) / rows_per_call;
+    MPI_Allreduce(MPI_IN_PLACE, &calls, 1, MPI_UINT64_T, MPI_MAX, comm_);  // every rank makes as many
+    bool ok = true;
+    for (std::uint64_t call = 0; call < calls; ++call) {
+      const std::uint64_t begin = std::min(rows.count, call * rows_per_call);
+      const std::uint64_t n = std::min(rows.count, begin + rows_per_call) - begin;
+      ok = write_rows(dataset.get(), file_space.get(), transfer.get(), rows, begin, n) && ok;
+    }
+    if (!all_ranks(comm_, ok)) fail(std::string("write ") + rows.dataset);
+  }
+
+  void close() {
+    const herr_t closed = H5Fclose(file_);
+    file_ = -1;
+    if (!all_ranks(comm_, closed >= 0)) fail("close it");
+  }
+
+ private:
+  bool write_rows(hid_t dataset, hid_t file_space, hid_t transfer, const Rows& rows, std::uint64_t begin,
+                  std::uint64_t n) {
+    const hsize_t start[2] = {rows.first + begin, 0}, count[2] = {n, rows.columns};
+    const hsize_t memory_dims[2] = {std::max<hsize_t>(n, 1), rows.columns};
+    Hid memory_space(H5Screate_simple(rows.columns == 1 ? 1 : 2, memory_dims, nullptr), H5Sclose);
+    if (n == 0) {
+      H5Sselect_none(file_space);
+      H5Sselect_none(memory_space.get());
+    } else {
+      H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+    }
+    static const char kNothing[16] = {};
+    const void* data = n == 0 ? kNothing : static_cast<const char*>(rows.data) + begin * rows.row_bytes;
+    return H5Dwrite(dataset, rows.type, memory_space.get(), file_space, transfer, data) >= 0;
+  }
+
+  [[noreturn]] void fail(const std::string& step) {
+    throw OutputError("cannot write '" + shown_ + "': parallel HDF5 could not " + step +
+                      " (is the directory writable, is there space left?)");
+  }
+
+  MPI_Comm comm_;
+  std::string shown_;
+  hid_t file_ = -1;
+};
+
+template <class T>
+Rows rows_of(const char* dataset, hid_t type, std::size_t columns, const std::vector<T>& values, std::uint64_t first,
+             std::uint64_t total) {
+  return Rows{dataset, type, columns, sizeof(T), values.data(), values.size(), first, total};
+}
+
+bool file_exists(const std::string& path) {
+  struct stat info;
+  return ::stat(path.c_str(), &info) == 0;
+}
+
+// Every rank learns of the worst trouble any rank has, and of which rank; then all throw.
+void refuse_on_trouble(MPI_Comm comm, WriteTrouble trouble, const std::string& shown) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int mine[2] = {static_cast<int>(trouble), rank}, worst[2] = {0, 0};
+  MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MAXLOC, comm);
+  if (worst[0] == static_cast<int>(WriteTrouble::none)) return;
+  const std::string who = "rank " + std::to_string(worst[1]);
+  if (worst[0] == static_cast<int>(WriteTrouble::file_not_seen))
+    throw OutputError("cannot write '" + shown + "': " + who +
+                      " does not see the output directory rank 0 writes to; the xdmf format needs a directory all "
+                      "ranks share (e.g. on a parallel or network filesystem)");
+  throw OutputError("cannot write '" + shown + "': " + who + " could not take its part of the mesh");
+}
+
+}  // namespace
+
+MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlock& block, const Hdf5Paths& paths, WriteTrouble trouble) {
+  if (trouble == WriteTrouble::none && !(file_exists(paths.mesh) && file_exists(paths.boundary)))
+    trouble = WriteTrouble::file_not_seen;
+  refuse_on_trouble(comm, trouble, paths.mesh_shown);
+  const Placement at = place(comm, block);
+  Hdf5File mesh(comm, paths.mesh, paths.mesh_shown);
+  mesh.write(rows_of(hdf5_dataset::geometry, H5T_NATIVE_DOUBLE, 3, block.points, at.first[0], at.total[0]));
+  mesh.write(rows_of(hdf5_dataset::topology, H5T_NATIVE_INT64, 4, block.tets, at.first[1], at.total[1]));
+  mesh.write(rows_of(hdf5_dataset::region, H5T_NATIVE_INT32, 1, block.tet_region, at.first[1], at.total[1]));
+  mesh.write(rows_of(hdf5_dataset::piece, H5T_NATIVE_INT32, 1, block.tet_piece, at.first[1], at.total[1]));
+  mesh.close();
+  Hdf5File boundary(comm, paths.boundary, paths.boundary_shown);
+  boundary.write(rows_of(hdf5_dataset::faces, H5T_NATIVE_INT64, 3, block.faces, at.first[2], at.total[2]));
+  boundary.write(rows_of(hdf5_dataset::markers, H5T_NATIVE_INT32, 1, block.face_marker, at.first[2], at.total[2]));
+  boundary.close();
+  return MeshTotals{at.total[0], at.total[1], at.total[2]};
+}
+
+MeshTotals write_hdf5_here(const MeshOutput& output, const Hdf5Paths& paths) {
+  return write_mesh_hdf5(MPI_COMM_SELF, mesh_block(output, region_of_tets(output.mesh), 0, 1), paths);
+}
+
+}  // namespace partet

@@ -1,0 +1,28 @@
+// The HDF5 file of an XDMF set (xdmf.hpp), written collectively: every rank writes its own block
+// of the arrays at the same time through parallel HDF5 (MPI-IO). Part of the MPI layer's
+// library: the core knows nothing of MPI.
+#pragma once
+#include <mpi.h>
+
+#include <string>
+
+#include "io/xdmf.hpp"
+
+namespace partet {
+
+// Why a rank cannot take part in a write.
+enum class WriteTrouble : int { none = 0, no_block = 1, file_not_seen = 2 };
+
+// Collective over comm: writes the HDF5 files from every rank's block, the blocks in rank order
+// (each rank's first rows from an exclusive prefix sum of the counts). The paths are absolute and
+// the (empty) files exist already, made by rank 0: a rank that does not see them is on a
+// filesystem rank 0 does not share, and must not write a file of its own. Returns the totals on
+// every rank. Throws OutputError (naming the final file, and the rank in trouble) on every rank
+// when any rank fails.
+MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlock& block, const Hdf5Paths& paths,
+                           WriteTrouble trouble = WriteTrouble::none);
+
+// The HDF5 files written by this process alone (MPI must be initialized).
+MeshTotals write_hdf5_here(const MeshOutput& output, const Hdf5Paths& paths);
+
+}  // namespace partet

@@ -1,0 +1,146 @@
+// XDMF + HDF5 output: the XDMF files, the blocks ranks write (the HDF5 file itself is written by
+// parallel_hdf5.cpp).
+#include "io/xdmf.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+
+#include "io/buffered_file.hpp"
+#include "partet/errors.hpp"
+
+namespace partet {
+namespace {
+
+
+// Near-equal runs: the part-th of `parts` runs of n items.
+std::pair<std::size_t, std::size_t> run_of(std::size_t n, int part, int parts) {
+  const auto at = [&](int p) { return static_cast<std::size_t>((static_cast<unsigned __int128>(n) * p) / parts); };
+  return {at(part), at(part + 1)};
+}
+
+std::string data_item(const std::string& dims, const char* number_type, int precision, const std::string& h5_name,
+                      const char* dataset) {
+  return "<DataItem Dimensions=\"" + dims + "\" NumberType=\"" + number_type + "\" Precision=\"" +
+         std::to_string(precision) + "\" Format=\"HDF\">" + h5_name + ":" + dataset + "</DataItem>";
+}
+
+std::string xdmf_document(const std::string& grid) {
+  return "<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\">\n<Domain>\n" + grid + "</Domain>\n</Xdmf>\n";
+}
+
+std::string geometry(const MeshTotals& totals, const std::string& h5_name) {
+  return "<Geometry GeometryType=\"XYZ\">" + data_item(std::to_string(totals.points) + " 3", "Float", 8, h5_name, hdf5_dataset::geometry) +
+         "</Geometry>\n";
+}
+
+// Byte packing of flat arrays.
+template <class T>
+void put(std::string& out, const std::vector<T>& values) {
+  const std::uint64_t n = values.size();
+  out.append(reinterpret_cast<const char*>(&n), sizeof n);
+  out.append(reinterpret_cast<const char*>(values.data()), n * sizeof(T));
+}
+
+template <class T>
+void take(std::string_view& in, std::vector<T>& values) {
+  std::uint64_t n = 0;
+  if (in.size() < sizeof n) throw InternalError("a mesh block's bytes end early");
+  std::memcpy(&n, in.data(), sizeof n);
+  in.remove_prefix(sizeof n);
+  if (n > in.size() / sizeof(T)) throw InternalError("a mesh block's bytes end early");
+  values.resize(n);
+  std::memcpy(values.data(), in.data(), n * sizeof(T));
+  in.remove_prefix(n * sizeof(T));
+}
+
+}  // namespace
+
+MeshBlock mesh_block(const MeshOutput& output, const std::vector<std::int32_t>& region, int part, int parts) {
+  const TetMesh& mesh = output.mesh;
+  MeshBlock block;
+  const auto [p0, p1] = run_of(mesh.points.size(), part, parts);
+  block.points.assign(mesh.points.begin() + p0, mesh.points.begin() + p1);
+  const auto [t0, t1] = run_of(mesh.tets.size(), part, parts);
+  for (std::size_t t = t0; t < t1; ++t) {
+    const Tet& tet = mesh.tets[t];
+    block.tets.push_back({tet[0], tet[1], tet[2], tet[3]});
+    block.tet_region.push_back(region[t]);
+    block.tet_piece.push_back(mesh.piece.empty() ? -1 : mesh.piece[t]);
+  }
+  const auto [f0, f1] = run_of(output.boundary.size(), part, parts);
+  for (std::size_t f = f0; f < f1; ++f) {
+    const Triangle& face = output.boundary[f];
+    block.faces.push_back({face[0], face[1], face[2]});
+    block.face_marker.push_back(f < output.split_from ? 1 : 2);
+  }
+  return block;
+}
+
+std::string block_bytes(const MeshBlock& block) {
+  std::string out;
+  put(out, block.points), put(out, block.tets), put(out, block.tet_region), put(out, block.tet_piece);
+  put(out, block.faces), put(out, block.face_marker);
+  return out;
+}
+
+MeshBlock block_from_bytes(std::string_view in) {
+  MeshBlock block;
+  take(in, block.points), take(in, block.tets), take(in, block.tet_region), take(in, block.tet_piece);
+  take(in, block.faces), take(in, block.face_marker);
+  if (!in.empty() || block.tet_region.size() != block.tets.size() || block.tet_piece.size() != block.tets.size() ||
+      block.face_marker.size() != block.faces.size())
+    throw InternalError("bytes that are no mesh block");
+  return block;
+}
+
+std::string xdmf_mesh_text(const MeshTotals& totals, const std::string& mesh_h5) {
+  const std::string& h5_name = mesh_h5;
+  const std::string tets = std::to_string(totals.tets);
+  return xdmf_document(
+      "<Grid Name=\"mesh\" GridType=\"Uniform\">\n<Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"" + tets +
+      "\" NodesPerElement=\"4\">" + data_item(tets + " 4", "Int", 8, h5_name, hdf5_dataset::topology) + "</Topology>\n" +
+      geometry(totals, h5_name) + "<Attribute Name=\"region\" AttributeType=\"Scalar\" Center=\"Cell\">" +
+      data_item(tets, "Int", 4, h5_name, hdf5_dataset::region) + "</Attribute>\n" +
+      "<Attribute Name=\"piece\" AttributeType=\"Scalar\" Center=\"Cell\">" + data_item(tets, "Int", 4, h5_name, hdf5_dataset::piece) +
+      "</Attribute>\n</Grid>\n");
+}
+
+std::string xdmf_boundary_text(const MeshTotals& totals, const std::string& mesh_h5, const std::string& boundary_h5) {
+  const std::string& h5_name = boundary_h5;
+  const std::string faces = std::to_string(totals.faces);
+  return xdmf_document(
+      "<Grid Name=\"boundary\" GridType=\"Uniform\">\n<Topology TopologyType=\"Triangle\" NumberOfElements=\"" + faces +
+      "\" NodesPerElement=\"3\">" + data_item(faces + " 3", "Int", 8, h5_name, hdf5_dataset::faces) + "</Topology>\n" +
+      geometry(totals, mesh_h5) + "<Attribute Name=\"boundary\" AttributeType=\"Scalar\" Center=\"Cell\">" +
+      data_item(faces, "Int", 4, h5_name, hdf5_dataset::markers) + "</Attribute>\n</Grid>\n");
+}
+
+std::vector<std::string> xdmf_paths(const std::string& prefix) {
+  return {prefix + ".xdmf", prefix + "_boundary.xdmf", prefix + ".h5", prefix + "_boundary.h5"};
+}
+
+void add_xdmf_files(OutputSet& set, const MeshOutput& output, const std::string& prefix, const Hdf5Write& write_hdf5) {
+  const std::vector<std::string> paths = xdmf_paths(prefix);
+  MeshTotals totals;
+  // Both HDF5 files are written by one call (every rank takes part once), each under its own
+  // temporary name.
+  set.add(paths[2], [&](const std::string& mesh_tmp) {
+    set.add(paths[3], [&](const std::string& boundary_tmp) {
+      totals = write_hdf5(output, Hdf5Paths{mesh_tmp, boundary_tmp, paths[2], paths[3]});
+    });
+  });
+  // The XDMF files name the HDF5 files relative to themselves (they are beside them).
+  const auto name = [](const std::string& path) { return path.substr(path.find_last_of('/') + 1); };
+  const auto add_text = [&set](const std::string& path, const std::string& text) {
+    set.add(path, [&](const std::string& tmp) {
+      BufferedFile out(tmp, path);
+      out.bytes(text.data(), text.size());
+      out.close();
+    });
+  };
+  add_text(paths[0], xdmf_mesh_text(totals, name(paths[2])));
+  add_text(paths[1], xdmf_boundary_text(totals, name(paths[2]), name(paths[3])));
+}
+
+}  // namespace partet

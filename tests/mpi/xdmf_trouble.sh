@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The XDMF set's HDF5 files are written by every rank at once; a rank that cannot take part must
+# fail the whole run on every rank, publish nothing and leave the previous set as it was:
+#   lost:       rank 1 loses its block (fault injection);
+#   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
+#               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
+#               writing its rows into a file of its own there would leave rank 0's file
+#               silently incomplete. Needs unshare -m (root); exits 77 (skipped) without it.
+# Usage: xdmf_trouble.sh PARTET MPIEXEC
+set -euo pipefail
+partet=$1 mpiexec=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+mkdir out
+"$partet" generate genus3 --faces 4000 -o in.off > /dev/null
+"$partet" generate two_spheres --faces 4000 -o other.off > /dev/null
+"$mpiexec" -n 2 "$partet" mesh in.off -o out/m.xdmf --pieces 4 --quiet
+mkdir before && cp out/* before/
+
+expect_refused() {  # NAME EXPECTED-MESSAGE-PART
+  local status=0
+  grep -q "$2" log || { echo "FAIL: $1: the error does not say '$2':"; cat log; exit 1; }
+  for f in before/*; do
+    cmp -s "$f" "out/$(basename "$f")" || { echo "FAIL: $1: $(basename "$f") changed"; exit 1; }
+  done
+  [ "$(ls out | wc -l)" -eq "$(ls before | wc -l)" ] || { echo "FAIL: $1: files left: $(ls out)"; exit 1; }
+  echo "ok: $1: refused on every rank, previous set kept: $(grep -o "rank 1[^;]*" log | head -n 1)"
+}
+
+if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/m.xdmf --pieces 4 \
+  --quiet 2> log; then
+  echo "FAIL: lost: a lost block exited 0"; exit 1
+fi
+expect_refused lost "rank 1 could not take its part of the mesh"
+
+if ! unshare -m true 2> /dev/null; then
+  echo "skipped: not-shared needs unshare -m"; exit 77
+fi
+if "$mpiexec" --oversubscribe -n 1 "$partet" mesh other.off -o "$work/out/m.xdmf" --pieces 4 --quiet \
+  : -n 1 unshare -m sh -c "mount -t tmpfs tmpfs '$work/out' && exec '$partet' mesh other.off -o '$work/out/m.xdmf' --pieces 4 --quiet" \
+  2> log; then
+  echo "FAIL: not-shared: a rank writing elsewhere exited 0"; exit 1
+fi
+expect_refused not-shared "rank 1 does not see the output directory"
