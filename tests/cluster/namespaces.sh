@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Three nodes on one machine, as a cluster has them: each a network namespace with its own address
+# (a veth pair on a private bridge the test makes), its own hostname (UTS namespace) and its own
+# scratch directory (a private tmpfs mounted at the same path, as a node-local /tmp is), all
+# sharing one output directory (as a parallel filesystem is shared). mpirun, outside them, starts
+# its daemons in the nodes through a launch agent (tests/cluster/node_agent.sh) where a cluster
+# would use ssh, and the ranks talk over TCP between the nodes' addresses only.
+#
+# On these nodes partet meshes a generated surface into TetGen files and the XDMF set (whose HDF5
+# files all three ranks write at once into the shared directory); the files must be byte-identical
+# to a 1-process run's, pass `partet check`, and DOLFINx, run on the three nodes, must read the
+# XDMF set back with the same tets, boundary facets and volume.
+# Needs root (ip netns, unshare, mount); exits 77 (skipped) without them.
+# Usage: namespaces.sh PARTET MPIEXEC
+set -euo pipefail
+partet=$(realpath "$1") mpiexec=$2
+here=$(cd "$(dirname "$0")" && pwd)
+tag=$(( $$ % 100000 ))
+net="10.$(( $$ % 200 + 20 )).$(( $$ / 200 % 250 ))"  # a private /24 of its own
+bridge=ptb$tag
+nodes=(ptn${tag}a ptn${tag}b ptn${tag}c)
+work=$(mktemp -d)
+
+cleanup() {
+  for ns in "${nodes[@]}"; do ip netns del "$ns" 2> /dev/null || true; done
+  ip link del "$bridge" 2> /dev/null || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+if [ "$(id -u)" -ne 0 ] || ! ip netns add "${nodes[0]}" 2> /dev/null || ! unshare --uts --mount true 2> /dev/null; then
+  echo "skipped: needs root with ip netns and unshare"
+  exit 77
+fi
+ip link add "$bridge" type bridge
+ip addr add "$net.1/24" dev "$bridge"
+ip link set "$bridge" up
+hosts=()
+for i in 0 1 2; do
+  ns=${nodes[$i]}
+  [ "$i" -eq 0 ] || ip netns add "$ns"
+  ip link add "v$tag$i" type veth peer name "e$tag$i"
+  ip link set "e$tag$i" netns "$ns"
+  ip link set "v$tag$i" master "$bridge" up
+  ip -n "$ns" addr add "$net.$((i + 2))/24" dev "e$tag$i"
+  ip -n "$ns" link set "e$tag$i" up
+  ip -n "$ns" link set lo up
+  hosts+=("$net.$((i + 2))")
+  echo "$net.$((i + 2)) $ns node$((i + 1))" >> "$work/nodes"  # address, namespace, hostname
+done
+
+mkdir -p "$work/shared" "$work/scratch"
+export PARTET_NODES=$work/nodes PARTET_NODE_SCRATCH=$work/scratch
+mpirun_nodes=("$mpiexec" --host "$(IFS=,; echo "${hosts[*]/%/:1}")" -n 3
+  --mca plm_rsh_agent "$here/node_agent.sh" --mca plm_rsh_no_tree_spawn 1
+  --mca oob_tcp_if_include "$net.0/24" --mca btl self,tcp --mca btl_tcp_if_include "$net.0/24")
+
+# Where the ranks run: three hostnames, three addresses, each with a scratch directory no other
+# node sees (each writes a file there and must find only its own).
+"${mpirun_nodes[@]}" sh -c 'touch "$TMPDIR/mine.$(hostname)"; sleep 1
+  echo "$(hostname) $(ip -4 -o addr show scope global | awk "{print \$4}") $(cd "$TMPDIR" && ls mine.* | tr "\n" " ")"' \
+  | sort > "$work/where"
+cat "$work/where"
+[ "$(cut -d' ' -f1 "$work/where" | sort -u | wc -l)" -eq 3 ] || { echo "FAIL: the ranks did not run on 3 hosts"; exit 1; }
+while read -r host address files; do
+  [ "$files" = "mine.$host" ] || { echo "FAIL: $host's scratch holds '$files'"; exit 1; }
+done < "$work/where"
+
+cd "$work/shared"
+"$partet" generate genus3 --faces 6000 -o in.off > /dev/null
+"$partet" mesh in.off -o one --pieces 6 --format tetgen,xdmf --quiet
+"${mpirun_nodes[@]}" "$partet" mesh "$work/shared/in.off" -o "$work/shared/nodes" --pieces 6 --format tetgen,xdmf \
+  --report "$work/shared/nodes.json" --quiet
+ranks=$(/usr/bin/python3 -c "import json; print(json.load(open('nodes.json'))['ranks'])")
+[ "$ranks" -eq 3 ] || { echo "FAIL: the report says $ranks ranks"; exit 1; }
+for file in .node .ele .face .neigh .h5 _boundary.h5; do
+  cmp "one$file" "nodes$file" || { echo "FAIL: nodes$file differs from the 1-process run's"; exit 1; }
+done
+"$partet" check in.off nodes | tail -n 1
+"${mpirun_nodes[@]}" /usr/bin/python3 "$here/../formats/dolfinx_read.py" "$work/shared/nodes" 2>&1 | grep -v "^INFO:"
+echo "ok: 3 ranks on 3 namespace nodes wrote the same files as 1 process; DOLFINx read them on the 3 nodes"
