@@ -32,6 +32,7 @@
 #include "io/output_set.hpp"
 #include "runner/interrupts.hpp"
 #include "stages/quality_json.hpp"
+#include "mpi/distributed_check.hpp"
 
 namespace {
 
@@ -136,6 +137,41 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
   return report.ok() ? 0 : 1;
 }
 
+// partet check on an XDMF set, on every rank of the job (alone: one rank). Rank 0 prints.
+int run_check_xdmf(const std::string& input_path, const std::string& xdmf_path, bool json) {
+  const std::string prefix = xdmf_path.substr(0, xdmf_path.size() - std::strlen(".xdmf"));
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) settle(prefix);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const partet::DistributedCheckReport report = partet::check_xdmf_set(MPI_COMM_WORLD, input_path, prefix);
+  if (rank != 0) return report.ok() ? 0 : 1;
+  if (json) {
+    std::printf("%s\n", nlohmann::json{{"ok", report.ok()},
+                                       {"violations", report.violations},
+                                       {"vertices", report.vertices},
+                                       {"tets", report.tets},
+                                       {"boundary_faces", report.boundary_faces},
+                                       {"tet_volume", report.tet_volume},
+                                       {"surface_volume", report.surface_volume},
+                                       {"euler_mesh", report.euler_mesh},
+                                       {"euler_expected", report.euler_expected}}
+                                .dump(2)
+                                .c_str());
+  } else {
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    std::printf("%lld vertices, %lld tets, %lld boundary faces (checked on %d ranks)\n",
+                static_cast<long long>(report.vertices), static_cast<long long>(report.tets),
+                static_cast<long long>(report.boundary_faces), ranks);
+    std::printf("volume %.17g (input encloses %.17g), V-E+F-T %ld (expected %ld)\n", report.tet_volume,
+                report.surface_volume, report.euler_mesh, report.euler_expected);
+    for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
+    std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
+  }
+  return report.ok() ? 0 : 1;
+}
+
 // This process's rank when an MPI launcher started it (before MPI_Init: from its environment).
 int launched_rank() {
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
@@ -166,6 +202,25 @@ std::string unwritable_session_directory() {
   return session_directory_possible("/tmp")
              ? ""
              : "/tmp is not writable, and MPI keeps its session files there: set TMPDIR to a writable directory";
+}
+
+// partet check INPUT PREFIX.xdmf: under MPI, each rank checking its part (see run_check_xdmf).
+int run_check_on_ranks(int argc, char** argv, const std::string& input, const std::string& xdmf, bool json) {
+  if (const std::string problem = unwritable_session_directory(); !problem.empty()) {
+    partet::log::error(problem);
+    return 2;
+  }
+  MPI_Init(&argc, &argv);
+  int code = 1;
+  try {
+    code = run_check_xdmf(input, xdmf, json);
+  } catch (const std::bad_alloc&) {
+    partet::log::error("out of memory: run the check on more ranks (mpirun -n N partet check ...)");
+  } catch (const std::exception& e) {
+    if (launched_rank() == 0) partet::log::error(e.what());
+  }
+  MPI_Finalize();
+  return code;
 }
 
 int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
@@ -328,7 +383,10 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
 CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   auto* check = app.add_subcommand("check", "verify a tet mesh against its input surface and print its quality");
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
-  check->add_option("prefix", c.check_prefix, "prefix of the .node/.ele files")->required();
+  check->add_option("prefix", c.check_prefix,
+                    "prefix of the .node/.ele files, or PREFIX.xdmf: the XDMF set, checked on every rank of an "
+                    "mpirun job, each rank its part")
+      ->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
   check->add_flag("--allow-split-faces", c.check_split,
                   "accept boundary faces that are parts of input triangles, tiling them (a mesh made with mesh "
@@ -557,6 +615,12 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*check && c.check_prefix.size() > 5 && c.check_prefix.compare(c.check_prefix.size() - 5, 5, ".xdmf") == 0) {
+      if (c.check_split || !c.check_report.empty())
+        throw partet::OptionError("--allow-split-faces and --report apply to TetGen files; check those (PREFIX) "
+                                  "instead of PREFIX.xdmf");
+      return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
+    }
     if (*check)
       return run_check(c.check_input, c.check_prefix, c.check_report, c.check_json,
                        c.check_split ? partet::BoundaryRule::split_allowed : partet::BoundaryRule::exact);

@@ -189,6 +189,84 @@ MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlock& block, const Hdf5Path
   return MeshTotals{at.total[0], at.total[1], at.total[2]};
 }
 
+// ---------------------------------------------------------------------------------------------
+// Reading: each rank its own run of rows, independently (no collective call count to agree on).
+
+namespace {
+
+class Hdf5Reader {
+ public:
+  Hdf5Reader(MPI_Comm comm, const std::string& path) : comm_(comm), path_(path) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    Hid access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL);
+    H5Pset_file_locking(access.get(), false, true);
+    file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get());
+    if (!all_ranks(comm, file_ >= 0)) fail("is missing or no HDF5 file");
+  }
+  ~Hdf5Reader() {
+    if (file_ >= 0) H5Fclose(file_);
+  }
+  Hdf5Reader(const Hdf5Reader&) = delete;
+  Hdf5Reader& operator=(const Hdf5Reader&) = delete;
+
+  // This rank's run of the rows of a [rows x columns] dataset; rows is its total.
+  template <class T>
+  std::vector<T> read(const char* name, hid_t type, std::size_t columns, std::uint64_t& rows) {
+    Hid dataset(H5Dopen2(file_, name, H5P_DEFAULT), H5Dclose);
+    Hid space(dataset.ok() ? H5Dget_space(dataset.get()) : -1, H5Sclose);
+    hsize_t dims[2] = {0, 0};
+    const int rank_of_space = space.ok() ? H5Sget_simple_extent_ndims(space.get()) : -1;
+    const bool shaped = rank_of_space == (columns == 1 ? 1 : 2) && H5Sget_simple_extent_dims(space.get(), dims, nullptr) >= 0 &&
+                        (columns == 1 || dims[1] == columns);
+    if (!all_ranks(comm_, shaped)) fail(std::string("has no dataset ") + name + " of " + std::to_string(columns) + " columns");
+    rows = dims[0];
+    int rank = 0, size = 1;
+    MPI_Comm_rank(comm_, &rank);
+    MPI_Comm_size(comm_, &size);
+    const auto at = [&](int p) { return static_cast<std::uint64_t>((static_cast<unsigned __int128>(rows) * p) / size); };
+    const std::uint64_t first = at(rank), count = at(rank + 1) - first;
+    std::vector<T> values(count);
+    bool ok = true;
+    const std::uint64_t per_call = std::max<std::uint64_t>(1, kMaxBytesPerWrite / sizeof(T));
+    for (std::uint64_t begin = 0; begin < count && ok; begin += per_call) {
+      const std::uint64_t n = std::min(per_call, count - begin);
+      const hsize_t start[2] = {first + begin, 0}, block[2] = {n, columns};
+      Hid memory(H5Screate_simple(columns == 1 ? 1 : 2, block, nullptr), H5Sclose);
+      H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, block, nullptr);
+      ok = H5Dread(dataset.get(), type, memory.get(), space.get(), H5P_DEFAULT, values.data() + begin) >= 0;
+    }
+    if (!all_ranks(comm_, ok)) fail(std::string("cannot be read (dataset ") + name + ")");
+    return values;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) { throw InputError("'" + path_ + "' " + what); }
+
+  MPI_Comm comm_;
+  std::string path_;
+  hid_t file_ = -1;
+};
+
+}  // namespace
+
+MeshBlock read_mesh_hdf5(MPI_Comm comm, const std::string& mesh_h5, const std::string& boundary_h5, MeshTotals& totals) {
+  MeshBlock block;
+  {
+    Hdf5Reader mesh(comm, mesh_h5);
+    block.points = mesh.read<Point3>(hdf5_dataset::geometry, H5T_NATIVE_DOUBLE, 3, totals.points);
+    block.tets = mesh.read<std::array<std::int64_t, 4>>(hdf5_dataset::topology, H5T_NATIVE_INT64, 4, totals.tets);
+  }
+  Hdf5Reader boundary(comm, boundary_h5);
+  block.faces = boundary.read<std::array<std::int64_t, 3>>(hdf5_dataset::faces, H5T_NATIVE_INT64, 3, totals.faces);
+  std::uint64_t markers = 0;
+  block.face_marker = boundary.read<std::int32_t>(hdf5_dataset::markers, H5T_NATIVE_INT32, 1, markers);
+  if (!all_ranks(comm, markers == totals.faces))
+    throw InputError("'" + boundary_h5 + "' has " + std::to_string(markers) + " markers for " +
+                     std::to_string(totals.faces) + " faces");
+  return block;
+}
+
 MeshTotals write_hdf5_here(const MeshOutput& output, const Hdf5Paths& paths) {
   return write_mesh_hdf5(MPI_COMM_SELF, mesh_block(output, region_of_tets(output.mesh), 0, 1), paths);
 }

@@ -22,6 +22,12 @@ enum class WriteTrouble : int { none = 0, no_block = 1, file_not_seen = 2 };
 MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlock& block, const Hdf5Paths& paths,
                            WriteTrouble trouble = WriteTrouble::none);
 
+// Collective over comm: each rank reads its run of the rows (the rank-th of comm's size near-equal
+// runs, as mesh_block deals them) of the points, tets, boundary faces and markers of an XDMF
+// set's HDF5 files (not region or piece). Sets the totals. Throws InputError naming the file on
+// every rank when any rank cannot read it.
+MeshBlock read_mesh_hdf5(MPI_Comm comm, const std::string& mesh_h5, const std::string& boundary_h5, MeshTotals& totals);
+
 // The HDF5 files written by this process alone (MPI must be initialized).
 MeshTotals write_hdf5_here(const MeshOutput& output, const Hdf5Paths& paths);
 

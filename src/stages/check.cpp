@@ -24,7 +24,7 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-constexpr double kVolumeTolerance = 1e-9;
+constexpr double kVolumeTolerance = kCheckVolumeTolerance;
 
 std::string format_number(double x) {
   char text[40];
@@ -117,7 +117,8 @@ long double signed_volume6_precise(const Point3& a, const Point3& b, const Point
   return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
-// Euler characteristic V - E + F of the input surface, counting only vertices in triangles.
+}  // namespace
+
 long surface_euler_characteristic(const SurfaceMesh& surface) {
   std::vector<char> used(surface.points.size(), 0);
   std::vector<std::uint64_t> edges;
@@ -135,7 +136,14 @@ long surface_euler_characteristic(const SurfaceMesh& surface) {
   return vertex_count - edge_count + static_cast<long>(surface.triangles.size());
 }
 
-}  // namespace
+int tet_orientation(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  return static_cast<int>(CGAL::orientation(Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
+                                            Kernel::Point_3(c[0], c[1], c[2]), Kernel::Point_3(d[0], d[1], d[2])));
+}
+
+long double tet_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  return signed_volume6_precise(a, b, c, d);
+}
 
 namespace {
 

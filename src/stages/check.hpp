@@ -37,6 +37,16 @@ struct CheckReport {
 // the input; no duplicate or unused vertices.
 CheckReport check_mesh(const SurfaceMesh& input, const TetMesh& mesh, BoundaryRule rule = BoundaryRule::exact);
 
+// The check's own geometry, for the distributed check of an XDMF set (partet check under mpirun):
+// the exact orientation of tet (a, b, c, d) (1 positive, 0 flat, -1 inverted); six times its
+// signed volume in long double (no underflow at any input's scale); the Euler characteristic
+// V - E + F of a surface, counting vertices in triangles only.
+int tet_orientation(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+long double tet_volume6(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+long surface_euler_characteristic(const SurfaceMesh& surface);
+// Relative difference allowed between the tets' volume and the volume the input encloses.
+inline constexpr double kCheckVolumeTolerance = 1e-9;
+
 // check_mesh, and the other files of the set too: .face must be exactly the boundary faces
 // (outward, for files partet wrote), .neigh exactly the neighbours the tets imply, and every file
 // must carry the same set ID (a set mixed from different runs fails).

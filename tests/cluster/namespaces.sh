@@ -9,7 +9,8 @@
 # On these nodes partet meshes a generated surface into TetGen files and the XDMF set (whose HDF5
 # files all three ranks write at once into the shared directory); the files must be byte-identical
 # to a 1-process run's, pass `partet check`, and DOLFINx, run on the three nodes, must read the
-# XDMF set back with the same tets, boundary facets and volume.
+# XDMF set back with the same tets, boundary facets and volume; `partet check` on the three nodes,
+# each rank checking its part of the XDMF set, must pass.
 # Needs root (ip netns, unshare, mount); exits 77 (skipped) without them.
 # Usage: namespaces.sh PARTET MPIEXEC
 set -euo pipefail
@@ -77,5 +78,7 @@ for file in .node .ele .face .neigh .h5 _boundary.h5; do
   cmp "one$file" "nodes$file" || { echo "FAIL: nodes$file differs from the 1-process run's"; exit 1; }
 done
 "$partet" check in.off nodes | tail -n 1
+# The XDMF set checked on the three nodes, each rank its part.
+"${mpirun_nodes[@]}" "$partet" check "$work/shared/in.off" "$work/shared/nodes.xdmf" | tail -n 2
 "${mpirun_nodes[@]}" /usr/bin/python3 "$here/../formats/dolfinx_read.py" "$work/shared/nodes" 2>&1 | grep -v "^INFO:"
 echo "ok: 3 ranks on 3 namespace nodes wrote the same files as 1 process; DOLFINx read them on the 3 nodes"

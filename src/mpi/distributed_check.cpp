@@ -1,0 +1,388 @@
+#include "mpi/distributed_check.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <tuple>
+
+#include "io/parallel_hdf5.hpp"
+#include "io/read_surface.hpp"
+#include "partet/errors.hpp"
+#include "stages/check.hpp"
+#include "stages/validate.hpp"
+
+namespace partet {
+namespace {
+
+using Id = std::int64_t;
+
+// ---------------------------------------------------------------------------------------------
+// Moving records between ranks
+
+template <class T>
+MPI_Datatype record_type() {
+  static MPI_Datatype type = [] {
+    MPI_Datatype t;
+    MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &t);
+    MPI_Type_commit(&t);
+    return t;
+  }();
+  return type;
+}
+
+// Sends outgoing[r] to rank r; returns what every rank sent here, in rank order, and how many
+// came from each (from_counts, if given).
+template <class T>
+std::vector<T> all_to_all(MPI_Comm comm, const std::vector<std::vector<T>>& outgoing, std::vector<int>* from_counts = nullptr) {
+  const int size = static_cast<int>(outgoing.size());
+  std::vector<int> send_counts(size), receive_counts(size), send_at(size, 0), receive_at(size, 0);
+  for (int r = 0; r < size; ++r) send_counts[r] = static_cast<int>(outgoing[r].size());
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm);
+  std::vector<T> flat;
+  for (int r = 0; r < size; ++r) {
+    send_at[r] = static_cast<int>(flat.size());
+    flat.insert(flat.end(), outgoing[r].begin(), outgoing[r].end());
+  }
+  std::size_t total = 0;
+  for (int r = 0; r < size; ++r) receive_at[r] = static_cast<int>(total), total += receive_counts[r];
+  std::vector<T> incoming(total);
+  MPI_Alltoallv(flat.data(), send_counts.data(), send_at.data(), record_type<T>(), incoming.data(),
+                receive_counts.data(), receive_at.data(), record_type<T>(), comm);
+  if (from_counts) *from_counts = receive_counts;
+  return incoming;
+}
+
+std::uint64_t mix(std::uint64_t x) {  // splitmix64's finalizer
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+template <std::size_t N>
+int rank_of_key(const std::array<std::uint64_t, N>& key, int size) {
+  std::uint64_t h = 0;
+  for (std::uint64_t k : key) h = mix(h ^ k);
+  return static_cast<int>(h % static_cast<std::uint64_t>(size));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The part of the mesh this rank holds
+
+struct Part {
+  MPI_Comm comm;
+  int rank = 0, size = 1;
+  MeshTotals totals;
+  MeshBlock block;
+  // This rank's points are [first_point, first_point + block.points.size()).
+  std::uint64_t run_start(std::uint64_t total, int r) const {
+    return static_cast<std::uint64_t>((static_cast<unsigned __int128>(total) * r) / size);
+  }
+  int point_owner(Id id) const {
+    int r = static_cast<int>((static_cast<unsigned __int128>(id) * size) / std::max<std::uint64_t>(totals.points, 1));
+    while (r + 1 < size && run_start(totals.points, r + 1) <= static_cast<std::uint64_t>(id)) ++r;
+    while (r > 0 && run_start(totals.points, r) > static_cast<std::uint64_t>(id)) --r;
+    return r;
+  }
+  bool valid(Id id) const { return id >= 0 && static_cast<std::uint64_t>(id) < totals.points; }
+};
+
+// What every rank counts; summed over the ranks at the end.
+enum Count : int {
+  bad_ids, inverted, flat, overfull, same_side, free_face_not_boundary, boundary_not_free_face, boundary_flipped,
+  split_markers, unused, duplicate_points, input_not_boundary, boundary_not_input, input_flipped, faces, edges,
+  used, free_faces, kCounts
+};
+using Counts = std::array<std::int64_t, kCounts>;
+
+// The coordinates of the points `ids` (sorted, unique, valid) from their owners, in the same
+// order; with `marked`, the owners record those points there (indexed by their own run).
+std::vector<Point3> fetch_points(const Part& part, const std::vector<Id>& ids, std::vector<char>* marked) {
+  std::vector<std::vector<Id>> requests(part.size);
+  for (Id id : ids) requests[part.point_owner(id)].push_back(id);
+  std::vector<int> from;
+  const std::vector<Id> asked = all_to_all(part.comm, requests, &from);
+  const std::uint64_t first = part.run_start(part.totals.points, part.rank);
+  std::vector<std::vector<Point3>> replies(part.size);
+  std::size_t at = 0;
+  for (int r = 0; r < part.size; ++r)
+    for (int i = 0; i < from[r]; ++i, ++at) {
+      const std::uint64_t local = static_cast<std::uint64_t>(asked[at]) - first;
+      replies[r].push_back(part.block.points[local]);
+      if (marked) (*marked)[local] = 1;
+    }
+  // Owners' runs are in id order, so the replies in rank order follow `ids`.
+  return all_to_all(part.comm, replies);
+}
+
+// Sorted unique valid ids of a set of rows; counts the invalid ones.
+template <class Rows>
+std::vector<Id> ids_of(const Part& part, const Rows& rows, std::int64_t* bad) {
+  std::vector<Id> ids;
+  for (const auto& row : rows)
+    for (Id v : row) {
+      if (part.valid(v)) ids.push_back(v);
+      else if (bad) ++*bad;
+    }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+const Point3& point_of(const std::vector<Id>& ids, const std::vector<Point3>& points, Id id) {
+  return points[std::lower_bound(ids.begin(), ids.end(), id) - ids.begin()];
+}
+
+template <class Row>
+bool all_valid(const Part& part, const Row& row) {
+  return std::all_of(row.begin(), row.end(), [&](Id v) { return part.valid(v); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks, one per step
+
+// Tets: orientation and volume (6x, long double).
+long double check_tets(const Part& part, Counts& counts) {
+  std::vector<char> marked(part.block.points.size(), 0);  // this rank's points used by a tet
+  const std::vector<Id> ids = ids_of(part, part.block.tets, &counts[bad_ids]);
+  const std::vector<Point3> points = fetch_points(part, ids, &marked);
+  long double volume6 = 0;
+  for (const auto& tet : part.block.tets) {
+    if (!all_valid(part, tet)) continue;
+    const Point3 &a = point_of(ids, points, tet[0]), &b = point_of(ids, points, tet[1]),
+                 &c = point_of(ids, points, tet[2]), &d = point_of(ids, points, tet[3]);
+    const int orientation = tet_orientation(a, b, c, d);
+    if (orientation < 0) ++counts[inverted];
+    if (orientation == 0) ++counts[flat];
+    volume6 += tet_volume6(a, b, c, d);
+  }
+  counts[used] = std::count(marked.begin(), marked.end(), 1);
+  counts[unused] = static_cast<std::int64_t>(marked.size()) - counts[used];
+  return volume6;
+}
+
+// A triangle as sorted ids and whether its given order is an even permutation of them.
+struct FaceRecord {
+  std::array<std::uint64_t, 3> key;
+  std::int8_t even;
+  std::int8_t boundary;  // 0: a tet's face (outward), 1: a row of the boundary file
+};
+
+FaceRecord face_record(Id a, Id b, Id c, bool boundary) {
+  FaceRecord f{{std::uint64_t(a), std::uint64_t(b), std::uint64_t(c)}, 1, std::int8_t(boundary)};
+  for (int i = 0; i < 2; ++i)  // bubble sort of three, each swap flips the parity
+    for (int j = 0; j < 2 - i; ++j)
+      if (f.key[j] > f.key[j + 1]) std::swap(f.key[j], f.key[j + 1]), f.even ^= 1;
+  return f;
+}
+
+// Faces: at most two tets on opposite sides; the free faces (one tet) are exactly the boundary
+// file's triangles, facing out.
+void check_faces(const Part& part, Counts& counts) {
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward_face
+  std::vector<std::vector<FaceRecord>> outgoing(part.size);
+  for (const auto& tet : part.block.tets)
+    if (all_valid(part, tet))
+      for (const auto& f : kFace) {
+        const FaceRecord r = face_record(tet[f[0]], tet[f[1]], tet[f[2]], false);
+        outgoing[rank_of_key(r.key, part.size)].push_back(r);
+      }
+  for (std::size_t i = 0; i < part.block.faces.size(); ++i) {
+    const auto& face = part.block.faces[i];
+    if (part.block.face_marker[i] != 1) ++counts[split_markers];
+    if (!all_valid(part, face)) continue;
+    const FaceRecord r = face_record(face[0], face[1], face[2], true);
+    outgoing[rank_of_key(r.key, part.size)].push_back(r);
+  }
+  std::vector<FaceRecord> here = all_to_all(part.comm, outgoing);
+  std::sort(here.begin(), here.end(), [](const FaceRecord& x, const FaceRecord& y) {
+    return std::tie(x.key, x.boundary, x.even) < std::tie(y.key, y.boundary, y.even);
+  });
+  for (std::size_t i = 0; i < here.size();) {
+    std::size_t j = i;
+    int tets = 0, listed = 0, tet_even = 0, listed_even = 0;
+    for (; j < here.size() && here[j].key == here[i].key; ++j)
+      here[j].boundary ? (++listed, listed_even += here[j].even) : (++tets, tet_even += here[j].even);
+    if (tets > 0) ++counts[faces];
+    if (tets > 2) ++counts[overfull];
+    if (tets == 2 && tet_even != 1) ++counts[same_side];
+    if (tets == 1) ++counts[free_faces];
+    if (tets == 1 && listed == 0) ++counts[free_face_not_boundary];
+    if (listed > 0 && (tets != 1 || listed > 1)) counts[boundary_not_free_face] += listed;
+    if (tets == 1 && listed == 1 && tet_even != listed_even) ++counts[boundary_flipped];
+    i = j;
+  }
+}
+
+// Edges: how many distinct ones (for V-E+F-T).
+void count_edges(const Part& part, Counts& counts) {
+  std::vector<std::vector<std::array<std::uint64_t, 2>>> outgoing(part.size);
+  for (const auto& tet : part.block.tets)
+    if (all_valid(part, tet))
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          const std::array<std::uint64_t, 2> e{std::uint64_t(std::min(tet[i], tet[j])), std::uint64_t(std::max(tet[i], tet[j]))};
+          outgoing[rank_of_key(e, part.size)].push_back(e);
+        }
+  std::vector<std::array<std::uint64_t, 2>> here = all_to_all(part.comm, outgoing);
+  std::sort(here.begin(), here.end());
+  counts[edges] = std::unique(here.begin(), here.end()) - here.begin();
+}
+
+using CoordinateBits = std::array<std::uint64_t, 3>;
+CoordinateBits bits_of(const Point3& p) {
+  CoordinateBits bits;
+  for (int k = 0; k < 3; ++k) {
+    const double x = p[k] + 0.0;  // -0.0 and 0.0 are the same coordinate
+    std::memcpy(&bits[k], &x, sizeof x);
+  }
+  return bits;
+}
+
+// Points with identical coordinates.
+void check_duplicate_points(const Part& part, Counts& counts) {
+  std::vector<std::vector<CoordinateBits>> outgoing(part.size);
+  for (const Point3& p : part.block.points) {
+    const CoordinateBits bits = bits_of(p);
+    outgoing[rank_of_key(bits, part.size)].push_back(bits);
+  }
+  std::vector<CoordinateBits> here = all_to_all(part.comm, outgoing);
+  std::sort(here.begin(), here.end());
+  counts[duplicate_points] = static_cast<std::int64_t>(here.size()) - (std::unique(here.begin(), here.end()) - here.begin());
+}
+
+// A triangle by the exact coordinates of its corners, sorted, with the parity of its order.
+struct CornerRecord {
+  std::array<std::uint64_t, 9> key;
+  std::int8_t even;
+  std::int8_t input;  // 1: an input triangle, 0: a boundary face of the mesh
+};
+
+CornerRecord corner_record(const Point3& a, const Point3& b, const Point3& c, bool input) {
+  std::array<CoordinateBits, 3> corners{bits_of(a), bits_of(b), bits_of(c)};
+  std::int8_t even = 1;
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2 - i; ++j)
+      if (corners[j + 1] < corners[j]) std::swap(corners[j], corners[j + 1]), even ^= 1;
+  CornerRecord r{{}, even, std::int8_t(input)};
+  for (int k = 0; k < 3; ++k) std::copy(corners[k].begin(), corners[k].end(), r.key.begin() + 3 * k);
+  return r;
+}
+
+// The boundary faces are the input triangles, facing the same way (matched by coordinates).
+void check_boundary_is_input(const Part& part, const SurfaceMesh* input, Counts& counts) {
+  std::vector<std::vector<CornerRecord>> outgoing(part.size);
+  const std::vector<Id> ids = ids_of(part, part.block.faces, nullptr);
+  const std::vector<Point3> points = fetch_points(part, ids, nullptr);
+  for (const auto& face : part.block.faces)
+    if (all_valid(part, face)) {
+      const CornerRecord r = corner_record(point_of(ids, points, face[0]), point_of(ids, points, face[1]),
+                                           point_of(ids, points, face[2]), false);
+      outgoing[rank_of_key(r.key, part.size)].push_back(r);
+    }
+  if (input)
+    for (const Triangle& t : input->triangles) {
+      const CornerRecord r = corner_record(input->points[t[0]], input->points[t[1]], input->points[t[2]], true);
+      outgoing[rank_of_key(r.key, part.size)].push_back(r);
+    }
+  std::vector<CornerRecord> here = all_to_all(part.comm, outgoing);
+  std::sort(here.begin(), here.end(), [](const CornerRecord& x, const CornerRecord& y) {
+    return std::tie(x.key, x.input, x.even) < std::tie(y.key, y.input, y.even);
+  });
+  for (std::size_t i = 0; i < here.size();) {
+    std::size_t j = i;
+    int inputs = 0, faces_here = 0, input_even = 0, face_even = 0;
+    for (; j < here.size() && here[j].key == here[i].key; ++j)
+      here[j].input ? (++inputs, input_even += here[j].even) : (++faces_here, face_even += here[j].even);
+    if (inputs > faces_here) counts[input_not_boundary] += inputs - faces_here;
+    if (faces_here > inputs) counts[boundary_not_input] += faces_here - inputs;
+    if (inputs == 1 && faces_here == 1 && input_even != face_even) ++counts[input_flipped];
+    i = j;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::string count_text(std::int64_t n, const std::string& what) { return std::to_string(n) + " " + what; }
+
+std::vector<std::string> violations_of(const Counts& c) {
+  std::vector<std::string> v;
+  const auto say = [&](Count k, const std::string& what) {
+    if (c[k] > 0) v.push_back(count_text(c[k], what));
+  };
+  say(bad_ids, "vertex ids out of range in tets");
+  say(inverted, "tets are inverted (negative orientation)");
+  say(flat, "tets are flat");
+  say(overfull, "triangles are in more than two tets");
+  say(same_side, "triangles have both their tets on the same side (overlap)");
+  say(free_face_not_boundary, "faces in one tet are missing from the boundary file");
+  say(boundary_not_free_face, "triangles of the boundary file are not faces in exactly one tet");
+  say(boundary_flipped, "triangles of the boundary file face into their tet");
+  say(split_markers, "boundary triangles are parts of split input triangles (marker 2): check the TetGen files with "
+                     "--allow-split-faces instead");
+  say(unused, "vertices are in no tet");
+  say(duplicate_points, "duplicate vertices (identical coordinates)");
+  say(input_not_boundary, "input triangles are not boundary faces of the mesh (coordinates changed?)");
+  say(boundary_not_input, "boundary faces of the mesh are not input triangles");
+  say(input_flipped, "boundary faces face the other way than their input triangle");
+  return v;
+}
+
+}  // namespace
+
+DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  Part part;
+  part.comm = comm;
+  MPI_Comm_rank(comm, &part.rank);
+  MPI_Comm_size(comm, &part.size);
+  // 1. The input, on rank 0 (its volume and Euler characteristic go to every rank).
+  SurfaceMesh input;
+  std::string input_error;
+  if (part.rank == 0) try {
+      input = read_surface(input_path);
+    } catch (const std::exception& e) {
+      input_error = e.what();
+    }
+  int failed = input_error.empty() ? 0 : 1;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
+  if (failed) throw InputError(part.rank == 0 ? input_error : "rank 0 could not read the input");
+  long double figures[2] = {0, 0};  // enclosed volume, Euler characteristic
+  if (part.rank == 0) figures[0] = enclosed_volume_precise(input), figures[1] = surface_euler_characteristic(input);
+  MPI_Bcast(figures, 2, MPI_LONG_DOUBLE, 0, comm);
+  // 2. Every rank its rows of the HDF5 files.
+  part.block = read_mesh_hdf5(comm, prefix + ".h5", prefix + "_boundary.h5", part.totals);
+  // 3-7. The checks; 8. the counts summed over the ranks.
+  Counts counts{};
+  long double volume6 = check_tets(part, counts);
+  check_faces(part, counts);
+  count_edges(part, counts);
+  check_duplicate_points(part, counts);
+  check_boundary_is_input(part, part.rank == 0 ? &input : nullptr, counts);
+  MPI_Allreduce(MPI_IN_PLACE, counts.data(), kCounts, MPI_INT64_T, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, comm);
+
+  DistributedCheckReport report;
+  report.violations = violations_of(counts);
+  report.vertices = static_cast<std::int64_t>(part.totals.points);
+  report.tets = static_cast<std::int64_t>(part.totals.tets);
+  report.boundary_faces = counts[free_faces];
+  const long double tet_volume = volume6 / 6, surface_volume = figures[0];
+  report.tet_volume = static_cast<double>(tet_volume);
+  report.surface_volume = static_cast<double>(surface_volume);
+  if (std::abs(tet_volume - surface_volume) >
+      kCheckVolumeTolerance * std::max(std::abs(tet_volume), std::abs(surface_volume)))
+    report.violations.push_back("tet volume " + std::to_string(report.tet_volume) +
+                                " differs from the volume enclosed by the input, " +
+                                std::to_string(report.surface_volume));
+  report.euler_mesh = static_cast<long>(counts[used] - counts[edges] + counts[faces] - report.tets);
+  const long input_chi = static_cast<long>(figures[1]);
+  report.euler_expected = input_chi / 2;
+  if (2 * report.euler_mesh != input_chi)
+    report.violations.push_back("V-E+F-T of the mesh is " + std::to_string(report.euler_mesh) +
+                                ", expected half the Euler characteristic of the input, " + std::to_string(input_chi) +
+                                "/2");
+  return report;
+}
+
+}  // namespace partet

@@ -1,0 +1,31 @@
+// `partet check` on an XDMF set, on any number of ranks: each rank reads and checks its own run of
+// the tets and boundary faces; what spans ranks (a face's two tets, an edge, a vertex's use, a
+// boundary triangle against the input) is decided by the rank its key hashes to. So no rank holds
+// the whole mesh, and a mesh too large for one process can still be verified. It checks what
+// check_mesh checks for TetGen files, exact boundary rule: ids in range, every tet positively
+// oriented (exact predicate), every triangle in at most two tets on opposite sides, the boundary
+// faces equal to the tets' free faces (outward) and, by exact coordinates, to the input triangles,
+// no unused or duplicate vertices, V-E+F-T against the input's Euler characteristic, and the tets'
+// volume against the input's.
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace partet {
+
+struct DistributedCheckReport {  // the same on every rank
+  std::vector<std::string> violations;
+  std::int64_t vertices = 0, tets = 0, boundary_faces = 0;
+  double tet_volume = 0, surface_volume = 0;
+  long euler_mesh = 0, euler_expected = 0;
+  bool ok() const { return violations.empty(); }
+};
+
+// Collective over comm. Rank 0 reads the input surface; every rank reads its rows of PREFIX.h5
+// and PREFIX_boundary.h5. Throws InputError (on every rank) when a file cannot be read.
+DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix);
+
+}  // namespace partet
