@@ -31,18 +31,21 @@ MPI_Datatype record_type() {
   return type;
 }
 
-// Sends outgoing[r] to rank r; returns what every rank sent here, in rank order, and how many
-// came from each (from_counts, if given).
+// Sends outgoing[r] to rank r (each bucket freed as it is packed); returns what every rank sent
+// here, in rank order, and how many came from each (from_counts, if given).
 template <class T>
-std::vector<T> all_to_all(MPI_Comm comm, const std::vector<std::vector<T>>& outgoing, std::vector<int>* from_counts = nullptr) {
+std::vector<T> all_to_all(MPI_Comm comm, std::vector<std::vector<T>>&& outgoing, std::vector<int>* from_counts = nullptr) {
   const int size = static_cast<int>(outgoing.size());
   std::vector<int> send_counts(size), receive_counts(size), send_at(size, 0), receive_at(size, 0);
-  for (int r = 0; r < size; ++r) send_counts[r] = static_cast<int>(outgoing[r].size());
+  std::size_t sending = 0;
+  for (int r = 0; r < size; ++r) send_counts[r] = static_cast<int>(outgoing[r].size()), sending += outgoing[r].size();
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm);
   std::vector<T> flat;
+  flat.reserve(sending);
   for (int r = 0; r < size; ++r) {
     send_at[r] = static_cast<int>(flat.size());
     flat.insert(flat.end(), outgoing[r].begin(), outgoing[r].end());
+    std::vector<T>().swap(outgoing[r]);
   }
   std::size_t total = 0;
   for (int r = 0; r < size; ++r) receive_at[r] = static_cast<int>(total), total += receive_counts[r];
@@ -102,7 +105,7 @@ std::vector<Point3> fetch_points(const Part& part, const std::vector<Id>& ids, s
   std::vector<std::vector<Id>> requests(part.size);
   for (Id id : ids) requests[part.point_owner(id)].push_back(id);
   std::vector<int> from;
-  const std::vector<Id> asked = all_to_all(part.comm, requests, &from);
+  const std::vector<Id> asked = all_to_all(part.comm, std::move(requests), &from);
   const std::uint64_t first = part.run_start(part.totals.points, part.rank);
   std::vector<std::vector<Point3>> replies(part.size);
   std::size_t at = 0;
@@ -113,7 +116,7 @@ std::vector<Point3> fetch_points(const Part& part, const std::vector<Id>& ids, s
       if (marked) (*marked)[local] = 1;
     }
   // Owners' runs are in id order, so the replies in rank order follow `ids`.
-  return all_to_all(part.comm, replies);
+  return all_to_all(part.comm, std::move(replies));
 }
 
 // Sorted unique valid ids of a set of rows; counts the invalid ones.
@@ -177,17 +180,42 @@ FaceRecord face_record(Id a, Id b, Id c, bool boundary) {
   return f;
 }
 
+bool by_key(const FaceRecord& x, const FaceRecord& y) {
+  return std::tie(x.key, x.boundary, x.even) < std::tie(y.key, y.boundary, y.even);
+}
+
+// The faces of this rank's tets that no other of its tets shares, to the ranks their keys hash
+// to; the shared ones are settled here (two tets on opposite sides, or a violation). A third tet
+// on another rank would leave its copy of a face paired here unpaired there, which then fails
+// the boundary checks.
+std::vector<std::vector<FaceRecord>> unpaired_tet_faces(const Part& part, Counts& counts) {
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward_face
+  std::vector<FaceRecord> local;
+  local.reserve(4 * part.block.tets.size());
+  for (const auto& tet : part.block.tets)
+    if (all_valid(part, tet))
+      for (const auto& f : kFace) local.push_back(face_record(tet[f[0]], tet[f[1]], tet[f[2]], false));
+  std::sort(local.begin(), local.end(), by_key);
+  std::vector<std::vector<FaceRecord>> outgoing(part.size);
+  for (std::size_t i = 0; i < local.size();) {
+    std::size_t j = i + 1;
+    while (j < local.size() && local[j].key == local[i].key) ++j;
+    if (j - i == 1) {
+      outgoing[rank_of_key(local[i].key, part.size)].push_back(local[i]);
+    } else {
+      ++counts[faces];
+      if (j - i > 2) ++counts[overfull];
+      if (j - i == 2 && local[i].even == local[i + 1].even) ++counts[same_side];
+    }
+    i = j;
+  }
+  return outgoing;
+}
+
 // Faces: at most two tets on opposite sides; the free faces (one tet) are exactly the boundary
 // file's triangles, facing out.
 void check_faces(const Part& part, Counts& counts) {
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward_face
-  std::vector<std::vector<FaceRecord>> outgoing(part.size);
-  for (const auto& tet : part.block.tets)
-    if (all_valid(part, tet))
-      for (const auto& f : kFace) {
-        const FaceRecord r = face_record(tet[f[0]], tet[f[1]], tet[f[2]], false);
-        outgoing[rank_of_key(r.key, part.size)].push_back(r);
-      }
+  std::vector<std::vector<FaceRecord>> outgoing = unpaired_tet_faces(part, counts);
   for (std::size_t i = 0; i < part.block.faces.size(); ++i) {
     const auto& face = part.block.faces[i];
     if (part.block.face_marker[i] != 1) ++counts[split_markers];
@@ -195,10 +223,8 @@ void check_faces(const Part& part, Counts& counts) {
     const FaceRecord r = face_record(face[0], face[1], face[2], true);
     outgoing[rank_of_key(r.key, part.size)].push_back(r);
   }
-  std::vector<FaceRecord> here = all_to_all(part.comm, outgoing);
-  std::sort(here.begin(), here.end(), [](const FaceRecord& x, const FaceRecord& y) {
-    return std::tie(x.key, x.boundary, x.even) < std::tie(y.key, y.boundary, y.even);
-  });
+  std::vector<FaceRecord> here = all_to_all(part.comm, std::move(outgoing));
+  std::sort(here.begin(), here.end(), by_key);
   for (std::size_t i = 0; i < here.size();) {
     std::size_t j = i;
     int tets = 0, listed = 0, tet_even = 0, listed_even = 0;
@@ -215,17 +241,22 @@ void check_faces(const Part& part, Counts& counts) {
   }
 }
 
-// Edges: how many distinct ones (for V-E+F-T).
+// Edges: how many distinct ones (for V-E+F-T); each rank's own distinct first, then across ranks.
 void count_edges(const Part& part, Counts& counts) {
-  std::vector<std::vector<std::array<std::uint64_t, 2>>> outgoing(part.size);
+  using Edge = std::array<std::uint64_t, 2>;
+  std::vector<Edge> local;
+  local.reserve(6 * part.block.tets.size());
   for (const auto& tet : part.block.tets)
     if (all_valid(part, tet))
       for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) {
-          const std::array<std::uint64_t, 2> e{std::uint64_t(std::min(tet[i], tet[j])), std::uint64_t(std::max(tet[i], tet[j]))};
-          outgoing[rank_of_key(e, part.size)].push_back(e);
-        }
-  std::vector<std::array<std::uint64_t, 2>> here = all_to_all(part.comm, outgoing);
+        for (int j = i + 1; j < 4; ++j)
+          local.push_back({std::uint64_t(std::min(tet[i], tet[j])), std::uint64_t(std::max(tet[i], tet[j]))});
+  std::sort(local.begin(), local.end());
+  local.erase(std::unique(local.begin(), local.end()), local.end());
+  std::vector<std::vector<Edge>> outgoing(part.size);
+  for (const Edge& e : local) outgoing[rank_of_key(e, part.size)].push_back(e);
+  std::vector<Edge>().swap(local);
+  std::vector<Edge> here = all_to_all(part.comm, std::move(outgoing));
   std::sort(here.begin(), here.end());
   counts[edges] = std::unique(here.begin(), here.end()) - here.begin();
 }
@@ -247,7 +278,7 @@ void check_duplicate_points(const Part& part, Counts& counts) {
     const CoordinateBits bits = bits_of(p);
     outgoing[rank_of_key(bits, part.size)].push_back(bits);
   }
-  std::vector<CoordinateBits> here = all_to_all(part.comm, outgoing);
+  std::vector<CoordinateBits> here = all_to_all(part.comm, std::move(outgoing));
   std::sort(here.begin(), here.end());
   counts[duplicate_points] = static_cast<std::int64_t>(here.size()) - (std::unique(here.begin(), here.end()) - here.begin());
 }
@@ -286,7 +317,7 @@ void check_boundary_is_input(const Part& part, const SurfaceMesh* input, Counts&
       const CornerRecord r = corner_record(input->points[t[0]], input->points[t[1]], input->points[t[2]], true);
       outgoing[rank_of_key(r.key, part.size)].push_back(r);
     }
-  std::vector<CornerRecord> here = all_to_all(part.comm, outgoing);
+  std::vector<CornerRecord> here = all_to_all(part.comm, std::move(outgoing));
   std::sort(here.begin(), here.end(), [](const CornerRecord& x, const CornerRecord& y) {
     return std::tie(x.key, x.input, x.even) < std::tie(y.key, y.input, y.even);
   });
