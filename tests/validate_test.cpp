@@ -110,6 +110,35 @@ TEST(Validate, EdgeSharedByFourFaces) {
                        "between vertices 0 and 1"));
 }
 
+// Two apexes over a ring of n vertices: each apex has n faces around it, far more than the few
+// a vertex usually has (the edges are found per vertex).
+SurfaceMesh double_cone(int n) {
+  SurfaceMesh cone;
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < n; ++i) cone.points.push_back({std::cos(2 * pi * i / n), std::sin(2 * pi * i / n), 0});
+  cone.points.push_back({0, 0, 1});
+  cone.points.push_back({0, 0, -1});
+  for (int i = 0; i < n; ++i) {
+    cone.triangles.push_back({i, (i + 1) % n, n});
+    cone.triangles.push_back({(i + 1) % n, i, n + 1});
+  }
+  return cone;
+}
+
+TEST(Validate, VerticesWithManyFaces) {
+  SurfaceMesh cone = double_cone(200000);
+  EXPECT_NO_THROW(validate_topology(cone));
+  // The apex numbered first and last: the same verdicts whatever the numbering.
+  std::swap(cone.points.front(), cone.points[200000]);
+  for (Triangle& t : cone.triangles)
+    for (std::int32_t& v : t) v = v == 0 ? 200000 : v == 200000 ? 0 : v;
+  EXPECT_NO_THROW(validate_topology(cone));
+  std::swap(cone.triangles[7][1], cone.triangles[7][2]);
+  const std::string message = input_error([&] { validate_topology(cone); });
+  EXPECT_TRUE(contains(message, "input is not consistently oriented: faces ")) << message;
+  EXPECT_TRUE(contains(message, "(3 such edges)")) << message;
+}
+
 TEST(Validate, NonManifoldVertex) {
   // Two tetrahedra touching at one vertex, which is shared by index.
   SurfaceMesh touching = tetrahedron();

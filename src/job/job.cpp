@@ -37,9 +37,7 @@ void scale_points(std::vector<Point3>& points, int exponent) {
     for (double& x : p) x = std::ldexp(x, exponent);
 }
 
-void prepare_input(SurfaceMesh& input, int* exponent) {
-  *exponent = unit_scale_exponent(input);
-  scale_points(input.points, *exponent);
+void check_input(const SurfaceMesh& input) {
   validate_topology(input);
   const double volume = enclosed_volume(input);
   if (!(volume > 0))
@@ -47,11 +45,18 @@ void prepare_input(SurfaceMesh& input, int* exponent) {
                      "); flip the face orientation");
 }
 
-SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent) {
+void prepare_input(SurfaceMesh& input, int* exponent, InputChecks checks) {
+  validate_indices(input);  // the scale looks at every face's coordinates
+  *exponent = unit_scale_exponent(input);
+  scale_points(input.points, *exponent);
+  if (checks == InputChecks::here) check_input(input);
+}
+
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent, InputChecks checks) {
   StageTimer timer(&times);
   SurfaceMesh input = read_surface(path);
   timer.lap("read");
-  prepare_input(input, exponent);
+  prepare_input(input, exponent, checks);
   timer.lap("validate");
   return input;
 }

@@ -35,8 +35,12 @@ struct RankStats {
   double pieces = 0;
   double tetgen_child_peak_rss_mb = 0;
   double send_seconds = 0, receive_seconds = 0;  // time spent inside MPI sends and receives
+  // Rank 0 only: wall time during which some rank was meshing a piece or region. The rest of
+  // the run is serial: no number of ranks shortens it.
+  double meshing_wall_seconds = 0;
+  double input_check_seconds = 0;  // rank 1 with several ranks: checking the input (check_input)
 };
-constexpr int kRankStatsDoubles = 8;
+constexpr int kRankStatsDoubles = 10;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 
@@ -57,14 +61,22 @@ struct PieceRecord {
 int unit_scale_exponent(const SurfaceMesh& surface);
 void scale_points(std::vector<Point3>& points, int exponent);
 
-// Scales a surface to unit size (its exponent goes to *exponent) and runs the cheap checks
-// (closed, manifold, oriented, outward). Throws InputError.
-void prepare_input(SurfaceMesh& input, int* exponent);
+// The input's own checks (closed, manifold, oriented, outward) on its scaled copy. Throws
+// InputError. Self-intersections are left to TetGen, with a check of the whole input when a
+// piece fails.
+void check_input(const SurfaceMesh& input);
 
-// Reads the input, scales it to unit size (its exponent goes to *exponent) and runs the cheap
-// checks (closed, manifold, oriented, outward). Self-intersections are left to TetGen, with a
-// check of the whole input when a piece fails. Throws InputError.
-SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent);
+// Where check_input runs: in this process before anything else, or on another rank while this
+// one partitions (only validate_indices runs here first, which the partition needs).
+enum class InputChecks { here, elsewhere };
+
+// Scales a surface to unit size (its exponent goes to *exponent) and checks it. Throws
+// InputError.
+void prepare_input(SurfaceMesh& input, int* exponent, InputChecks checks = InputChecks::here);
+
+// Reads the input, scales it to unit size (its exponent goes to *exponent) and checks it.
+SurfaceMesh read_valid_input(const std::string& path, StageTimes& times, int* exponent,
+                             InputChecks checks = InputChecks::here);
 
 // Every file the job will write (as far as known before the run): each format's and the report.
 std::vector<std::string> output_paths(const MeshJob& job);

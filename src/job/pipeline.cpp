@@ -125,6 +125,7 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   ClosureStream stream(input, options, prepared);
   stream.partition(std::move(planes));
   timer.lap("partition");
+  if (scheduler.confirm_input()) timer.lap("input_check_wait");  // rank 1's check of the input
   std::vector<PieceTetMesh> reused;  // results of earlier attempts
   std::vector<int> submitted;        // the piece of each submission
   scheduler.begin_round(options.tetgen);

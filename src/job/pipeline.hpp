@@ -97,6 +97,11 @@ struct MeshResult {
 class PieceScheduler {
  public:
   virtual ~PieceScheduler() = default;
+  // The input's own checks may still be running elsewhere (on another rank, while this process
+  // partitions): returns once they have passed (true if it waited for them), or throws their
+  // InputError. Called before the first piece is submitted, and before any other error of the
+  // run is reported, so the input's error comes first, as when it is checked before the rest.
+  virtual bool confirm_input() { return false; }
   // A round meshes with these TetGen options (a retry may change them).
   virtual void begin_round(const TetgenOptions& tetgen) = 0;
   // The piece stays alive and unchanged until end_round returns.

@@ -48,6 +48,8 @@ std::string report_json(const JobSummary& s) {
   report["stage_seconds"]["send"] = s.ranks[0].send_seconds;
   report["stage_seconds"]["gather"] = s.ranks[0].receive_seconds;
   report["total_seconds"] = s.total_seconds;
+  // Wall time during which no rank was meshing: the part more ranks cannot shorten.
+  report["serial_seconds"] = s.total_seconds - s.ranks[0].meshing_wall_seconds;
   // Work done while pieces were still being meshed (inside the tetgen stage's time): welding
   // each piece's result as it arrived. stage_seconds.merge is what was left after the last one.
   report["overlapped_seconds"] = {{"merge", s.result.merge_seconds_overlapped}};
@@ -105,6 +107,7 @@ std::string report_json(const JobSummary& s) {
                               {"bytes_sent", stats.bytes_sent},
                               {"send_seconds", stats.send_seconds},
                               {"receive_seconds", stats.receive_seconds},
+                              {"input_check_seconds", stats.input_check_seconds},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();
@@ -143,7 +146,8 @@ void print_summary(const JobSummary& s) {
   for (const StageTime& t : s.times) stages += " " + t.stage + format(" %.2f", t.seconds);
   double worst = 0;
   for (const auto& r : s.ranks) worst = std::max({worst, r.peak_rss_mb, r.tetgen_child_peak_rss_mb});
-  log::info(stages + format("; peak RSS %.0f MB (largest process)", worst));
+  log::info(stages + format("; no rank meshing for %.2f s; peak RSS %.0f MB (largest process)",
+                            s.total_seconds - s.ranks[0].meshing_wall_seconds, worst));
   const PolishStats& polish = s.result.polish;
   if (polish.poor_before > 0)
     log::info(format(

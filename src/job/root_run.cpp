@@ -10,12 +10,20 @@ namespace partet {
 
 RootRun::RootRun(const MeshJob& job) : job_(job), outputs_(journal_path(job.output_prefix)) {}
 
-void RootRun::prepare() {
+void RootRun::prepare(InputChecks checks) {
   check_outputs(job_);
-  input_ = read_valid_input(job_.input, times_, &scale_exponent_);
+  input_ = read_valid_input(job_.input, times_, &scale_exponent_, checks);
 }
 
-void RootRun::mesh(PieceScheduler& scheduler) { result_ = mesh_with_retries(input_, job_.options, scheduler, &times_); }
+void RootRun::mesh(PieceScheduler& scheduler) {
+  try {
+    result_ = mesh_with_retries(input_, job_.options, scheduler, &times_);
+    scheduler.confirm_input();  // heard already, unless no piece was meshed
+  } catch (...) {
+    scheduler.confirm_input();  // an invalid input's own error replaces what it caused
+    throw;
+  }
+}
 
 void RootRun::check_and_write(const Hdf5Write& write_hdf5) {
   scale_points(input_.points, -scale_exponent_);

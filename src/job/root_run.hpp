@@ -20,8 +20,11 @@ class RootRun {
 
   // 1. Where the output goes: usage errors (OptionError) before any work; a publish a killed run
   //    left half done is completed, stale temporaries removed.
-  // 2. The input: read, validated (closed, manifold, oriented) and scaled to unit size.
-  void prepare();
+  // 2. The input: read, validated (closed, manifold, oriented) and scaled to unit size. With
+  //    InputChecks::elsewhere, the driver has another rank check it (check_input) and reports
+  //    the verdict through the scheduler's confirm_input.
+  void prepare(InputChecks checks = InputChecks::here);
+  const SurfaceMesh& input() const { return input_; }
   // 3-8. Partition, closure, meshing (on the scheduler's ranks), merge, seam healing and polish,
   //      with the retries of mesh_with_retries.
   void mesh(PieceScheduler& scheduler);

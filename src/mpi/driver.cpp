@@ -7,6 +7,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -34,6 +35,8 @@ namespace {
 constexpr int kTagPiece = 1;
 constexpr int kTagReply = 2;
 constexpr int kTagBlock = 3;
+constexpr int kTagInput = 4;    // the input, to the rank that checks it
+constexpr int kTagVerdict = 5;  // that rank's verdict
 // How long rank 0 sleeps between looks at MPI when idle: the pause doubles from the shortest to
 // the longest while nothing happens, so replies to small regions (seams, polish) are taken at
 // once and long pieces still leave the core to the TetGen processes.
@@ -136,6 +139,27 @@ class RootScheduler : public PieceScheduler {
         records_(records),
         job_start_(job_start) {}
 
+  // Rank 1 is checking the input (check_input_on_rank_1); confirm_input waits for its verdict.
+  void expect_input_verdict(std::size_t faces) {
+    verdict_pending_ = true;
+    verdict_limit_ = kWorkerSeconds + 1e-6 * static_cast<double>(faces);  // + 1 s per million faces
+  }
+
+  bool confirm_input() override {
+    if (!verdict_pending_) return false;
+    verdict_pending_ = false;
+    std::string verdict;
+    try {
+      verdict = recv_bytes(1, kTagVerdict, job_comm(), kMaxChunk, verdict_limit_);
+    } catch (const Stalled&) {
+      abort_job("rank 1 has not reported its check of the input within " +
+                std::to_string(static_cast<int>(verdict_limit_)) + " s (stopped or dead?)");
+    }
+    if (verdict.empty()) return true;
+    if (verdict[0] == 'I') throw InputError(verdict.substr(1));
+    throw Error(verdict.substr(1));
+  }
+
   void begin_round(const TetgenOptions& tetgen) override {
     runner_ = PieceRunner(tetgen, job_.options.run);
     ++rounds_;
@@ -236,6 +260,7 @@ class RootScheduler : public PieceScheduler {
       record(*piece, worker);
       bytes = serialize_task(*piece, runner_.tetgen());
       busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index};
+      account_meshing();
     }
     // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
     // while idle is noticed here, within the same limit as one stopped while meshing.
@@ -270,11 +295,13 @@ class RootScheduler : public PieceScheduler {
     own_ = runner_.start(piece, [&piece] {
       if (!piece.seam_region) test_hooks::piece_failure(piece.index, 0);
     });
+    account_meshing();
   }
 
   bool finish_own_piece() {
     store(own_position_, deserialize_outcome(own_->take_reply()));
     own_.reset();
+    account_meshing();
     stats_.tetgen_seconds += now_seconds() - own_start_;
     if (!pieces_[own_position_]->seam_region) stats_.pieces += 1;
     report_progress(own_position_, 0);
@@ -323,8 +350,17 @@ class RootScheduler : public PieceScheduler {
     }
     idle_.push_back(worker);
     busy_.erase(worker);
+    account_meshing();
     report_progress(position, worker);
     return true;
+  }
+
+  // Adds the time since the last change to the meshing wall time if some rank was meshing.
+  void account_meshing() {
+    const double now = now_seconds();
+    if (meshing_ > 0) stats_.meshing_wall_seconds += now - meshing_since_;
+    meshing_since_ = now;
+    meshing_ = busy_.size() + (own_ ? 1 : 0);
   }
 
   // Where each piece (not seam region) was meshed, for the report.
@@ -364,6 +400,10 @@ class RootScheduler : public PieceScheduler {
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
   double own_start_ = 0;
+  bool verdict_pending_ = false;  // rank 1's check of the input not heard yet
+  double verdict_limit_ = 0;
+  std::size_t meshing_ = 0;       // pieces or regions being meshed now, on all ranks
+  double meshing_since_ = 0;      // when that count last changed
   double job_start_;              // for the progress lines
   int rounds_ = 0;                // rounds begun
   std::size_t done_ = 0;          // pieces or regions finished this round
@@ -483,6 +523,48 @@ void join_hdf5_writes(JobStatus& status) {
       status.error = e.what();  // rank 0 has the same error and reports it
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2b. With several ranks, rank 1 checks the input (check_input) while rank 0 partitions it:
+// rank 0 sends it the scaled input, rank 1 sends back "" (valid), "I" + an InputError's message,
+// or "E" + another error's.
+
+void send_input_for_checks(const SurfaceMesh& input) {
+  const std::string_view points(reinterpret_cast<const char*>(input.points.data()),
+                                input.points.size() * sizeof(Point3));
+  const std::string_view triangles(reinterpret_cast<const char*>(input.triangles.data()),
+                                   input.triangles.size() * sizeof(Triangle));
+  for (std::string_view part : {points, triangles})
+    bounded([&] { return send_bytes(part, 1, kTagInput, job_comm(), kMaxChunk, kWorkerSeconds); });
+}
+
+template <class T>
+std::vector<T> received_array(int tag) {
+  const std::string bytes = bounded([&] { return recv_bytes(0, tag, job_comm(), kMaxChunk, kRootSeconds); });
+  std::vector<T> values(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  return values;
+}
+
+void check_input_on_rank_1(RankStats& stats) {
+  const double start = now_seconds();
+  std::string verdict;
+  try {
+    SurfaceMesh input;
+    input.points = received_array<Point3>(kTagInput);
+    input.triangles = received_array<Triangle>(kTagInput);
+    check_input(input);
+  } catch (const InputError& e) {
+    verdict = std::string("I") + e.what();
+  } catch (const std::bad_alloc&) {
+    verdict = "Erank 1 ran out of memory checking the input (at " + std::to_string(static_cast<long>(own_peak_rss_mb())) +
+              " MB)";
+  } catch (const std::exception& e) {
+    verdict = std::string("E") + e.what();
+  }
+  stats.input_check_seconds = now_seconds() - start;
+  bounded([&] { return send_bytes(verdict, 0, kTagVerdict, job_comm(), kMaxChunk, kRootSeconds); });
 }
 
 // What one rank knows about the job as it runs (rank 0's story is in RootRun).
@@ -650,18 +732,25 @@ JobStatus run_mesh_job(const MeshJob& job) {
   if (state.rank == 0) root.emplace(job);
   // 1-2. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
   // rank removes its temporary files; rank 0 says which files are in place.
+  const InputChecks checks = state.size > 1 ? InputChecks::elsewhere : InputChecks::here;
   if (root) {
     interrupts::set_messages(interrupted_before(job), interrupted_after(job));
-    on_root(state, [&] { root->prepare(); });
+    on_root(state, [&] { root->prepare(checks); });
   }
   // Only rank 0 can have failed so far: its exit code goes to every rank (2: a usage error).
   const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
   state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, job_comm(), collective_limit()); });
   if (state.status.exit_code != 0) return state.status;
+  // 2b. Rank 1 checks the input while rank 0 partitions it (the verdict comes before any piece).
+  if (checks == InputChecks::elsewhere) {
+    if (root) send_input_for_checks(root->input());
+    if (state.rank == 1) check_input_on_rank_1(state.stats);
+  }
   // 3-8. Rank 0 partitions, closes, merges and heals; every rank meshes pieces and regions.
   if (root) {
     on_root(state, [&] {
       RootScheduler scheduler(job, state.size, state.stats, state.records, state.start);
+      if (checks == InputChecks::elsewhere) scheduler.expect_input_verdict(root->input().triangles.size());
       root->mesh(scheduler);
     });
     broadcast(kDone);

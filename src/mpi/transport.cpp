@@ -25,7 +25,7 @@ void wait_sleeping(MPI_Request& request, MPI_Status* status, double timeout_seco
   }
 }
 
-std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk,
+std::uint64_t send_bytes(std::string_view bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk,
                          double timeout_seconds) {
   std::uint64_t size = bytes.size();
   MPI_Request request;

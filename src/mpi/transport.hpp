@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace partet::mpi {
@@ -26,7 +27,7 @@ void wait_sleeping(MPI_Request& request, MPI_Status* status = MPI_STATUS_IGNORE,
 
 // Sends a size header, then the bytes in chunks of at most max_chunk. Returns bytes sent. Each
 // part may wait up to timeout_seconds for the receiver (0: no limit).
-std::uint64_t send_bytes(const std::string& bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk,
+std::uint64_t send_bytes(std::string_view bytes, int dest, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk,
                          double timeout_seconds = 0);
 // Receives what send_bytes sent; the header may take up to timeout_seconds to come (0: no limit).
 std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk,

@@ -1,7 +1,10 @@
 #include "stages/piece_cost.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+
+#include <boost/sort/spreadsort/float_sort.hpp>
 
 #include "stages/geometry.hpp"
 #include "stages/topology.hpp"
@@ -23,26 +26,42 @@ void for_each_edge(const Triangle& t, F f) {
 class AxisProfile {
  public:
   AxisProfile(const SurfaceMesh& surface, const Point3& axis) {
-    const std::vector<char> used = used_vertices(surface.points.size(), surface.triangles);
     std::vector<double> proj(surface.points.size());
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      proj[i] = dot(axis, surface.points[i]);
-      if (used[i]) vertices_.push_back(proj[i]);
-    }
+    for (std::size_t i = 0; i < surface.points.size(); ++i) proj[i] = dot(axis, surface.points[i]);
+    // An edge is counted at its lower and at its upper end, so the edges below a position are
+    // found from the vertices below it: no sort of the edges (twice as many values).
+    std::vector<std::array<std::int32_t, 2>> ends(surface.points.size(), {0, 0});  // edges starting, ending here
     for (const Triangle& t : surface.triangles) {
       centroids_.push_back(centroid(proj, t));
       for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
-        edge_low_.push_back(std::min(proj[a], proj[b]));
-        edge_high_.push_back(std::max(proj[a], proj[b]));
+        const bool a_low = proj[a] < proj[b] || (proj[a] == proj[b] && a < b);
+        ++ends[a_low ? a : b][0];
+        ++ends[a_low ? b : a][1];
       });
     }
-    for (auto* v : {&vertices_, &centroids_, &edge_low_, &edge_high_}) std::sort(v->begin(), v->end());
+    const std::vector<char> used = used_vertices(surface.points.size(), surface.triangles);
+    std::vector<std::pair<double, std::size_t>> sorted;
+    for (std::size_t i = 0; i < proj.size(); ++i)
+      if (used[i]) sorted.emplace_back(proj[i], i);
+    std::sort(sorted.begin(), sorted.end());
+    // Radix-like spreadsort: the same order as std::sort, faster on millions of values.
+    boost::sort::spreadsort::float_sort(centroids_.begin(), centroids_.end());
+    vertices_.reserve(sorted.size());
+    starts_below_.assign(1, 0), ends_below_.assign(1, 0);
+    for (const auto& [x, i] : sorted) {
+      vertices_.push_back(x);
+      starts_below_.push_back(starts_below_.back() + ends[i][0]);
+      ends_below_.push_back(ends_below_.back() + ends[i][1]);
+    }
   }
 
   double triangles() const { return static_cast<double>(centroids_.size()); }
   double triangles_below(double x) const { return count_below(centroids_, x); }
   // Input edges a plane at x crosses (low < x <= high).
-  double crossings(double x) const { return count_below(edge_low_, x) - count_below(edge_high_, x); }
+  double crossings(double x) const {
+    const auto below = static_cast<std::size_t>(count_below(vertices_, x));
+    return static_cast<double>(starts_below_[below] - ends_below_[below]);
+  }
   // The position with `count` triangle centroids below it (between two centroids).
   double position_of(double count) const {
     const auto m = centroids_.size();
@@ -64,7 +83,9 @@ class AxisProfile {
   static double count_below(const std::vector<double>& sorted, double x) {
     return static_cast<double>(std::lower_bound(sorted.begin(), sorted.end(), x) - sorted.begin());
   }
-  std::vector<double> vertices_, centroids_, edge_low_, edge_high_;
+  std::vector<double> vertices_, centroids_;  // sorted
+  // Edges whose lower (upper) end is among the first i sorted vertices.
+  std::vector<std::int64_t> starts_below_, ends_below_;
 };
 
 // Cost of each piece between consecutive positions.

@@ -40,39 +40,6 @@ std::uint64_t mix(std::uint64_t x) {
   return x;
 }
 
-// Open addressing with linear probing: the few hundred thousand entries of a large surface
-// fit in flat arrays, which is several times faster than std::unordered_map's node allocation.
-// Keys are never erased; kEmpty is never a valid key.
-class FlatIndexMap {
- public:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-
-  explicit FlatIndexMap(std::size_t expected) {
-    std::size_t capacity = 16;
-    while (capacity < 2 * expected) capacity *= 2;
-    mask_ = capacity - 1;
-    keys_.assign(capacity, kEmpty);
-    values_.resize(capacity);
-  }
-
-  // Returns the value stored for key, storing `value` first if key was absent.
-  std::uint32_t find_or_insert(std::uint64_t key, std::uint32_t value) {
-    for (std::size_t slot = mix(key) & mask_;; slot = (slot + 1) & mask_) {
-      if (keys_[slot] == key) return values_[slot];
-      if (keys_[slot] == kEmpty) {
-        keys_[slot] = key;
-        values_[slot] = value;
-        return value;
-      }
-    }
-  }
-
- private:
-  std::size_t mask_;
-  std::vector<std::uint64_t> keys_;
-  std::vector<std::uint32_t> values_;
-};
-
 std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
   auto lo = static_cast<std::uint64_t>(std::min(a, b));
   auto hi = static_cast<std::uint64_t>(std::max(a, b));
@@ -173,25 +140,53 @@ struct EdgeTable {
   std::vector<std::uint32_t> corner_edge;
 };
 
-EdgeTable edge_table(const std::vector<Triangle>& triangles) {
-  const std::size_t face_count = triangles.size();
+// The corners are bucketed by their edge's lower vertex (a counting sort), so each edge's uses
+// are found in a bucket of a few entries instead of a hash table of the whole surface: about
+// twice as fast on large inputs, whose vertex ids are mostly local.
+EdgeTable edge_table(const std::vector<Triangle>& triangles, std::size_t vertex_count) {
+  const std::size_t corner_count = triangles.size() * 3;
+  auto from = [&](std::size_t corner) { return triangles[corner / 3][corner % 3]; };
+  auto to = [&](std::size_t corner) { return triangles[corner / 3][(corner % 3 + 1) % 3]; };
+  std::vector<std::size_t> first(vertex_count + 1, 0);  // bucket of lower vertex v: [first[v], first[v + 1])
+  for (std::size_t corner = 0; corner < corner_count; ++corner) ++first[std::min(from(corner), to(corner)) + 1];
+  for (std::size_t v = 0; v < vertex_count; ++v) first[v + 1] += first[v];
+  struct Use {
+    std::int32_t higher;  // the edge's other vertex
+    std::int32_t face;
+    bool operator<(const Use& o) const { return higher < o.higher || (higher == o.higher && face < o.face); }
+  };
+  std::vector<Use> uses(corner_count);
+  {
+    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    for (std::size_t corner = 0; corner < corner_count; ++corner) {
+      const std::int32_t a = from(corner), b = to(corner);
+      uses[next[std::min(a, b)]++] = {std::max(a, b), static_cast<std::int32_t>(corner / 3)};
+    }
+  }
   EdgeTable table;
-  FlatIndexMap edge_ids(face_count * 3 / 2 + 1);
-  table.edges.reserve(face_count * 3 / 2 + 1);
-  table.corner_edge.resize(face_count * 3);
-  for (std::size_t f = 0; f < face_count; ++f) {
-    const Triangle& t = triangles[f];
-    for (int c = 0; c < 3; ++c) {
-      std::int32_t from = t[c], to = t[(c + 1) % 3];
-      std::uint32_t id = edge_ids.find_or_insert(edge_key(from, to), static_cast<std::uint32_t>(table.edges.size()));
-      if (id == table.edges.size()) table.edges.emplace_back();
-      EdgeUse& edge = table.edges[id];
-      if (edge.count < 2) {
-        edge.faces[edge.count] = static_cast<std::int32_t>(f);
-        edge.forward[edge.count] = from < to;
+  table.edges.reserve(corner_count / 2 + 1);
+  table.corner_edge.resize(corner_count);
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    const auto begin = uses.begin() + static_cast<long>(first[v]), end = uses.begin() + static_cast<long>(first[v + 1]);
+    std::sort(begin, end);  // each edge's uses together, in face order
+    for (auto i = begin; i != end;) {
+      auto j = i;
+      const auto id = static_cast<std::uint32_t>(table.edges.size());
+      EdgeUse& edge = table.edges.emplace_back();
+      for (; j != end && j->higher == i->higher; ++j) {
+        // The face's corner leaving v or the other vertex along this edge (faces are not
+        // degenerate: validate_topology checks that first).
+        const Triangle& t = triangles[static_cast<std::size_t>(j->face)];
+        int c = 0;
+        while (std::minmax(t[c], t[(c + 1) % 3]) != std::minmax(static_cast<std::int32_t>(v), j->higher)) ++c;
+        if (edge.count < 2) {
+          edge.faces[edge.count] = j->face;
+          edge.forward[edge.count] = t[c] < t[(c + 1) % 3];
+        }
+        ++edge.count;
+        table.corner_edge[3 * static_cast<std::size_t>(j->face) + static_cast<std::size_t>(c)] = id;
       }
-      ++edge.count;
-      table.corner_edge[3 * f + c] = id;
+      i = j;
     }
   }
   return table;
@@ -273,7 +268,7 @@ void check_fans(const SurfaceMesh& surface, const EdgeTable& table, const std::s
 }
 
 void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
-  const EdgeTable table = edge_table(surface.triangles);
+  const EdgeTable table = edge_table(surface.triangles, surface.points.size());
   check_edges(surface, table, what);
   check_fans(surface, table, what);
 }
@@ -313,7 +308,7 @@ bool faces_intersect(const Triangle& a, const Triangle& b, const std::vector<Poi
 
 // The shells: triangles joined across shared edges; returns each triangle's shell.
 std::vector<std::int32_t> shell_of_triangles(const SurfaceMesh& surface, std::int32_t& count) {
-  const EdgeTable table = edge_table(surface.triangles);
+  const EdgeTable table = edge_table(surface.triangles, surface.points.size());
   std::vector<std::int32_t> shell(surface.triangles.size(), -1);
   count = 0;
   std::vector<std::size_t> stack;
@@ -374,6 +369,8 @@ void check_shell_nesting(const SurfaceMesh& surface) {
                        " (a cavity must face into the void, an island inside a cavity outwards)");
   }
 }
+
+void validate_indices(const SurfaceMesh& surface) { check_indices_and_coordinates(surface, "input"); }
 
 void validate_topology(const SurfaceMesh& surface) {
   const char* what = "input";

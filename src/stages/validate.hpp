@@ -5,6 +5,10 @@
 
 namespace partet {
 
+// Faces refer to existing vertices with finite coordinates: what any stage needs to run at
+// all on a surface (the other checks can run elsewhere meanwhile). Throws InputError.
+void validate_indices(const SurfaceMesh& surface);
+
 // Combinatorial and degeneracy checks (cheap, linear). Throws InputError naming the first
 // problem and where it is, e.g. "input is not closed: 12 border edges, first at vertex 381".
 void validate_topology(const SurfaceMesh& surface);
