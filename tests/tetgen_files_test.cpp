@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "partet/errors.hpp"
+#include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
 #include "io/tetgen_files.hpp"
 #include "test_support.hpp"
@@ -297,6 +298,35 @@ TEST(TetgenFiles, LargeMeshRoundTrip) {
     for (int k = 0; k < 3; ++k) ASSERT_TRUE(same_bits(back.points[i][k], m.points[i][k])) << i;
   EXPECT_EQ(back.tets, m.tets);
   expect_consistent_neighbours(back);
+}
+
+// Ranks format blocks of a file's lines (append_tetgen_lines) and rank 0 writes them in order
+// (a TetgenLines): the files must be the same bytes as written alone, the .face markers included.
+TEST(TetgenFiles, LinesFormattedInBlocksAreTheSameFile) {
+  const std::string dir = test::temp_dir("tetgen_blocks");
+  TetMesh m = cube_mesh();
+  m.neighbours = compute_neighbours(m.tets);
+  const std::vector<Triangle> faces = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}};
+  const std::size_t split_from = 3;
+  for (int blocks : {1, 2, 4, 7}) {
+    const TetgenLines in_blocks = [blocks](const TetgenRows& rows, BufferedFile& out) {
+      for (int b = 0; b < blocks; ++b) {
+        const std::size_t first = rows.count * b / blocks, last = rows.count * (b + 1) / blocks;
+        std::string text;
+        append_tetgen_lines(text, rows.file, rows.data + first * row_bytes(rows.file), first, last - first,
+                            rows.split_from);
+        out.bytes(text.data(), text.size());
+      }
+    };
+    for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh}) {
+      const std::string alone = dir + "/alone" + extension(file), parts = dir + "/parts" + extension(file);
+      write_tetgen_file(file, m, faces, "id", alone, alone, split_from);
+      write_tetgen_file(file, m, faces, "id", parts, parts, split_from, in_blocks);
+      EXPECT_EQ(read_text(alone), read_text(parts)) << extension(file) << " in " << blocks << " blocks";
+    }
+  }
+  const std::string face = read_text(dir + "/alone.face");
+  EXPECT_NE(face.find("2 4 5 7 1\n3 4 7 6 2\n"), std::string::npos) << face;
 }
 
 }  // namespace

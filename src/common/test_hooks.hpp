@@ -23,7 +23,8 @@ void worker_stop(int rank);
 void worker_death(int rank);
 
 // PARTET_INJECT_FAILURE="worker:lose-block": rank 1 loses its block of an XDMF set's HDF5 files
-// (as if it ran out of memory taking it), so the collective write must fail on every rank.
+// or of a TetGen file's rows (as if it ran out of memory taking it), so the write must fail on
+// every rank.
 bool block_lost(int rank);
 
 // PARTET_INJECT_PUBLISH_FAILURE=N: the N-th new file's move into place fails (0: none).

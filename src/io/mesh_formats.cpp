@@ -415,15 +415,17 @@ std::vector<std::string> format_paths(MeshFormat format, const std::string& pref
 }
 
 void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix,
-                    const Hdf5Write& write_hdf5) {
+                    const RankWriters& writers) {
   const std::string path = format_paths(format, prefix).front();
   switch (format) {
-    case MeshFormat::tetgen: add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from); return;
+    case MeshFormat::tetgen:
+      add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from, writers.tetgen_lines);
+      return;
     case MeshFormat::vtu: set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); }); return;
     case MeshFormat::msh: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); }); return;
     case MeshFormat::msh_binary: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); }); return;
     case MeshFormat::medit: set.add(path, [&](const std::string& tmp) { write_medit(output, tmp); }); return;
-    case MeshFormat::xdmf: add_xdmf_files(set, output, prefix, write_hdf5); return;
+    case MeshFormat::xdmf: add_xdmf_files(set, output, prefix, writers.hdf5); return;
     case MeshFormat::pvtu: {
       // The index names its piece files relative to its own directory.
       const std::string base = prefix.substr(prefix.find_last_of('/') + 1);

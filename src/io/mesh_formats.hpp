@@ -11,6 +11,7 @@
 
 #include "partet/mesh_types.hpp"
 #include "io/output_set.hpp"
+#include "io/tetgen_files.hpp"
 
 namespace partet {
 
@@ -78,9 +79,15 @@ struct Hdf5Paths {
 };
 using Hdf5Write = std::function<MeshTotals(const MeshOutput& output, const Hdf5Paths& paths)>;
 
+// How the other ranks take part in writing (the MPI driver's): hdf5 writes an XDMF set's HDF5
+// files (required for xdmf); tetgen_lines formats TetGen files' lines (empty: here, alone).
+struct RankWriters {
+  Hdf5Write hdf5;
+  TetgenLines tetgen_lines;
+};
+
 // Writes the format's files for PREFIX under temporary names into `set` (published together).
-// write_hdf5 is used for xdmf only.
 void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix,
-                    const Hdf5Write& write_hdf5);
+                    const RankWriters& writers);
 
 }  // namespace partet

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <string_view>
@@ -37,32 +38,103 @@ void write_id(BufferedFile& out, const std::string& id) {
   out.newline();
 }
 
-// Every file has one layout: a header line (the count, then `header_tail`), one line per row
-// (its index, its values, then `row_tail(index)`), and the id line.
-template <class Row, class RowTail>
-void write_rows(const std::vector<Row>& rows, const char* header_tail, RowTail row_tail, const std::string& id,
+// Formats numbers at the end of a string, like BufferedFile into its buffer, so both write
+// the same text (format_lines below is the one formatter): into a buffer of its own first,
+// appended in large blocks (growing the string number by number is twice as slow).
+class TextSink {
+ public:
+  explicit TextSink(std::string& text) : text_(text), buffer_(new char[kBufferSize]) {}
+  TextSink(const TextSink&) = delete;
+  TextSink& operator=(const TextSink&) = delete;
+  void integer(std::int64_t value) {
+    reserve();
+    used_ = static_cast<std::size_t>(std::to_chars(end(), limit(), value).ptr - buffer_.get());
+  }
+  void real(double value) {
+    reserve();
+    used_ = static_cast<std::size_t>(std::to_chars(end(), limit(), value, std::chars_format::general, 17).ptr -
+                                     buffer_.get());
+  }
+  void text(std::string_view s) {  // row tails: a few characters
+    reserve();
+    std::memcpy(end(), s.data(), s.size());
+    used_ += s.size();
+  }
+  void space() {
+    reserve();
+    buffer_[used_++] = ' ';
+  }
+  void flush() {
+    text_.append(buffer_.get(), used_);
+    used_ = 0;
+  }
+
+ private:
+  static constexpr std::size_t kBufferSize = std::size_t(1) << 20;
+  static constexpr std::size_t kMaxItem = 64;  // longer than any number or row tail
+  char* end() { return buffer_.get() + used_; }
+  char* limit() { return buffer_.get() + kBufferSize; }
+  void reserve() {
+    if (kBufferSize - used_ < kMaxItem) flush();
+  }
+  std::string& text_;
+  std::unique_ptr<char[]> buffer_;
+  std::size_t used_ = 0;
+};
+
+template <class Value, int kWidth>
+struct RowOf {
+  Value values[kWidth];
+};
+
+// The lines of rows [first, first + count): "index values[ marker]\n".
+template <class Sink>
+void format_lines(Sink& out, TetgenFile file, const char* data, std::size_t first, std::size_t count,
+                  std::size_t split_from) {
+  auto lines = [&](auto row_type, auto tail) {
+    using Row = decltype(row_type);
+    for (std::size_t i = 0; i < count; ++i) {
+      Row row;
+      std::memcpy(&row, data + i * sizeof(Row), sizeof(Row));
+      out.integer(static_cast<std::int64_t>(first + i));
+      for (auto value : row.values) {
+        out.space();
+        if constexpr (std::is_floating_point_v<decltype(value)>)
+          out.real(value);
+        else
+          out.integer(value);
+      }
+      out.text(tail(first + i));
+    }
+  };
+  auto newline = [](std::size_t) { return "\n"; };
+  switch (file) {
+    case TetgenFile::node: return lines(RowOf<double, 3>{}, newline);
+    case TetgenFile::ele:
+    case TetgenFile::neigh: return lines(RowOf<std::int32_t, 4>{}, newline);
+    case TetgenFile::face:
+      return lines(RowOf<std::int32_t, 3>{}, [split_from](std::size_t i) { return i < split_from ? " 1\n" : " 2\n"; });
+  }
+}
+
+// Every file has one layout: a header line (the count, then `header_tail`), one line per row,
+// and the id line.
+void write_rows(const TetgenRows& rows, const char* header_tail, const TetgenLines& lines, const std::string& id,
                 const std::string& path, const std::string& shown) {
   BufferedFile out(path, shown);
-  out.integer(static_cast<std::int64_t>(rows.size()));
+  out.integer(static_cast<std::int64_t>(rows.count));
   out.text(header_tail);
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    out.integer(static_cast<std::int64_t>(i));
-    for (auto value : rows[i]) {
-      out.space();
-      if constexpr (std::is_floating_point_v<decltype(value)>)
-        out.real(value);
-      else
-        out.integer(value);
-    }
-    out.text(row_tail(i));
-  }
+  if (lines)
+    lines(rows, out);
+  else
+    write_tetgen_lines(rows, 0, rows.count, out);
   write_id(out, id);
   out.close();
 }
+
 template <class Row>
-void write_rows(const std::vector<Row>& rows, const char* header_tail, const char* row_tail, const std::string& id,
-                const std::string& path, const std::string& shown) {
-  write_rows(rows, header_tail, [row_tail](std::size_t) { return row_tail; }, id, path, shown);
+TetgenRows rows_of(TetgenFile file, const std::vector<Row>& rows, std::size_t split_from = SIZE_MAX) {
+  return {file, reinterpret_cast<const char*>(rows.data()), rows.size(), split_from};
 }
 
 // Mixes arrays of 32- or 64-bit words into a 64-bit fingerprint, word by word (fast enough for
@@ -345,31 +417,48 @@ std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_f
   return f.hex();
 }
 
+std::size_t row_bytes(TetgenFile file) {
+  return file == TetgenFile::node ? sizeof(Point3) : file == TetgenFile::face ? sizeof(Triangle) : sizeof(Tet);
+}
+
+void append_tetgen_lines(std::string& text, TetgenFile file, const char* data, std::size_t first, std::size_t count,
+                         std::size_t split_from) {
+  text.reserve(text.size() + count * (file == TetgenFile::node ? 64 : 40));  // about a line's length
+  TextSink sink(text);
+  format_lines(sink, file, data, first, count, split_from);
+  sink.flush();
+}
+
+void write_tetgen_lines(const TetgenRows& rows, std::size_t first, std::size_t count, BufferedFile& out) {
+  format_lines(out, rows.file, rows.data + first * row_bytes(rows.file), first, count, rows.split_from);
+}
+
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path,
-                       std::size_t split_from) {
+                       std::size_t split_from, const TetgenLines& lines) {
   switch (file) {
-    case TetgenFile::node: return write_rows(mesh.points, " 3 0 0\n", "\n", id, path, shown_path);
-    case TetgenFile::ele: return write_rows(mesh.tets, " 4 0\n", "\n", id, path, shown_path);
+    case TetgenFile::node: return write_rows(rows_of(file, mesh.points), " 3 0 0\n", lines, id, path, shown_path);
+    case TetgenFile::ele: return write_rows(rows_of(file, mesh.tets), " 4 0\n", lines, id, path, shown_path);
     case TetgenFile::face:
-      return write_rows(boundary_faces, " 1\n", [split_from](std::size_t i) { return i < split_from ? " 1\n" : " 2\n"; },
-                        id, path, shown_path);
+      return write_rows(rows_of(file, boundary_faces, split_from), " 1\n", lines, id, path, shown_path);
     case TetgenFile::neigh:
       // A mesh may come without neighbours (e.g. straight from a merge): -1 rather than an
       // inconsistent file.
-      if (mesh.neighbours.size() != mesh.tets.size())
-        return write_rows(std::vector<Tet>(mesh.tets.size(), Tet{-1, -1, -1, -1}), " 4\n", "\n", id, path, shown_path);
-      return write_rows(mesh.neighbours, " 4\n", "\n", id, path, shown_path);
+      if (mesh.neighbours.size() != mesh.tets.size()) {
+        const std::vector<Tet> none(mesh.tets.size(), Tet{-1, -1, -1, -1});
+        return write_rows(rows_of(file, none), " 4\n", lines, id, path, shown_path);
+      }
+      return write_rows(rows_of(file, mesh.neighbours), " 4\n", lines, id, path, shown_path);
   }
 }
 
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                      const std::string& prefix, std::size_t split_from) {
+                      const std::string& prefix, std::size_t split_from, const TetgenLines& lines) {
   const std::string id = mesh_id(mesh, boundary_faces);
   for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh}) {
     const std::string final_path = prefix + extension(file);
     set.add(final_path, [&](const std::string& temporary) {
-      write_tetgen_file(file, mesh, boundary_faces, id, temporary, final_path, split_from);
+      write_tetgen_file(file, mesh, boundary_faces, id, temporary, final_path, split_from, lines);
     });
   }
 }

@@ -3,6 +3,7 @@
 // set mixed from different runs can be told apart.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,16 +19,37 @@ const char* extension(TetgenFile file);  // ".node", ...
 // A fingerprint of the mesh's points, tets and boundary faces: the ID written into its files.
 std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces);
 
+// The body of one file: `count` packed rows (3 doubles for .node, 4 ids for .ele and .neigh,
+// 3 ids for .face), each written as the line "index values[ marker]".
+struct TetgenRows {
+  TetgenFile file = TetgenFile::node;
+  const char* data = nullptr;
+  std::size_t count = 0;
+  std::size_t split_from = SIZE_MAX;  // .face: marker 1 before this row, 2 from it on
+};
+std::size_t row_bytes(TetgenFile file);  // bytes of one packed row
+
+// Appends the lines of rows [first, first + count) to `text`; `data` points to row `first`.
+void append_tetgen_lines(std::string& text, TetgenFile file, const char* data, std::size_t first, std::size_t count,
+                         std::size_t split_from);
+
+// Writes the lines of all rows to `out`, in order. Empty: formatted here, one after another;
+// the MPI driver's has every rank format a block of them at the same time.
+class BufferedFile;
+using TetgenLines = std::function<void(const TetgenRows& rows, BufferedFile& out)>;
+// The lines of rows [first, first + count) straight into `out` (the empty TetgenLines).
+void write_tetgen_lines(const TetgenRows& rows, std::size_t first, std::size_t count, BufferedFile& out);
+
 // Writes one file of the set to `path` (errors name `shown_path`). Coordinates use 17
 // significant digits so they read back bit-identical; .face holds the boundary faces with marker 1,
 // or 2 from split_from on (the parts of input triangles split by points on the surface).
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path,
-                       std::size_t split_from = SIZE_MAX);
+                       std::size_t split_from = SIZE_MAX, const TetgenLines& lines = {});
 
 // Adds PREFIX.node, .ele, .face and .neigh to an output set (published together).
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
-                      const std::string& prefix, std::size_t split_from = SIZE_MAX);
+                      const std::string& prefix, std::size_t split_from = SIZE_MAX, const TetgenLines& lines = {});
 
 // Everything a set of TetGen files holds. Accepts 0- or 1-based numbering as TetGen does.
 struct TetgenFileSet {

@@ -88,7 +88,7 @@ void check_outputs(const MeshJob& job) {
 }
 
 CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
-                            OutputSet& outputs, const Hdf5Write& write_hdf5) {
+                            OutputSet& outputs, const RankWriters& writers) {
   CheckReport check;
   StageTimer timer(&times);
   if (job.check_output) {
@@ -98,7 +98,7 @@ CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const 
     if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
   }
   const MeshOutput output{result.mesh, result.boundary_faces, result.split_faces_from};
-  for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix, write_hdf5);
+  for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix, writers);
   timer.lap("write");
   return check;
 }

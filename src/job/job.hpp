@@ -87,8 +87,8 @@ void check_outputs(const MeshJob& job);
 
 // Checks the result if asked (throws Error when the check fails) and writes the mesh files
 // under temporary names into `outputs` (published once every rank agrees); an XDMF set's HDF5
-// file through write_hdf5.
+// file, and TetGen files' lines, with the other ranks' help (writers).
 CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
-                            OutputSet& outputs, const Hdf5Write& write_hdf5);
+                            OutputSet& outputs, const RankWriters& writers);
 
 }  // namespace partet

@@ -25,11 +25,11 @@ void RootRun::mesh(PieceScheduler& scheduler) {
   }
 }
 
-void RootRun::check_and_write(const Hdf5Write& write_hdf5) {
+void RootRun::check_and_write(const RankWriters& writers) {
   scale_points(input_.points, -scale_exponent_);
   scale_points(result_.mesh.points, -scale_exponent_);
   for (CutPlane& plane : result_.planes) plane.offset = std::ldexp(plane.offset, -scale_exponent_);
-  check_ = partet::check_and_write(job_, input_, result_, times_, outputs_, write_hdf5);
+  check_ = partet::check_and_write(job_, input_, result_, times_, outputs_, writers);
 }
 
 void RootRun::publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& records, double seconds) {

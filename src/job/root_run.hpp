@@ -29,9 +29,9 @@ class RootRun {
   //      with the retries of mesh_with_retries.
   void mesh(PieceScheduler& scheduler);
   // 9. Back to the input's own scale (exactly); the result checked (--check) and written under
-  //    temporary names (an XDMF set's HDF5 file through write_hdf5, which the driver has every
-  //    rank take part in).
-  void check_and_write(const Hdf5Write& write_hdf5);
+  //    temporary names (an XDMF set's HDF5 file and TetGen files' lines through `writers`, which
+  //    the driver has every rank take part in).
+  void check_and_write(const RankWriters& writers);
   // 10. Once every rank has agreed: the report joins the files, the set is published, the summary
   //     printed. `pieces` says where each piece was meshed (by index).
   void publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& pieces, double seconds);

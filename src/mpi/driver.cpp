@@ -21,8 +21,10 @@
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
 #include "common/log.hpp"
+#include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
 #include "io/parallel_hdf5.hpp"
+#include "io/tetgen_files.hpp"
 #include "runner/serialize.hpp"
 #include "io/write_surface.hpp"
 #include "runner/interrupts.hpp"
@@ -443,19 +445,22 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 9. The HDF5 file of an XDMF set, written by every rank at once (parallel HDF5). Rank 0 sends
-// every rank the temporary file's name and its block of the mesh; an empty name ends the writes.
-// (Until the pieces' tets stay with the ranks that meshed them, rank 0 deals the blocks out.)
+// 9. Writing with every rank. Rank 0 broadcasts an order ("hdf5" or "rows", then its details on
+// further lines), and sends each rank its block; an empty order ends the writes. (Until the
+// pieces' tets stay with the ranks that meshed them, rank 0 deals the blocks out.)
+// - hdf5: the HDF5 files of an XDMF set, written by every rank at once (parallel HDF5).
+// - rows: the lines of a TetGen file; each rank formats its block of rows while rank 0 formats
+//   its own, then sends the text back in chunks ("T" + text; "E" + a message when it cannot;
+//   then an empty chunk), which rank 0 writes in order after its own block.
+
+constexpr int kTagText = 6;
+constexpr std::size_t kTextChunk = std::size_t{64} << 20;  // bytes of text per message
 
 std::string absolute_path(const std::string& path) {
   if (!path.empty() && path[0] == '/') return path;
   std::string directory(4096, '\0');
   if (!::getcwd(directory.data(), directory.size())) throw OutputError("cannot find the working directory");
   return directory.c_str() + std::string("/") + path;
-}
-
-bool writes_hdf5(const MeshJob& job) {
-  return std::find(job.formats.begin(), job.formats.end(), MeshFormat::xdmf) != job.formats.end();
 }
 
 // Rank 0's text to every rank.
@@ -475,7 +480,8 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   // Absolute paths: the ranks' working directories may differ.
   Hdf5Paths paths = relative;
   paths.mesh = absolute_path(relative.mesh), paths.boundary = absolute_path(relative.boundary);
-  broadcast_text(paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' + paths.boundary_shown);
+  broadcast_text("hdf5\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' +
+                 paths.boundary_shown);
   int size = 1;
   MPI_Comm_size(job_comm(), &size);
   std::vector<std::int32_t> region;
@@ -499,29 +505,115 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
 }
 
-void end_hdf5_writes() { broadcast_text(""); }
+// Rows [first, last) of `count` are rank r's block of size ranks.
+std::pair<std::size_t, std::size_t> row_block(std::size_t count, int r, int size) {
+  const auto block = [&](int q) { return static_cast<std::size_t>(static_cast<unsigned __int128>(count) * q / size); };
+  return {block(r), block(r + 1)};
+}
+
+// Rank 0's TetgenLines. It goes on taking every rank's chunks after a failure of its own (a full
+// disk), so no rank is left waiting, then throws the first failure.
+void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out) {
+  int size = 1;
+  MPI_Comm_size(job_comm(), &size);
+  broadcast_text("rows\n" + std::to_string(static_cast<int>(rows.file)) + '\n' + std::to_string(rows.count) + '\n' +
+                 std::to_string(rows.split_from));
+  const std::size_t bytes_per_row = row_bytes(rows.file);
+  for (int r = 1; r < size; ++r) {
+    const auto [first, last] = row_block(rows.count, r, size);
+    const std::string_view block(rows.data + first * bytes_per_row, (last - first) * bytes_per_row);
+    bounded([&] { return send_bytes(block, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  }
+  std::exception_ptr failure;
+  try {
+    const auto [first, last] = row_block(rows.count, 0, size);
+    write_tetgen_lines(rows, first, last - first, out);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  for (int r = 1; r < size; ++r)
+    for (;;) {
+      const std::string chunk = bounded([&] { return recv_bytes(r, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); });
+      if (chunk.empty()) break;
+      if (failure) continue;
+      if (chunk[0] == 'E') {
+        failure = std::make_exception_ptr(OutputError(chunk.substr(1)));
+        continue;
+      }
+      try {
+        out.bytes(chunk.data() + 1, chunk.size() - 1);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+  if (failure) std::rethrow_exception(failure);
+}
+
+// A worker's side of a rows order: formats its block and sends the text back in chunks.
+void format_rows_block(std::istringstream& order) {
+  int file = 0;
+  std::size_t count = 0, split_from = 0;
+  order >> file >> count >> split_from;
+  const std::string block = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  int size = 1;
+  MPI_Comm_size(job_comm(), &size);
+  const auto [first, last] = row_block(count, my_rank(), size);
+  const auto kind = static_cast<TetgenFile>(file);
+  const std::size_t bytes_per_row = row_bytes(kind);
+  auto send = [](const std::string& chunk) {
+    bounded([&] { return send_bytes(chunk, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  };
+  try {
+    if (block.size() != (last - first) * bytes_per_row || test_hooks::block_lost(my_rank()))
+      throw OutputError("rank " + std::to_string(my_rank()) + " did not receive its block of the " +
+                        std::string(extension(kind)) + " file's rows");
+    // The whole block first (rank 0 is formatting its own meanwhile), then the chunks.
+    std::string text;
+    append_tetgen_lines(text, kind, block.data(), first, last - first, split_from);
+    std::string chunk;
+    for (std::size_t done = 0; done < text.size(); done += kTextChunk) {
+      chunk.assign("T");
+      chunk.append(text, done, kTextChunk);
+      send(chunk);
+    }
+  } catch (const std::exception& e) {
+    send(std::string("E") + e.what());
+  }
+  send("");
+}
+
+void end_writes() { broadcast_text(""); }
+
+// A worker's side of the HDF5 files of an XDMF set.
+void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
+  Hdf5Paths paths;
+  std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
+  std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
+  const std::string bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  MeshBlock block;
+  bool ok = !bytes.empty() && !test_hooks::block_lost(my_rank());
+  if (ok) try {
+      block = block_from_bytes(bytes);
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  try {
+    write_mesh_hdf5(job_comm(), block, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+  } catch (const std::exception& e) {
+    status.error = e.what();  // rank 0 has the same error and reports it
+  }
+}
 
 // A worker's side: joins each write rank 0 orders until it says there are no more.
-void join_hdf5_writes(JobStatus& status) {
+void join_writes(JobStatus& status) {
   for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
     std::istringstream lines(order);
-    Hdf5Paths paths;
-    std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
-    std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
-    const std::string bytes =
-        bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
-    MeshBlock block;
-    bool ok = !bytes.empty() && !test_hooks::block_lost(my_rank());
-    if (ok) try {
-        block = block_from_bytes(bytes);
-      } catch (const std::exception&) {
-        ok = false;
-      }
-    try {
-      write_mesh_hdf5(job_comm(), block, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
-    } catch (const std::exception& e) {
-      status.error = e.what();  // rank 0 has the same error and reports it
-    }
+    std::string kind;
+    std::getline(lines, kind);
+    if (kind == "hdf5")
+      join_hdf5_write(lines, status);
+    else
+      format_rows_block(lines);
   }
 }
 
@@ -755,11 +847,16 @@ JobStatus run_mesh_job(const MeshJob& job) {
     });
     broadcast(kDone);
     // 9. Back to the input's scale, checked and written under temporary names.
-    if (state.status.error.empty()) on_root(state, [&] { root->check_and_write(write_hdf5_on_every_rank); });
-    if (writes_hdf5(job)) end_hdf5_writes();
+    if (state.status.error.empty())
+      on_root(state, [&] {
+        RankWriters writers{write_hdf5_on_every_rank, {}};
+        if (state.size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
+        root->check_and_write(writers);
+      });
+    end_writes();
   } else {
     worker_loop(job, state.rank, state.stats);
-    if (writes_hdf5(job)) join_hdf5_writes(state.status);
+    join_writes(state.status);
   }
   // 10. Every rank agrees; rank 0 publishes and reports.
   agree_and_publish(state, root);

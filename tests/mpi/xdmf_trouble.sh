@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The XDMF set's HDF5 files are written by every rank at once; a rank that cannot take part must
-# fail the whole run on every rank, publish nothing and leave the previous set as it was:
+# The XDMF set's HDF5 files are written by every rank at once, and every rank formats a block of
+# the TetGen files' lines; a rank that cannot take part must fail the whole run on every rank,
+# publish nothing and leave the previous set as it was:
 #   lost:       rank 1 loses its block (fault injection);
+#   lost-rows:  the same, writing TetGen files;
 #   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
@@ -17,6 +19,8 @@ mkdir out
 "$partet" generate two_spheres --faces 4000 -o other.off > /dev/null
 "$mpiexec" -n 2 "$partet" mesh in.off -o out/m.xdmf --pieces 4 --quiet
 mkdir before && cp out/* before/
+"$mpiexec" -n 2 "$partet" mesh in.off -o out/t --pieces 4 --quiet
+cp out/t.* before/
 
 expect_refused() {  # NAME EXPECTED-MESSAGE-PART
   local status=0
@@ -33,6 +37,12 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
   echo "FAIL: lost: a lost block exited 0"; exit 1
 fi
 expect_refused lost "rank 1 could not take its part of the mesh"
+
+if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
+  --quiet 2> log; then
+  echo "FAIL: lost-rows: a lost block exited 0"; exit 1
+fi
+expect_refused lost-rows "rank 1 did not receive its block of the .node file's rows"
 
 if ! unshare -m true 2> /dev/null; then
   echo "skipped: not-shared needs unshare -m"; exit 77
