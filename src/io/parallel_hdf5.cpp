@@ -224,8 +224,8 @@ class Hdf5Reader {
     int rank = 0, size = 1;
     MPI_Comm_rank(comm_, &rank);
     MPI_Comm_size(comm_, &size);
-    const auto at = [&](int p) { return static_cast<std::uint64_t>((static_cast<unsigned __int128>(rows) * p) / size); };
-    const std::uint64_t first = at(rank), count = at(rank + 1) - first;
+    const auto [first, last] = run_of(rows, rank, size);
+    const std::uint64_t count = last - first;
     std::vector<T> values(count);
     bool ok = true;
     const std::uint64_t per_call = std::max<std::uint64_t>(1, kMaxBytesPerWrite / sizeof(T));

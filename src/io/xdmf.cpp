@@ -10,14 +10,13 @@
 #include "partet/errors.hpp"
 
 namespace partet {
-namespace {
 
-
-// Near-equal runs: the part-th of `parts` runs of n items.
 std::pair<std::size_t, std::size_t> run_of(std::size_t n, int part, int parts) {
   const auto at = [&](int p) { return static_cast<std::size_t>((static_cast<unsigned __int128>(n) * p) / parts); };
   return {at(part), at(part + 1)};
 }
+
+namespace {
 
 std::string data_item(const std::string& dims, const char* number_type, int precision, const std::string& h5_name,
                       const char* dataset) {
@@ -32,6 +31,20 @@ std::string xdmf_document(const std::string& grid) {
 std::string geometry(const MeshTotals& totals, const std::string& h5_name) {
   return "<Geometry GeometryType=\"XYZ\">" + data_item(std::to_string(totals.points) + " 3", "Float", 8, h5_name, hdf5_dataset::geometry) +
          "</Geometry>\n";
+}
+
+// `cells` cells of `corners` 64-bit point ids each.
+std::string topology(const char* type, std::uint64_t cells, int corners, const std::string& h5_name,
+                     const char* dataset) {
+  const std::string n = std::to_string(cells), k = std::to_string(corners);
+  return std::string("<Topology TopologyType=\"") + type + "\" NumberOfElements=\"" + n + "\" NodesPerElement=\"" + k +
+         "\">" + data_item(n + " " + k, "Int", 8, h5_name, dataset) + "</Topology>\n";
+}
+
+// One 32-bit integer per cell.
+std::string cell_attribute(const char* name, std::uint64_t cells, const std::string& h5_name, const char* dataset) {
+  return std::string("<Attribute Name=\"") + name + "\" AttributeType=\"Scalar\" Center=\"Cell\">" +
+         data_item(std::to_string(cells), "Int", 4, h5_name, dataset) + "</Attribute>\n";
 }
 
 // Byte packing of flat arrays.
@@ -95,25 +108,18 @@ MeshBlock block_from_bytes(std::string_view in) {
 }
 
 std::string xdmf_mesh_text(const MeshTotals& totals, const std::string& mesh_h5) {
-  const std::string& h5_name = mesh_h5;
-  const std::string tets = std::to_string(totals.tets);
-  return xdmf_document(
-      "<Grid Name=\"mesh\" GridType=\"Uniform\">\n<Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"" + tets +
-      "\" NodesPerElement=\"4\">" + data_item(tets + " 4", "Int", 8, h5_name, hdf5_dataset::topology) + "</Topology>\n" +
-      geometry(totals, h5_name) + "<Attribute Name=\"region\" AttributeType=\"Scalar\" Center=\"Cell\">" +
-      data_item(tets, "Int", 4, h5_name, hdf5_dataset::region) + "</Attribute>\n" +
-      "<Attribute Name=\"piece\" AttributeType=\"Scalar\" Center=\"Cell\">" + data_item(tets, "Int", 4, h5_name, hdf5_dataset::piece) +
-      "</Attribute>\n</Grid>\n");
+  return xdmf_document("<Grid Name=\"mesh\" GridType=\"Uniform\">\n" +
+                       topology("Tetrahedron", totals.tets, 4, mesh_h5, hdf5_dataset::topology) +
+                       geometry(totals, mesh_h5) +
+                       cell_attribute("region", totals.tets, mesh_h5, hdf5_dataset::region) +
+                       cell_attribute("piece", totals.tets, mesh_h5, hdf5_dataset::piece) + "</Grid>\n");
 }
 
 std::string xdmf_boundary_text(const MeshTotals& totals, const std::string& mesh_h5, const std::string& boundary_h5) {
-  const std::string& h5_name = boundary_h5;
-  const std::string faces = std::to_string(totals.faces);
-  return xdmf_document(
-      "<Grid Name=\"boundary\" GridType=\"Uniform\">\n<Topology TopologyType=\"Triangle\" NumberOfElements=\"" + faces +
-      "\" NodesPerElement=\"3\">" + data_item(faces + " 3", "Int", 8, h5_name, hdf5_dataset::faces) + "</Topology>\n" +
-      geometry(totals, mesh_h5) + "<Attribute Name=\"boundary\" AttributeType=\"Scalar\" Center=\"Cell\">" +
-      data_item(faces, "Int", 4, h5_name, hdf5_dataset::markers) + "</Attribute>\n</Grid>\n");
+  return xdmf_document("<Grid Name=\"boundary\" GridType=\"Uniform\">\n" +
+                       topology("Triangle", totals.faces, 3, boundary_h5, hdf5_dataset::faces) +
+                       geometry(totals, mesh_h5) +
+                       cell_attribute("boundary", totals.faces, boundary_h5, hdf5_dataset::markers) + "</Grid>\n");
 }
 
 std::vector<std::string> xdmf_paths(const std::string& prefix) {

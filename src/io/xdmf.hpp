@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "io/mesh_formats.hpp"
@@ -30,6 +31,10 @@ inline constexpr const char* piece = "/Mesh/mesh/piece";            // tets, int
 inline constexpr const char* faces = "/MeshTags/boundary/topology";  // faces x 3, int64
 inline constexpr const char* markers = "/MeshTags/boundary/values";  // faces, int32
 }  // namespace hdf5_dataset
+
+// Near-equal runs: [first, last) of the part-th of `parts` runs of n rows. Every blocked array
+// (written, read back, formatted) is split by this one rule, so a rank's rows agree everywhere.
+std::pair<std::size_t, std::size_t> run_of(std::size_t n, int part, int parts);
 
 // One rank's share of a mesh: contiguous runs of the global points, tets and boundary faces.
 // Blocks in rank order make the global arrays; point ids are global (from 0).

@@ -79,9 +79,7 @@ struct Part {
   MeshTotals totals;
   MeshBlock block;
   // This rank's points are [first_point, first_point + block.points.size()).
-  std::uint64_t run_start(std::uint64_t total, int r) const {
-    return static_cast<std::uint64_t>((static_cast<unsigned __int128>(total) * r) / size);
-  }
+  std::uint64_t run_start(std::uint64_t total, int r) const { return run_of(total, r, size).first; }
   int point_owner(Id id) const {
     int r = static_cast<int>((static_cast<unsigned __int128>(id) * size) / std::max<std::uint64_t>(totals.points, 1));
     while (r + 1 < size && run_start(totals.points, r + 1) <= static_cast<std::uint64_t>(id)) ++r;

@@ -505,12 +505,6 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
 }
 
-// Rows [first, last) of `count` are rank r's block of size ranks.
-std::pair<std::size_t, std::size_t> row_block(std::size_t count, int r, int size) {
-  const auto block = [&](int q) { return static_cast<std::size_t>(static_cast<unsigned __int128>(count) * q / size); };
-  return {block(r), block(r + 1)};
-}
-
 // Rank 0's TetgenLines. It goes on taking every rank's chunks after a failure of its own (a full
 // disk), so no rank is left waiting, then throws the first failure.
 void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out) {
@@ -520,13 +514,13 @@ void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out)
                  std::to_string(rows.split_from));
   const std::size_t bytes_per_row = row_bytes(rows.file);
   for (int r = 1; r < size; ++r) {
-    const auto [first, last] = row_block(rows.count, r, size);
+    const auto [first, last] = run_of(rows.count, r, size);
     const std::string_view block(rows.data + first * bytes_per_row, (last - first) * bytes_per_row);
     bounded([&] { return send_bytes(block, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
   }
   std::exception_ptr failure;
   try {
-    const auto [first, last] = row_block(rows.count, 0, size);
+    const auto [first, last] = run_of(rows.count, 0, size);
     write_tetgen_lines(rows, first, last - first, out);
   } catch (...) {
     failure = std::current_exception();
@@ -557,7 +551,7 @@ void format_rows_block(std::istringstream& order) {
   const std::string block = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
   int size = 1;
   MPI_Comm_size(job_comm(), &size);
-  const auto [first, last] = row_block(count, my_rank(), size);
+  const auto [first, last] = run_of(count, my_rank(), size);
   const auto kind = static_cast<TetgenFile>(file);
   const std::size_t bytes_per_row = row_bytes(kind);
   auto send = [](const std::string& chunk) {
