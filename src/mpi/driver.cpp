@@ -633,6 +633,14 @@ std::vector<T> received_array(int tag) {
   return values;
 }
 
+// What a rank that ran out of memory says (its own figures).
+std::string out_of_memory_message(int rank) {
+  const std::string name = "rank " + std::to_string(rank);
+  return name + " ran out of memory (at " + std::to_string(static_cast<long>(own_peak_rss_mb())) +
+         " MB; the machine has " + std::to_string(static_cast<long>(available_memory_mb())) +
+         " MB available now): use a machine with more memory for " + name;
+}
+
 void check_input_on_rank_1(RankStats& stats) {
   const double start = now_seconds();
   std::string verdict;
@@ -644,8 +652,7 @@ void check_input_on_rank_1(RankStats& stats) {
   } catch (const InputError& e) {
     verdict = std::string("I") + e.what();
   } catch (const std::bad_alloc&) {
-    verdict = "Erank 1 ran out of memory checking the input (at " + std::to_string(static_cast<long>(own_peak_rss_mb())) +
-              " MB)";
+    verdict = "E" + out_of_memory_message(1);
   } catch (const std::exception& e) {
     verdict = std::string("E") + e.what();
   }
@@ -713,12 +720,6 @@ std::string interrupted_after(const MeshJob& job) {
   return "%s after the output was published: the new files at " + job.output_prefix + " are complete";
 }
 
-std::string out_of_memory_message() {
-  return "rank 0 ran out of memory (at " + std::to_string(static_cast<long>(own_peak_rss_mb())) +
-         " MB; the machine has " + std::to_string(static_cast<long>(available_memory_mb())) +
-         " MB available now): use a machine with more memory for rank 0";
-}
-
 // Runs a rank-0 step, turning its exception into the job's error.
 template <class Step>
 void on_root(RankState& state, Step step) {
@@ -733,7 +734,7 @@ void on_root(RankState& state, Step step) {
     state.status.error = e.what();
     state.status.usage_error = true;
   } catch (const std::bad_alloc&) {
-    state.status.error = out_of_memory_message();
+    state.status.error = out_of_memory_message(0);
   } catch (const std::exception& e) {
     state.status.error = e.what();
   }

@@ -4,6 +4,8 @@
 # publish nothing and leave the previous set as it was:
 #   lost:       rank 1 loses its block (fault injection);
 #   lost-rows:  the same, writing TetGen files;
+#   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
+#               the run ends with the disk's error, nothing left behind, no rank left waiting;
 #   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
@@ -12,7 +14,7 @@
 set -euo pipefail
 partet=$1 mpiexec=$2
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+trap 'umount "$work/full" 2> /dev/null; rm -rf "$work"' EXIT
 cd "$work"
 mkdir out
 "$partet" generate genus3 --faces 4000 -o in.off > /dev/null
@@ -53,3 +55,15 @@ if "$mpiexec" --oversubscribe -n 1 "$partet" mesh other.off -o "$work/out/m.xdmf
   echo "FAIL: not-shared: a rank writing elsewhere exited 0"; exit 1
 fi
 expect_refused not-shared "rank 1 does not see the output directory"
+
+mkdir full
+mount -t tmpfs -o size=3m tmpfs full
+"$partet" generate genus3 --faces 40000 -o big.off > /dev/null
+if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o full/m --pieces 4 --quiet 2> log; then
+  umount full; echo "FAIL: full: a full disk exited 0"; exit 1
+fi
+left=$(ls full)
+umount full
+grep -q "cannot write 'full/m\.[a-z]*': No space left on device" log || { echo "FAIL: full: the error:"; cat log; exit 1; }
+[ -z "$left" ] || { echo "FAIL: full: files left: $left"; exit 1; }
+echo "ok: full: $(grep -o "cannot write[^;]*" log | head -n 1), nothing left"
