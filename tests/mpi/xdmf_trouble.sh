@@ -14,7 +14,7 @@
 set -euo pipefail
 partet=$1 mpiexec=$2
 work=$(mktemp -d)
-trap 'umount "$work/full" 2> /dev/null; rm -rf "$work"' EXIT
+trap 'umount "$work/full" 2> /dev/null || true; rm -rf "$work"' EXIT
 cd "$work"
 mkdir out
 "$partet" generate genus3 --faces 4000 -o in.off > /dev/null
