@@ -8,10 +8,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "common/keyed_sort.hpp"
 #include "partet/errors.hpp"
 #include "stages/generate.hpp"
 #include "stages/partition.hpp"
@@ -22,6 +24,25 @@ namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using namespace partet::test;
+
+// The vertex order along the axis: the same as std::sort's on (key, index), with repeated keys,
+// negative keys, -0.0 beside 0.0, and millions of pairs (the radix passes).
+TEST(SortKeyed, SameOrderAsStdSort) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> spread(-1e3, 1e3);
+  const double specials[] = {0.0, -0.0, 1e-300, -1e-300, 1e300, -1e300, 3.5, -3.5};
+  std::vector<Keyed> pairs;
+  for (std::size_t i = 0; i < 2'000'000; ++i) {
+    const double key = i % 5 == 0 ? specials[i % 8] : i % 7 == 0 ? std::round(spread(random)) : spread(random);
+    pairs.push_back(keyed(key, i));
+  }
+  std::shuffle(pairs.begin(), pairs.end(), random);
+  std::vector<Keyed> expected = pairs;
+  std::sort(expected.begin(), expected.end());
+  sort_keyed(pairs);
+  EXPECT_TRUE(pairs == expected);
+  for (const Keyed& p : pairs) ASSERT_FALSE(std::signbit(p.first) && p.first == 0.0);
+}
 
 // Exact side of p relative to the plane: +1 above (dot(n, p) > offset), -1 below, 0 on it.
 int exact_side(const CutPlane& plane, const Point3& p) {

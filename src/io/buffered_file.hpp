@@ -1,31 +1,25 @@
 // Writing large text files fast (internal header).
 #pragma once
-#include <cerrno>
 #include <charconv>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "partet/errors.hpp"
-
 namespace partet {
 
-// Formats numbers straight into a large buffer and hands it to fwrite in big blocks: meshes
-// have tens of millions of numbers, so per-number stream or printf overhead dominates otherwise.
+// Formats numbers straight into a large buffer: meshes have tens of millions of numbers, so
+// per-number stream or printf overhead dominates otherwise. A full buffer goes to a thread that
+// writes it while the next one is formatted (the kernel's copy into the page cache costs as much
+// as the formatting), and asks the kernel to start writing it to the disk (so the fsync before
+// the files are published finds little left to do).
 class BufferedFile {
  public:
   // Errors name `shown` (the file the user asked for), not the temporary path written.
-  explicit BufferedFile(std::string path, std::string shown = "")
-      : path_(std::move(path)), shown_(shown.empty() ? path_ : std::move(shown)), buffer_(kBufferSize) {
-    file_ = std::fopen(path_.c_str(), "wb");
-    if (!file_) fail();
-  }
-  ~BufferedFile() {
-    if (file_) std::fclose(file_);
-  }
+  explicit BufferedFile(std::string path, std::string shown = "");
+  ~BufferedFile();
   BufferedFile(const BufferedFile&) = delete;
   BufferedFile& operator=(const BufferedFile&) = delete;
 
@@ -39,28 +33,21 @@ class BufferedFile {
     used_ = std::to_chars(data() + used_, data() + buffer_.size(), value, std::chars_format::general, 17).ptr - data();
   }
   void text(std::string_view s) { bytes(s.data(), s.size()); }
-  // Any length: small runs go through the buffer, large ones straight to the file.
-  void bytes(const void* p, std::size_t n) {
-    if (buffer_.size() - used_ < n) flush();
-    if (n >= buffer_.size()) {
-      if (std::fwrite(p, 1, n, file_) != n) fail();
-      return;
-    }
-    std::memcpy(data() + used_, p, n);
-    used_ += n;
-  }
+  void bytes(const void* p, std::size_t n);
   void space() { put(' '); }
   void newline() { put('\n'); }
 
-  void close() {
-    flush();
-    std::FILE* f = file_;
-    file_ = nullptr;
-    if (std::fclose(f) != 0) fail();
-  }
+  // Writes what is left and closes the file; throws OutputError if any write failed.
+  void close();
+  // Returns at once: the writing thread finishes the file (so the next file is formatted
+  // meanwhile, and its writes, to another inode, go on beside these). finish_background_writes
+  // waits for it and reports its failure.
+  void close_in_background();
+
+  struct Writer;  // the file and its writing thread (buffered_file.cpp)
 
  private:
-  static constexpr std::size_t kBufferSize = std::size_t(1) << 20;
+  static constexpr std::size_t kBufferSize = std::size_t(4) << 20;
   static constexpr std::size_t kMaxItem = 64;  // longer than any number or header we format
 
   char* data() { return buffer_.data(); }
@@ -71,16 +58,19 @@ class BufferedFile {
   void reserve() {
     if (buffer_.size() - used_ < kMaxItem) flush();
   }
-  void flush() {
-    if (used_ > 0 && std::fwrite(data(), 1, used_, file_) != used_) fail();
-    used_ = 0;
-  }
-  [[noreturn]] void fail() { throw OutputError("cannot write '" + shown_ + "': " + std::strerror(errno)); }
+  void flush();  // hands the buffer to the writing thread
+  [[noreturn]] void fail(int error);
 
-  std::string path_, shown_;
+  std::string shown_;
   std::vector<char> buffer_;
   std::size_t used_ = 0;
-  std::FILE* file_ = nullptr;
+  std::unique_ptr<Writer> writer_;
 };
+
+// Waits for every file closed in the background; throws OutputError naming the first that
+// failed (after all have ended).
+void finish_background_writes();
+// The same, ignoring failures (the files are being discarded).
+void abandon_background_writes() noexcept;
 
 }  // namespace partet

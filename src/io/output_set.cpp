@@ -1,5 +1,7 @@
 #include "io/output_set.hpp"
 
+#include "io/buffered_file.hpp"
+
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -327,7 +329,17 @@ void OutputSet::supersede(const std::string& directory, std::function<bool(const
   impl_->families.push_back({directory, std::move(belongs)});
 }
 
+void OutputSet::finish_writes() {
+  try {
+    finish_background_writes();
+  } catch (...) {
+    discard();
+    throw;
+  }
+}
+
 void OutputSet::discard() {
+  abandon_background_writes();  // before the files go
   for (const std::string& t : impl_->temporaries) {
     std::remove(t.c_str());
     interrupts::forget(t);
@@ -338,6 +350,7 @@ void OutputSet::discard() {
 }
 
 void OutputSet::publish() {
+  finish_writes();
   if (finals_.empty()) return;
   test_hooks::before_publish();
   // The new files reach the disk before the journal names them (a power cut must not leave a

@@ -34,6 +34,9 @@ class OutputSet {
   // Writes one file: write_file(temporary_path). On failure the temporaries are removed and the
   // error (naming final_path) propagates.
   void add(const std::string& final_path, const std::function<void(const std::string&)>& write_file);
+  // Waits for the files write_file closed in the background (io/buffered_file.hpp); on a
+  // failure the temporaries are removed and the error propagates. publish does it first.
+  void finish_writes();
   // Files in `directory` whose names `belongs` accepts are part of the set when this run does not
   // write them: publishing removes them with the previous set (looked up under the lock).
   void supersede(const std::string& directory, std::function<bool(const std::string& name)> belongs);

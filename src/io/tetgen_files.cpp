@@ -120,7 +120,7 @@ void format_lines(Sink& out, TetgenFile file, const char* data, std::size_t firs
 // Every file has one layout: a header line (the count, then `header_tail`), one line per row,
 // and the id line.
 void write_rows(const TetgenRows& rows, const char* header_tail, const TetgenLines& lines, const std::string& id,
-                const std::string& path, const std::string& shown) {
+                const std::string& path, const std::string& shown, Closing closing) {
   BufferedFile out(path, shown);
   out.integer(static_cast<std::int64_t>(rows.count));
   out.text(header_tail);
@@ -129,7 +129,7 @@ void write_rows(const TetgenRows& rows, const char* header_tail, const TetgenLin
   else
     write_tetgen_lines(rows, 0, rows.count, out);
   write_id(out, id);
-  out.close();
+  closing == Closing::in_background ? out.close_in_background() : out.close();
 }
 
 template <class Row>
@@ -435,20 +435,23 @@ void write_tetgen_lines(const TetgenRows& rows, std::size_t first, std::size_t c
 
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path,
-                       std::size_t split_from, const TetgenLines& lines) {
+                       std::size_t split_from, const TetgenLines& lines, Closing closing) {
+  const auto write = [&](const TetgenRows& rows, const char* header_tail) {
+    write_rows(rows, header_tail, lines, id, path, shown_path, closing);
+  };
   switch (file) {
-    case TetgenFile::node: return write_rows(rows_of(file, mesh.points), " 3 0 0\n", lines, id, path, shown_path);
-    case TetgenFile::ele: return write_rows(rows_of(file, mesh.tets), " 4 0\n", lines, id, path, shown_path);
+    case TetgenFile::node: return write(rows_of(file, mesh.points), " 3 0 0\n");
+    case TetgenFile::ele: return write(rows_of(file, mesh.tets), " 4 0\n");
     case TetgenFile::face:
-      return write_rows(rows_of(file, boundary_faces, split_from), " 1\n", lines, id, path, shown_path);
+      return write(rows_of(file, boundary_faces, split_from), " 1\n");
     case TetgenFile::neigh:
       // A mesh may come without neighbours (e.g. straight from a merge): -1 rather than an
       // inconsistent file.
       if (mesh.neighbours.size() != mesh.tets.size()) {
         const std::vector<Tet> none(mesh.tets.size(), Tet{-1, -1, -1, -1});
-        return write_rows(rows_of(file, none), " 4\n", lines, id, path, shown_path);
+        return write(rows_of(file, none), " 4\n");
       }
-      return write_rows(rows_of(file, mesh.neighbours), " 4\n", lines, id, path, shown_path);
+      return write(rows_of(file, mesh.neighbours), " 4\n");
   }
 }
 
@@ -458,7 +461,8 @@ void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Tri
   for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh}) {
     const std::string final_path = prefix + extension(file);
     set.add(final_path, [&](const std::string& temporary) {
-      write_tetgen_file(file, mesh, boundary_faces, id, temporary, final_path, split_from, lines);
+      write_tetgen_file(file, mesh, boundary_faces, id, temporary, final_path, split_from, lines,
+                        Closing::in_background);
     });
   }
 }

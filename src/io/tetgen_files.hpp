@@ -40,12 +40,18 @@ using TetgenLines = std::function<void(const TetgenRows& rows, BufferedFile& out
 // The lines of rows [first, first + count) straight into `out` (the empty TetgenLines).
 void write_tetgen_lines(const TetgenRows& rows, std::size_t first, std::size_t count, BufferedFile& out);
 
+// Whether a file is complete on return, or finished by a writing thread while the next one is
+// formatted (then finish_background_writes, io/buffered_file.hpp, waits for it; OutputSet's
+// publish does).
+enum class Closing { now, in_background };
+
 // Writes one file of the set to `path` (errors name `shown_path`). Coordinates use 17
 // significant digits so they read back bit-identical; .face holds the boundary faces with marker 1,
 // or 2 from split_from on (the parts of input triangles split by points on the surface).
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path,
-                       std::size_t split_from = SIZE_MAX, const TetgenLines& lines = {});
+                       std::size_t split_from = SIZE_MAX, const TetgenLines& lines = {},
+                       Closing closing = Closing::now);
 
 // Adds PREFIX.node, .ele, .face and .neigh to an output set (published together).
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,

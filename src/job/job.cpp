@@ -99,6 +99,7 @@ CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const 
   }
   const MeshOutput output{result.mesh, result.boundary_faces, result.split_faces_from};
   for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix, writers);
+  outputs.finish_writes();  // the last file's writes belong to this stage too
   timer.lap("write");
   return check;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "common/keyed_sort.hpp"
 #include "stages/geometry.hpp"
 #include "partet/errors.hpp"
 #include "stages/topology.hpp"
@@ -135,11 +136,11 @@ AxisOrder sort_along(const SurfaceMesh& surface, const Point3& axis) {
   for (std::size_t i = 0; i < a.points.size(); ++i) a.proj[i] = dot(axis, a.points[i]);
   // Sorting (projection, index) pairs side by side is several times faster than sorting
   // indices that look their projections up (10.9M faces: 0.8 s of the partition).
-  std::vector<std::pair<double, std::size_t>> keyed(a.points.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) keyed[i] = {a.proj[i], i};
-  std::sort(keyed.begin(), keyed.end());
-  a.order.resize(keyed.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) a.order[i] = keyed[i].second;
+  std::vector<Keyed> pairs(a.points.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) pairs[i] = keyed(a.proj[i], i);
+  sort_keyed(pairs);
+  a.order.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) a.order[i] = pairs[i].second;
   return a;
 }
 

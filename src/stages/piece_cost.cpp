@@ -6,6 +6,7 @@
 
 #include <boost/sort/spreadsort/float_sort.hpp>
 
+#include "common/keyed_sort.hpp"
 #include "stages/geometry.hpp"
 #include "stages/topology.hpp"
 
@@ -40,10 +41,10 @@ class AxisProfile {
       });
     }
     const std::vector<char> used = used_vertices(surface.points.size(), surface.triangles);
-    std::vector<std::pair<double, std::size_t>> sorted;
+    std::vector<Keyed> sorted;
     for (std::size_t i = 0; i < proj.size(); ++i)
-      if (used[i]) sorted.emplace_back(proj[i], i);
-    std::sort(sorted.begin(), sorted.end());
+      if (used[i]) sorted.push_back(keyed(proj[i], i));
+    sort_keyed(sorted);
     // Radix-like spreadsort: the same order as std::sort, faster on millions of values.
     boost::sort::spreadsort::float_sort(centroids_.begin(), centroids_.end());
     vertices_.reserve(sorted.size());

@@ -1,0 +1,194 @@
+#include "io/buffered_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+#include "partet/errors.hpp"
+
+namespace partet {
+
+// The file and the thread that writes the buffers handed to it, one at a time.
+struct BufferedFile::Writer {
+  // Writeback is started every this many bytes.
+  static constexpr std::size_t kWritebackStep = std::size_t(64) << 20;
+
+  int fd = -1;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<char> pending;  // the buffer being written
+  std::size_t pending_size = 0;
+  bool busy = false, stopping = false;
+  int error = 0;  // the first write's errno
+  std::uint64_t written = 0, written_back = 0;
+  std::thread thread;
+  std::string shown;  // for the error of a file closed in the background
+
+  // Writes everything or records why not; no more writes after a failure.
+  void write_all(const char* p, std::size_t n) {
+    while (n > 0 && error == 0) {
+      const ssize_t done = ::write(fd, p, n);
+      if (done < 0) {
+        if (errno != EINTR) error = errno;
+        continue;
+      }
+      p += done, n -= static_cast<std::size_t>(done), written += static_cast<std::uint64_t>(done);
+    }
+#ifdef __linux__
+    if (error == 0 && written - written_back >= kWritebackStep) {
+      // Only starts the disk writes; errors surface at fsync.
+      (void)::sync_file_range(fd, static_cast<off_t>(written_back), static_cast<off_t>(written - written_back),
+                              SYNC_FILE_RANGE_WRITE);
+      written_back = written;
+    }
+#endif
+  }
+
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex);
+    for (;;) {
+      changed.wait(lock, [&] { return busy || stopping; });
+      if (!busy) return;
+      lock.unlock();
+      write_all(pending.data(), pending_size);
+      lock.lock();
+      busy = false;
+      changed.notify_all();
+    }
+  }
+
+  // Waits until the thread has written what it was given; returns the first error (0: none).
+  int wait_idle() {
+    std::unique_lock<std::mutex> lock(mutex);
+    changed.wait(lock, [&] { return !busy; });
+    return error;
+  }
+
+  void stop() {
+    if (!thread.joinable()) return;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      stopping = true;
+    }
+    changed.notify_all();
+    thread.join();
+  }
+};
+
+namespace {
+
+// The files closed in the background, until finish_background_writes (one job at a time per
+// process, so one list; the mutex only guards it against misuse from several threads).
+std::mutex background_mutex;
+std::vector<std::unique_ptr<BufferedFile::Writer>>& background_writers() {
+  static auto* writers = new std::vector<std::unique_ptr<BufferedFile::Writer>>;
+  return *writers;
+}
+
+// Ends one writer: waits for its thread, closes its file; returns its first error (0: none).
+int end_writer(BufferedFile::Writer& w) {
+  w.wait_idle();
+  w.stop();
+  int error = w.error;
+  if (w.fd >= 0 && ::close(w.fd) != 0 && error == 0) error = errno;
+  w.fd = -1;
+  return error;
+}
+
+}  // namespace
+
+BufferedFile::BufferedFile(std::string path, std::string shown)
+    : shown_(shown.empty() ? path : std::move(shown)), buffer_(kBufferSize), writer_(std::make_unique<Writer>()) {
+  writer_->fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (writer_->fd < 0) fail(errno);
+  writer_->pending.resize(kBufferSize);
+}
+
+BufferedFile::~BufferedFile() {
+  if (!writer_) return;  // closed in the background
+  writer_->stop();
+  if (writer_->fd >= 0) ::close(writer_->fd);
+}
+
+void BufferedFile::bytes(const void* p, std::size_t n) {
+  const char* from = static_cast<const char*>(p);
+  while (n > 0) {
+    if (used_ == buffer_.size()) flush();
+    const std::size_t take = std::min(n, buffer_.size() - used_);
+    std::memcpy(data() + used_, from, take);
+    used_ += take, from += take, n -= take;
+  }
+}
+
+void BufferedFile::flush() {
+  if (used_ == 0) return;
+  Writer& w = *writer_;
+  // Started at the first full buffer: small files are written without a thread.
+  if (!w.thread.joinable()) w.thread = std::thread([&w] { w.run(); });
+  if (const int error = w.wait_idle(); error != 0) fail(error);
+  {
+    std::lock_guard<std::mutex> lock(w.mutex);
+    buffer_.swap(w.pending);
+    w.pending_size = used_;
+    w.busy = true;
+  }
+  w.changed.notify_all();
+  used_ = 0;
+}
+
+void BufferedFile::close() {
+  Writer& w = *writer_;
+  if (w.thread.joinable()) {
+    flush();
+    if (const int error = w.wait_idle(); error != 0) fail(error);
+    w.stop();
+  } else {
+    w.write_all(data(), used_);  // never handed over: this thread writes it
+    used_ = 0;
+    if (w.error != 0) fail(w.error);
+  }
+  const int fd = w.fd;
+  w.fd = -1;
+  if (::close(fd) != 0) fail(errno);
+}
+
+void BufferedFile::close_in_background() {
+  Writer& w = *writer_;
+  if (!w.thread.joinable()) w.thread = std::thread([&w] { w.run(); });
+  flush();
+  w.shown = shown_;
+  std::lock_guard<std::mutex> lock(background_mutex);
+  background_writers().push_back(std::move(writer_));
+}
+
+void finish_background_writes() {
+  std::vector<std::unique_ptr<BufferedFile::Writer>> writers;
+  {
+    std::lock_guard<std::mutex> lock(background_mutex);
+    writers.swap(background_writers());
+  }
+  std::string failure;
+  for (const auto& w : writers)
+    if (const int error = end_writer(*w); error != 0 && failure.empty())
+      failure = "cannot write '" + w->shown + "': " + std::strerror(error);
+  if (!failure.empty()) throw OutputError(failure);
+}
+
+void abandon_background_writes() noexcept {
+  try {
+    finish_background_writes();
+  } catch (...) {
+  }
+}
+
+void BufferedFile::fail(int error) {
+  throw OutputError("cannot write '" + shown_ + "': " + std::strerror(error));
+}
+
+}  // namespace partet

@@ -1,0 +1,134 @@
+// BufferedFile: the bytes written are exactly the text formatted, across many buffers handed to
+// its writing thread; a failing write is reported with the name the user knows.
+#include <gtest/gtest.h>
+
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <unistd.h>
+#include <string>
+#include <vector>
+
+#include "io/buffered_file.hpp"
+#include "partet/errors.hpp"
+
+namespace partet {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string formatted(double value) {
+  char text[64];
+  return std::string(text, std::to_chars(text, text + sizeof text, value, std::chars_format::general, 17).ptr);
+}
+
+TEST(BufferedFile, ManyBuffersGiveExactlyTheTextFormatted) {
+  const fs::path path = fs::temp_directory_path() / ("partet_buffered_" + std::to_string(::getpid()));
+  std::string expected;
+  {
+    BufferedFile out(path.string());
+    // About 40 MB: many buffers, so the writing thread and the writeback hints are exercised.
+    for (std::int64_t i = 0; i < 2'000'000; ++i) {
+      const std::int64_t big = i * 4'000'000'007LL - 7;
+      const double x = 1.0 / static_cast<double>(i + 3);
+      out.integer(big), out.space(), out.real(x), out.space(), out.text("ab"), out.newline();
+      expected += std::to_string(big) + ' ' + formatted(x) + " ab\n";
+      if (i % 500'000 == 0) {  // a run longer than a buffer goes through in pieces
+        const std::string run(9'000'000 + static_cast<std::size_t>(i % 7), static_cast<char>('a' + i % 26));
+        out.bytes(run.data(), run.size());
+        expected += run;
+      }
+    }
+    out.close();
+  }
+  const std::string written = read_all(path);
+  fs::remove(path);
+  ASSERT_EQ(written.size(), expected.size());
+  EXPECT_TRUE(written == expected);
+}
+
+TEST(BufferedFile, SmallFileIsWrittenAtClose) {
+  const fs::path path = fs::temp_directory_path() / ("partet_buffered_small_" + std::to_string(::getpid()));
+  {
+    BufferedFile out(path.string());
+    out.text("4 3 0 0\n");
+    out.close();
+  }
+  EXPECT_EQ(read_all(path), "4 3 0 0\n");
+  fs::remove(path);
+}
+
+TEST(BufferedFile, FullDiskNamesTheFileTheUserAskedFor) {
+  for (std::size_t lines : {std::size_t(10), std::size_t(3'000'000)}) {  // written at close; by the thread
+    BufferedFile out("/dev/full", "out/m.ele");
+    try {
+      for (std::size_t i = 0; i < lines; ++i) out.integer(static_cast<std::int64_t>(i)), out.newline();
+      out.close();
+      FAIL() << "a full disk was not reported";
+    } catch (const OutputError& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot write 'out/m.ele': No space left on device"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// Lines "i\n" for i in [0, n): about 6.9 MB for a million, more than one buffer.
+std::string count_lines(BufferedFile& out, std::int64_t n) {
+  std::string expected;
+  for (std::int64_t i = 0; i < n; ++i) {
+    out.integer(i), out.newline();
+    expected += std::to_string(i) + '\n';
+  }
+  return expected;
+}
+
+TEST(BufferedFile, FilesClosedInTheBackgroundAreCompleteAfterFinish) {
+  const fs::path dir = fs::temp_directory_path() / ("partet_background_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::vector<std::string> expected;
+  for (int f = 0; f < 3; ++f) {
+    BufferedFile out((dir / std::to_string(f)).string());
+    expected.push_back(count_lines(out, 1'000'000 + f));
+    out.close_in_background();
+  }
+  finish_background_writes();
+  for (int f = 0; f < 3; ++f) EXPECT_TRUE(read_all(dir / std::to_string(f)) == expected[f]) << "file " << f;
+  fs::remove_all(dir);
+}
+
+TEST(BufferedFile, BackgroundFailureIsReportedByFinishAfterTheOthersEnd) {
+  const fs::path path = fs::temp_directory_path() / ("partet_background_ok_" + std::to_string(::getpid()));
+  std::string expected;
+  {
+    BufferedFile full("/dev/full", "out/m.node");
+    count_lines(full, 300'000);  // one buffer, first written by the thread after close_in_background
+    full.close_in_background();
+    BufferedFile fine(path.string());
+    expected = count_lines(fine, 1'000'000);
+    fine.close_in_background();
+  }
+  try {
+    finish_background_writes();
+    FAIL() << "a full disk was not reported";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write 'out/m.node': No space left on device"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(read_all(path) == expected);  // written to the end before the failure was thrown
+  fs::remove(path);
+  EXPECT_NO_THROW(finish_background_writes());  // nothing is left pending
+}
+
+TEST(BufferedFile, MissingDirectoryIsReportedAtOnce) {
+  EXPECT_THROW(BufferedFile("/nonexistent_partet_dir/m.node", "m.node"), OutputError);
+}
+
+}  // namespace
+}  // namespace partet
