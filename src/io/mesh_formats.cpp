@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
 #include "stages/info.hpp"
@@ -46,21 +47,24 @@ CompressedArray compress(std::string name, std::string type, int components, con
   const std::size_t size = values.size() * sizeof(T);
   const std::size_t blocks = size == 0 ? 0 : (size + kBlock - 1) / kBlock;
   std::vector<std::uint64_t> header{blocks, kBlock, blocks == 0 ? 0 : size - (blocks - 1) * kBlock};
-  std::vector<unsigned char> data;
-  for (std::size_t b = 0; b < blocks; ++b) {
+  // The blocks are independent: compressed on every usable CPU (the other ranks only wait
+  // during the writes), the same bytes as one after another.
+  std::vector<std::vector<unsigned char>> packed(blocks);
+  parallel_for(blocks, usable_cpus(), [&](std::size_t b) {
     const std::size_t length = std::min(kBlock, size - b * kBlock);
     uLongf out = compressBound(static_cast<uLong>(length));
-    const std::size_t at = data.size();
-    data.resize(at + out);
-    if (compress2(data.data() + at, &out, raw + b * kBlock, static_cast<uLong>(length), Z_BEST_SPEED) != Z_OK)
+    packed[b].resize(out);
+    if (compress2(packed[b].data(), &out, raw + b * kBlock, static_cast<uLong>(length), Z_BEST_SPEED) != Z_OK)
       throw OutputError("cannot compress the data of '" + shown + "' (zlib)");
-    data.resize(at + out);
-    header.push_back(out);
-  }
+    packed[b].resize(out);
+  });
+  std::size_t data_size = 0;
+  for (const auto& p : packed) header.push_back(p.size()), data_size += p.size();
   CompressedArray array{std::move(name), std::move(type), components, {}};
-  array.bytes.resize(header.size() * sizeof(std::uint64_t) + data.size());
+  array.bytes.resize(header.size() * sizeof(std::uint64_t) + data_size);
   std::memcpy(array.bytes.data(), header.data(), header.size() * sizeof(std::uint64_t));
-  std::memcpy(array.bytes.data() + header.size() * sizeof(std::uint64_t), data.data(), data.size());
+  unsigned char* at = array.bytes.data() + header.size() * sizeof(std::uint64_t);
+  for (const auto& p : packed) at = std::copy(p.begin(), p.end(), at);
   return array;
 }
 

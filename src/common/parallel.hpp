@@ -1,0 +1,51 @@
+// Spreading independent work over this process's CPUs (internal header).
+#pragma once
+#include <sched.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace partet {
+
+// The CPUs this process may run on (its affinity mask: what Slurm or mpirun's binding gave it),
+// at most `cap`. Used while the other ranks wait (the writes), so it takes no core from meshing.
+inline unsigned usable_cpus(unsigned cap = 8) {
+  cpu_set_t set;
+  unsigned n = 1;
+  if (::sched_getaffinity(0, sizeof set, &set) == 0) n = static_cast<unsigned>(CPU_COUNT(&set));
+  return std::clamp(n, 1u, cap);
+}
+
+// Calls work(i) for every i in [0, count), on up to `threads` threads (this one included);
+// rethrows the first exception once all have stopped. The order of the calls is unspecified:
+// work(i) must only touch what belongs to i.
+template <class Work>
+void parallel_for(std::size_t count, unsigned threads, const Work& work) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto run = [&] {
+    for (std::size_t i; (i = next++) < count;) {
+      try {
+        work(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = count;
+      }
+    }
+  };
+  std::vector<std::thread> helpers;
+  const std::size_t extra = std::min<std::size_t>(threads, count) > 0 ? std::min<std::size_t>(threads, count) - 1 : 0;
+  for (std::size_t t = 0; t < extra; ++t) helpers.emplace_back(run);
+  run();
+  for (std::thread& h : helpers) h.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace partet
