@@ -53,6 +53,16 @@ void worker_stop(int rank) {
   if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") ::raise(SIGSTOP);
 }
 
+void verdict_stop(int rank) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  if (rank == 1 && spec && std::string(spec) == "worker:stop-before-verdict") ::raise(SIGSTOP);
+}
+
+double verdict_wait_seconds(double fallback) {
+  const char* s = value("PARTET_TEST_VERDICT_WAIT_S");
+  return s ? std::atof(s) : fallback;
+}
+
 void worker_death(int rank) {
   const char* spec = value("PARTET_INJECT_FAILURE");
   if (rank == 1 && spec && std::string(spec) == "worker:abort-before-agreement") {

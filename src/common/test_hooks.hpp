@@ -1,6 +1,6 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh, tests/cli/hard_parts.sh,
-// tests/mpi/stopped_rank.sh, tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh.
+// tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh.
 #pragma once
 #include <cstddef>
 
@@ -18,6 +18,11 @@ bool input_needs_surface_points();
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);
+// PARTET_INJECT_FAILURE="worker:stop-before-verdict": rank 1 stops itself (SIGSTOP) once it has
+// checked the input, before it reports the verdict rank 0 waits for.
+void verdict_stop(int rank);
+// PARTET_TEST_VERDICT_WAIT_S=S: how long rank 0 waits for rank 1's verdict (else fallback).
+double verdict_wait_seconds(double fallback);
 // PARTET_INJECT_FAILURE="worker:abort-before-agreement": rank 1 dies after its last piece, while
 // rank 0 writes (the job must then publish nothing).
 void worker_death(int rank);

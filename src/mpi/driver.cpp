@@ -144,7 +144,8 @@ class RootScheduler : public PieceScheduler {
   // Rank 1 is checking the input (check_input_on_rank_1); confirm_input waits for its verdict.
   void expect_input_verdict(std::size_t faces) {
     verdict_pending_ = true;
-    verdict_limit_ = kWorkerSeconds + 1e-6 * static_cast<double>(faces);  // + 1 s per million faces
+    // kWorkerSeconds + 1 s per million faces
+    verdict_limit_ = test_hooks::verdict_wait_seconds(kWorkerSeconds + 1e-6 * static_cast<double>(faces));
   }
 
   bool confirm_input() override {
@@ -657,6 +658,7 @@ void check_input_on_rank_1(RankStats& stats) {
     verdict = std::string("E") + e.what();
   }
   stats.input_check_seconds = now_seconds() - start;
+  test_hooks::verdict_stop(1);
   bounded([&] { return send_bytes(verdict, 0, kTagVerdict, job_comm(), kMaxChunk, kRootSeconds); });
 }
 

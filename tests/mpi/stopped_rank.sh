@@ -4,7 +4,10 @@
 #   meshing: rank 1 is stopped from outside while it works;
 #   idle:    rank 1 stops itself between pieces (PARTET_INJECT_FAILURE=worker:stop-when-idle), so
 #            rank 0's next piece, larger than MPI's eager limit, waits for someone to take it.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle]
+#   verdict: rank 1 stops itself after checking the input, before reporting it
+#            (worker:stop-before-verdict); rank 0 waits for that verdict before the first piece,
+#            for PARTET_TEST_VERDICT_WAIT_S (3 s here; 120 s + 1 s per million faces normally).
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -12,6 +15,10 @@ trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 "$partet" generate torus --faces 60000 -o "$work/torus.off" > /dev/null || exit 1
 inject=()
 [ "$mode" = idle ] && inject=(-x PARTET_INJECT_FAILURE) && export PARTET_INJECT_FAILURE=worker:stop-when-idle
+if [ "$mode" = verdict ]; then
+  inject=(-x PARTET_INJECT_FAILURE -x PARTET_TEST_VERDICT_WAIT_S)
+  export PARTET_INJECT_FAILURE=worker:stop-before-verdict PARTET_TEST_VERDICT_WAIT_S=3
+fi
 start=$(date +%s)
 timeout 120 "$mpiexec" -n 2 "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
   --piece-timeout 2 > "$work/log" 2>&1 &
@@ -37,6 +44,8 @@ fail() { echo "FAIL: $*"; cat "$work/log"; exit 1; }
 [ "$code" -ne 0 ] || fail "exit code 0"
 [ "$code" -ne 124 ] || fail "the job hung (killed after 120 s)"
 [ "$elapsed" -le 40 ] || fail "took ${elapsed} s (limit 40 s)"
-grep -q "rank 1 has not answered" "$work/log" || fail "no message naming rank 1"
+expected="rank 1 has not answered"
+[ "$mode" = verdict ] && expected="rank 1 has not reported its check of the input within 3 s"
+grep -q "$expected" "$work/log" || fail "no message naming rank 1"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 'rank 1 has' "$work/log")"
