@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -92,6 +93,37 @@ TEST(Validate, FlippedFace) {
   EXPECT_TRUE(contains(message, "input is not consistently oriented: faces "));
   EXPECT_TRUE(contains(message, "(3 such edges)"));
   EXPECT_TRUE(contains(message, " 42 ")) << "the flipped face is named";
+}
+
+// The edges are gathered a range of vertices at a time (to bound the memory): the faces across
+// the edges and the first problem named must not depend on the range.
+TEST(Validate, FacesAcrossEdgesDoNotDependOnTheRange) {
+  const SurfaceMesh surface = generate_surface("genus3", 4000);
+  const std::vector<std::int32_t> across = faces_across_edges(surface, "input");
+  ASSERT_EQ(across.size(), 3 * surface.triangles.size());
+  for (std::size_t corner = 0; corner < across.size(); ++corner) {
+    const Triangle& t = surface.triangles[corner / 3];
+    const std::int32_t a = t[corner % 3], b = t[(corner % 3 + 1) % 3];
+    ASSERT_GE(across[corner], 0);
+    const Triangle& g = surface.triangles[static_cast<std::size_t>(across[corner])];
+    ASSERT_NE(static_cast<std::size_t>(across[corner]), corner / 3);
+    ASSERT_TRUE(std::count(g.begin(), g.end(), a) == 1 && std::count(g.begin(), g.end(), b) == 1) << corner;
+  }
+  for (std::size_t range : {std::size_t(1), std::size_t(5), std::size_t(64), std::size_t(1000)})
+    EXPECT_TRUE(faces_across_edges(surface, "input", range) == across) << range << " corners per range";
+
+  SurfaceMesh open = surface, flipped = surface, crowded = surface;
+  open.triangles.erase(open.triangles.begin() + 1234);
+  std::swap(flipped.triangles[777][1], flipped.triangles[777][2]);
+  std::swap(flipped.triangles[3001][0], flipped.triangles[3001][2]);
+  crowded.triangles.push_back(crowded.triangles[10]);
+  crowded.triangles.push_back({crowded.triangles[10][0], crowded.triangles[10][2], crowded.triangles[10][1]});
+  for (const SurfaceMesh* broken : {&open, &flipped, &crowded}) {
+    const std::string expected = input_error([&] { faces_across_edges(*broken, "input"); });
+    ASSERT_FALSE(expected.empty());
+    for (std::size_t range : {std::size_t(1), std::size_t(7), std::size_t(500)})
+      EXPECT_EQ(input_error([&] { faces_across_edges(*broken, "input", range); }), expected) << range;
+  }
 }
 
 TEST(Validate, EdgeSharedByFourFaces) {

@@ -1,6 +1,11 @@
 // Checks that a surface is something TetGen can mesh: closed, manifold, consistently and
 // outward oriented, no degenerate faces, no self-intersections.
 #pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
 #include "partet/mesh_types.hpp"
 
 namespace partet {
@@ -12,6 +17,13 @@ void validate_indices(const SurfaceMesh& surface);
 // Combinatorial and degeneracy checks (cheap, linear). Throws InputError naming the first
 // problem and where it is, e.g. "input is not closed: 12 border edges, first at vertex 381".
 void validate_topology(const SurfaceMesh& surface);
+
+// Every undirected edge is used by exactly two faces traversing it in opposite directions, else
+// InputError naming the first that is not ("subject is not closed: ..."). Returns, for each
+// corner 3 f + c, the other face of the edge from corner c to c + 1 of face f. The edges are
+// gathered corners_per_range at a time (a bound on the memory; the result does not depend on it).
+std::vector<std::int32_t> faces_across_edges(const SurfaceMesh& surface, const std::string& subject,
+                                             std::size_t corners_per_range = std::size_t(8) << 20);
 
 // Throws InputError if two faces intersect other than in a shared edge or vertex
 // ("input self-intersects: faces 12 and 873 intersect"). `what` names the surface in the message.
