@@ -2,12 +2,12 @@
 // its writing thread; a failing write is reported with the name the user knows.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <unistd.h>
 #include <string>
 #include <vector>
 

@@ -1,7 +1,7 @@
 // Sorting (key, index) pairs (internal header).
 #pragma once
-#include <boost/sort/spreadsort/float_sort.hpp>
 #include <algorithm>
+#include <boost/sort/spreadsort/float_sort.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <utility>

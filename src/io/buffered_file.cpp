@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <condition_variable>
+#include <cstring>
 #include <mutex>
 #include <thread>
 
@@ -187,8 +187,6 @@ void abandon_background_writes() noexcept {
   }
 }
 
-void BufferedFile::fail(int error) {
-  throw OutputError("cannot write '" + shown_ + "': " + std::strerror(error));
-}
+void BufferedFile::fail(int error) { throw OutputError("cannot write '" + shown_ + "': " + std::strerror(error)); }
 
 }  // namespace partet

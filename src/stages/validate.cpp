@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "stages/geometry.hpp"
 #include "partet/errors.hpp"
+#include "stages/geometry.hpp"
 #include "stages/validate.hpp"
 
 namespace partet {
@@ -216,23 +216,24 @@ std::vector<std::int32_t> faces_across_edges(const SurfaceMesh& surface, const s
   const std::vector<Triangle>& triangles = surface.triangles;
   std::vector<std::int32_t> across(3 * triangles.size(), -1);
   FirstEdge border, crowded, misoriented;
-  EdgeBuckets(triangles, surface.points.size(), corners_per_range).for_each_edge([&](std::int32_t v, const EdgeBuckets::Use* uses,
-                                                                   std::size_t count) {
-    // The faces are not degenerate: validate_topology checks that first.
-    const std::int32_t w = uses[0].higher, f0 = uses[0].face;
-    const int c0 = corner_along(triangles[f0], v, w);
-    const std::size_t introduced = 3 * static_cast<std::size_t>(f0) + static_cast<std::size_t>(c0);
-    if (count == 1) return border.add(introduced, f0, -1);
-    if (count > 2) return crowded.add(introduced, f0, -1);
-    const std::int32_t f1 = uses[1].face;
-    const int c1 = corner_along(triangles[f1], v, w);
-    if ((triangles[f0][c0] < triangles[f0][(c0 + 1) % 3]) == (triangles[f1][c1] < triangles[f1][(c1 + 1) % 3]))
-      return misoriented.add(introduced, f0, f1);
-    across[introduced] = f1;
-    across[3 * static_cast<std::size_t>(f1) + static_cast<std::size_t>(c1)] = f0;
-  });
+  EdgeBuckets(triangles, surface.points.size(), corners_per_range)
+      .for_each_edge([&](std::int32_t v, const EdgeBuckets::Use* uses, std::size_t count) {
+        // The faces are not degenerate: validate_topology checks that first.
+        const std::int32_t w = uses[0].higher, f0 = uses[0].face;
+        const int c0 = corner_along(triangles[f0], v, w);
+        const std::size_t introduced = 3 * static_cast<std::size_t>(f0) + static_cast<std::size_t>(c0);
+        if (count == 1) return border.add(introduced, f0, -1);
+        if (count > 2) return crowded.add(introduced, f0, -1);
+        const std::int32_t f1 = uses[1].face;
+        const int c1 = corner_along(triangles[f1], v, w);
+        if ((triangles[f0][c0] < triangles[f0][(c0 + 1) % 3]) == (triangles[f1][c1] < triangles[f1][(c1 + 1) % 3]))
+          return misoriented.add(introduced, f0, f1);
+        across[introduced] = f1;
+        across[3 * static_cast<std::size_t>(f1) + static_cast<std::size_t>(c1)] = f0;
+      });
   auto vertices_of = [&](const FirstEdge& e) {
-    const std::uint64_t key = edge_key(triangles[e.corner / 3][e.corner % 3], triangles[e.corner / 3][(e.corner % 3 + 1) % 3]);
+    const std::uint64_t key =
+        edge_key(triangles[e.corner / 3][e.corner % 3], triangles[e.corner / 3][(e.corner % 3 + 1) % 3]);
     return str(static_cast<long long>(key >> 32)) + " and " + str(static_cast<long long>(key & 0xffffffffu));
   };
   if (border.count > 0)
@@ -449,8 +450,8 @@ long double enclosed_volume_precise(const SurfaceMesh& surface) {
       b[i] = surface.points[t[1]][i] - origin[i];
       c[i] = surface.points[t[2]][i] - origin[i];
     }
-    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                  a[2] * (b[0] * c[1] - b[1] * c[0]);
+    six_volume +=
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   return six_volume / 6;
 }
