@@ -41,8 +41,7 @@ void parallel_for(std::size_t count, unsigned threads, const Work& work) {
     }
   };
   std::vector<std::thread> helpers;
-  const std::size_t extra = std::min<std::size_t>(threads, count) > 0 ? std::min<std::size_t>(threads, count) - 1 : 0;
-  for (std::size_t t = 0; t < extra; ++t) helpers.emplace_back(run);
+  for (std::size_t t = 1; t < std::min<std::size_t>(threads, count); ++t) helpers.emplace_back(run);
   run();
   for (std::thread& h : helpers) h.join();
   if (failure) std::rethrow_exception(failure);

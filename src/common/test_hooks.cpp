@@ -16,6 +16,18 @@ namespace {
 
 const char* value(const char* name) { return std::getenv(name); }
 
+// Whether PARTET_INJECT_FAILURE names this failure.
+bool injected(const char* failure) {
+  const char* spec = value("PARTET_INJECT_FAILURE");
+  return spec && std::string(spec) == failure;
+}
+
+// A number of seconds from the environment, else fallback.
+double seconds_or(const char* name, double fallback) {
+  const char* s = value(name);
+  return s ? std::atof(s) : fallback;
+}
+
 void sleep_ms(const char* name) {
   if (const char* ms = value(name)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atoi(ms)));
 }
@@ -38,43 +50,28 @@ void piece_failure(int piece, int rank) {
   throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
-bool every_cut_fails(std::size_t pieces) {
-  const char* spec = value("PARTET_INJECT_FAILURE");
-  return pieces > 1 && spec && std::string(spec) == "cuts";
-}
+bool every_cut_fails(std::size_t pieces) { return pieces > 1 && injected("cuts"); }
 
-bool input_needs_surface_points() {
-  const char* spec = value("PARTET_INJECT_FAILURE");
-  return spec && std::string(spec) == "surface";
-}
+bool input_needs_surface_points() { return injected("surface"); }
 
 void worker_stop(int rank) {
-  const char* spec = value("PARTET_INJECT_FAILURE");
-  if (rank == 1 && spec && std::string(spec) == "worker:stop-when-idle") ::raise(SIGSTOP);
+  if (rank == 1 && injected("worker:stop-when-idle")) ::raise(SIGSTOP);
 }
 
 void verdict_stop(int rank) {
-  const char* spec = value("PARTET_INJECT_FAILURE");
-  if (rank == 1 && spec && std::string(spec) == "worker:stop-before-verdict") ::raise(SIGSTOP);
+  if (rank == 1 && injected("worker:stop-before-verdict")) ::raise(SIGSTOP);
 }
 
-double verdict_wait_seconds(double fallback) {
-  const char* s = value("PARTET_TEST_VERDICT_WAIT_S");
-  return s ? std::atof(s) : fallback;
-}
+double verdict_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_VERDICT_WAIT_S", fallback); }
 
 void worker_death(int rank) {
-  const char* spec = value("PARTET_INJECT_FAILURE");
-  if (rank == 1 && spec && std::string(spec) == "worker:abort-before-agreement") {
+  if (rank == 1 && injected("worker:abort-before-agreement")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     std::abort();
   }
 }
 
-bool block_lost(int rank) {
-  const char* spec = value("PARTET_INJECT_FAILURE");
-  return rank == 1 && spec && std::string(spec) == "worker:lose-block";
-}
+bool block_lost(int rank) { return rank == 1 && injected("worker:lose-block"); }
 
 int publish_failure() {
   const char* spec = value("PARTET_INJECT_PUBLISH_FAILURE");
@@ -91,9 +88,6 @@ void publish_step(int step) {
 
 void before_publish() { sleep_ms("PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS"); }
 
-double publish_wait_seconds(double fallback) {
-  const char* s = value("PARTET_TEST_PUBLISH_WAIT_S");
-  return s ? std::atof(s) : fallback;
-}
+double publish_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_PUBLISH_WAIT_S", fallback); }
 
 }  // namespace partet::test_hooks

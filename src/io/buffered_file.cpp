@@ -79,6 +79,23 @@ struct BufferedFile::Writer {
     changed.notify_all();
     thread.join();
   }
+
+  // Starts the thread, with a buffer of its own to write from (small files never need one).
+  void start(std::size_t buffer_size) {
+    pending.resize(buffer_size);
+    thread = std::thread([this] { run(); });
+  }
+
+  // Waits for what the thread was given, stops it and closes the file; returns the first error
+  // (0: none).
+  int end() {
+    wait_idle();
+    stop();
+    int first_error = error;
+    if (fd >= 0 && ::close(fd) != 0 && first_error == 0) first_error = errno;
+    fd = -1;
+    return first_error;
+  }
 };
 
 namespace {
@@ -91,29 +108,16 @@ std::vector<std::unique_ptr<BufferedFile::Writer>>& background_writers() {
   return *writers;
 }
 
-// Ends one writer: waits for its thread, closes its file; returns its first error (0: none).
-int end_writer(BufferedFile::Writer& w) {
-  w.wait_idle();
-  w.stop();
-  int error = w.error;
-  if (w.fd >= 0 && ::close(w.fd) != 0 && error == 0) error = errno;
-  w.fd = -1;
-  return error;
-}
-
 }  // namespace
 
 BufferedFile::BufferedFile(std::string path, std::string shown)
     : shown_(shown.empty() ? path : std::move(shown)), buffer_(kBufferSize), writer_(std::make_unique<Writer>()) {
   writer_->fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (writer_->fd < 0) fail(errno);
-  writer_->pending.resize(kBufferSize);
 }
 
 BufferedFile::~BufferedFile() {
-  if (!writer_) return;  // closed in the background
-  writer_->stop();
-  if (writer_->fd >= 0) ::close(writer_->fd);
+  if (writer_) writer_->end();  // unless closed in the background
 }
 
 void BufferedFile::bytes(const void* p, std::size_t n) {
@@ -129,8 +133,8 @@ void BufferedFile::bytes(const void* p, std::size_t n) {
 void BufferedFile::flush() {
   if (used_ == 0) return;
   Writer& w = *writer_;
-  // Started at the first full buffer: small files are written without a thread.
-  if (!w.thread.joinable()) w.thread = std::thread([&w] { w.run(); });
+  // Started at the first hand-over: a small file closed with close() is written without one.
+  if (!w.thread.joinable()) w.start(buffer_.size());
   if (const int error = w.wait_idle(); error != 0) fail(error);
   {
     std::lock_guard<std::mutex> lock(w.mutex);
@@ -146,23 +150,16 @@ void BufferedFile::close() {
   Writer& w = *writer_;
   if (w.thread.joinable()) {
     flush();
-    if (const int error = w.wait_idle(); error != 0) fail(error);
-    w.stop();
   } else {
-    w.write_all(data(), used_);  // never handed over: this thread writes it
+    w.write_all(data(), used_);  // a small file: never handed over, this thread writes it
     used_ = 0;
-    if (w.error != 0) fail(w.error);
   }
-  const int fd = w.fd;
-  w.fd = -1;
-  if (::close(fd) != 0) fail(errno);
+  if (const int error = w.end(); error != 0) fail(error);
 }
 
 void BufferedFile::close_in_background() {
-  Writer& w = *writer_;
-  if (!w.thread.joinable()) w.thread = std::thread([&w] { w.run(); });
-  flush();
-  w.shown = shown_;
+  flush();  // starts the thread if anything is left to write
+  writer_->shown = shown_;
   std::lock_guard<std::mutex> lock(background_mutex);
   background_writers().push_back(std::move(writer_));
 }
@@ -175,7 +172,7 @@ void finish_background_writes() {
   }
   std::string failure;
   for (const auto& w : writers)
-    if (const int error = end_writer(*w); error != 0 && failure.empty())
+    if (const int error = w->end(); error != 0 && failure.empty())
       failure = "cannot write '" + w->shown + "': " + std::strerror(error);
   if (!failure.empty()) throw OutputError(failure);
 }
