@@ -5,14 +5,14 @@
 #include <string>
 #include <vector>
 
+#include "job/pipeline.hpp"
 #include "partet/errors.hpp"
+#include "stage_batches.hpp"
+#include "stage_helpers.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
-#include "job/pipeline.hpp"
-#include "stages/validate.hpp"
-#include "stage_helpers.hpp"
 #include "stages/topology.hpp"
-#include "stage_batches.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {
@@ -148,7 +148,7 @@ TEST(Welder, ArrivalOrderDoesNotMatter) {
       welder.add(PieceTetMesh(w.results[p]));
       EXPECT_TRUE(welder.has(p));
     }
-    expect_same_mesh(welder.finish(), w.mesh);
+    expect_same_mesh(welder.finish(w.prepared.split.points), w.mesh);
   }
 }
 
@@ -183,7 +183,12 @@ TEST(Welder, MismatchedMissingOrRepeatedResultThrows) {
     Welder welder(w.prepared.split, w.prepared.pieces);
     welder.add(PieceTetMesh(w.results[1]));
     EXPECT_THROW(welder.add(PieceTetMesh(w.results[1])), InternalError);
-    EXPECT_THROW(welder.finish(), InternalError);  // piece 0 never came
+    EXPECT_THROW(welder.finish(w.prepared.split.points), InternalError);  // piece 0 never came
+  }
+  {
+    Welder welder(w.prepared.split, w.prepared.pieces);
+    for (const auto& r : w.results) welder.add(PieceTetMesh(r));
+    EXPECT_THROW(welder.finish({}), InternalError);  // not the split surface's points
   }
 }
 

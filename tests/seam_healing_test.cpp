@@ -8,16 +8,16 @@
 #include <string>
 #include <vector>
 
-#include "stages/check.hpp"
+#include "job/pipeline.hpp"
 #include "partet/errors.hpp"
+#include "stage_batches.hpp"
+#include "stage_helpers.hpp"
+#include "stages/check.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
-#include "job/pipeline.hpp"
 #include "stages/seam_healing.hpp"
-#include "stages/validate.hpp"
-#include "stage_helpers.hpp"
 #include "stages/topology.hpp"
-#include "stage_batches.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {
@@ -119,6 +119,31 @@ TEST(HealSeams, DirectCallOnWeldedMesh) {
   EXPECT_TRUE(report.ok()) << violations(report);
   const double volume = enclosed_volume(input);
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
+// Once the pieces are welded, rank 0 keeps only the split triangles with a cut vertex: healing
+// reads nothing else of them, so it gives the same mesh (cut vertices only, and caps healed too).
+TEST(HealSeams, SeamTrianglesAreAllHealingReads) {
+  const SurfaceMesh input = generate_surface("torus", 1500);
+  const Stage s = prepare(input, 4);
+  for (const bool heal_caps : {false, true}) {
+    SCOPED_TRACE(heal_caps ? "caps healed" : "cut vertices only");
+    TetMesh whole = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+    TetMesh trimmed = whole;
+    SplitSurface seams = s.prepared.split;
+    keep_seam_triangles(seams);
+    ASSERT_LT(seams.triangles.size(), s.prepared.split.triangles.size() / 2);
+    ASSERT_EQ(seams.parent.size(), seams.triangles.size());
+    EXPECT_TRUE(seams.piece.empty());
+    const HealOptions options{heal_caps, 0};
+    const SeamStats a = heal_seams(whole, input, s.prepared.split, options, here(s.options));
+    const SeamStats b = heal_seams(trimmed, input, seams, options, here(s.options));
+    EXPECT_EQ(a.cut_vertices_removed, b.cut_vertices_removed);
+    EXPECT_EQ(a.cap_points_removed, b.cap_points_removed);
+    EXPECT_EQ(whole.points, trimmed.points);
+    EXPECT_EQ(whole.tets, trimmed.tets);
+    EXPECT_EQ(whole.neighbours, trimmed.neighbours);
+  }
 }
 
 TEST(HealSeams, HealingRemovesEveryCapPoint) {

@@ -29,6 +29,7 @@
 #include "io/tetgen_files.hpp"
 #include "mesher/tetgen_mesher.hpp"
 #include "common/version.hpp"
+#include "common/memory.hpp"
 #include "io/output_set.hpp"
 #include "runner/interrupts.hpp"
 #include "stages/quality_json.hpp"
@@ -595,6 +596,7 @@ int run_generate(const CommandLine& c) {
 int main(int argc, char** argv) {
   // Before anything else, and before MPI starts its threads: signals end a run cleanly.
   partet::interrupts::install();
+  partet::return_large_frees_to_system();
   CLI::App app{"partet: distributed boundary-preserving tetrahedral meshing around TetGen"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("partet ") + PARTET_VERSION + " (TetGen 1.5, CGAL " +

@@ -1,5 +1,6 @@
 #include "common/memory.hpp"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -49,5 +50,7 @@ double available_memory_mb() {
   std::fclose(f);
   return available;
 }
+
+void return_large_frees_to_system() { mallopt(M_MMAP_THRESHOLD, 1 << 20); }
 
 }  // namespace partet

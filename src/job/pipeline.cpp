@@ -7,15 +7,15 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "partet/errors.hpp"
 #include "common/log.hpp"
+#include "common/memory.hpp"
+#include "common/test_hooks.hpp"
+#include "job/retry_plan.hpp"
+#include "partet/errors.hpp"
 #include "stages/merge.hpp"
 #include "stages/piece_cost.hpp"
-#include "stages/validate.hpp"
-#include "common/memory.hpp"
-#include "job/retry_plan.hpp"
-#include "common/test_hooks.hpp"
 #include "stages/topology.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {
@@ -27,6 +27,7 @@ namespace {
 class ResultCache {
  public:
   std::optional<PieceTetMesh> find(const PieceSurface& piece) const {
+    if (entries_.empty()) return std::nullopt;  // the first attempt: no need to hash the piece
     auto hit = entries_.find(fingerprint(piece));
     if (hit == entries_.end() || hit->second.points != piece.points || hit->second.triangles != piece.triangles)
       return std::nullopt;
@@ -112,7 +113,7 @@ class ClosureStream {
 struct MeshedAttempt {
   Welder welder;
   std::vector<std::optional<Failure>> failures;  // by piece
-  double weld_seconds = 0;                        // welding while other pieces were still meshed
+  double weld_seconds = 0;                       // welding while other pieces were still meshed
 };
 
 // Meshes one attempt's pieces as they are closed and welds each result as it arrives. A closure
@@ -126,8 +127,8 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   stream.partition(std::move(planes));
   timer.lap("partition");
   if (scheduler.confirm_input()) timer.lap("input_check_wait");  // rank 1's check of the input
-  std::vector<PieceTetMesh> reused;  // results of earlier attempts
-  std::vector<int> submitted;        // the piece of each submission
+  std::vector<PieceTetMesh> reused;                              // results of earlier attempts
+  std::vector<int> submitted;                                    // the piece of each submission
   scheduler.begin_round(options.tetgen);
   try {
     stream.close([&](const PieceSurface& piece) {
@@ -144,7 +145,8 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
     throw;
   }
   timer.lap("closure");
-  MeshedAttempt attempt{Welder(prepared.split, prepared.pieces), std::vector<std::optional<Failure>>(prepared.pieces.size())};
+  MeshedAttempt attempt{Welder(prepared.split, prepared.pieces),
+                        std::vector<std::optional<Failure>>(prepared.pieces.size())};
   std::exception_ptr weld_error;
   auto take = [&](int piece, PieceOutcome&& outcome) {
     if (outcome.failure) {
@@ -163,10 +165,21 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
     const int piece = result.index;
     take(piece, PieceOutcome{std::move(result), std::nullopt});
   }
-  scheduler.end_round([&](std::size_t position, PieceOutcome&& outcome) { take(submitted[position], std::move(outcome)); });
+  scheduler.end_round(
+      [&](std::size_t position, PieceOutcome&& outcome) { take(submitted[position], std::move(outcome)); });
   timer.lap("tetgen");
   if (weld_error) std::rethrow_exception(weld_error);
   return attempt;
+}
+
+// 4. Welds an attempt whose pieces all succeeded. From then on the partition is needed only by
+// seam healing, which reads the split triangles that have a cut vertex (with their parents) and
+// the planes of the cut and cap points: the pieces' surfaces, the split's other triangles and its
+// piece labels are freed, and its points move into the mesh (the merge is rank 0's peak).
+TetMesh weld_attempt(Welder& welder, PreparedPieces& prepared) {
+  for (PieceSurface& piece : prepared.pieces) piece = PieceSurface{piece.index, piece.seam_region, {}, {}, {}};
+  keep_seam_triangles(prepared.split);
+  return welder.finish(std::move(prepared.split.points));
 }
 
 // What makes a partition: the same planes, caps and tolerance give the same pieces and results.
@@ -199,13 +212,12 @@ void inject_input_trouble(const PreparedPieces& prepared, std::vector<std::optio
   for (std::size_t t = 0; !failures.empty() && t < prepared.pieces[0].triangles.size(); ++t) {
     const PieceSurface& piece = prepared.pieces[0];
     const Triangle& local = piece.triangles[t];
-    if (std::any_of(local.begin(), local.end(), [&](std::int32_t v) {
-          return piece.global_ids[v] >= prepared.split.input_vertex_count;
-        }))
+    if (std::any_of(local.begin(), local.end(),
+                    [&](std::int32_t v) { return piece.global_ids[v] >= prepared.split.input_vertex_count; }))
       continue;
-    failures[0] = Failure(FailureKind::changed_boundary, 0, {},
-                          "injected: TetGen changed the surface (PARTET_INJECT_FAILURE=surface)",
-                          {static_cast<std::int32_t>(t)});
+    failures[0] =
+        Failure(FailureKind::changed_boundary, 0, {},
+                "injected: TetGen changed the surface (PARTET_INJECT_FAILURE=surface)", {static_cast<std::int32_t>(t)});
     return;
   }
 }
@@ -294,7 +306,9 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   // Regions keep their surfaces whole, whatever the pieces were allowed.
   TetgenOptions region_tetgen = options.tetgen;
   region_tetgen.boundary_points = false;
-  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) { return mesh_regions(regions, region_tetgen); };
+  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
+    return mesh_regions(regions, region_tetgen);
+  };
   const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
   result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
   timer.lap("seam_healing");
@@ -347,8 +361,8 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
   std::optional<Partition> last;          // the partition that failed last
   for (;;) {
     if (plan.use_one_piece_mesh()) {
-      MeshResult result = finish_mesh(input, one_piece->prepared, std::move(one_piece->mesh), one_piece->options,
-                                      scheduler, times);
+      MeshResult result =
+          finish_mesh(input, one_piece->prepared, std::move(one_piece->mesh), one_piece->options, scheduler, times);
       result.retries = plan.take_records();
       return result;
     }
@@ -374,7 +388,9 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
           close_and_mesh(input, attempt_options, std::move(planes), partition_start, prepared, cache, scheduler, times);
       if (test_hooks::every_cut_fails(attempt.failures.size()))
         for (std::size_t p = 0; p < attempt.failures.size(); ++p)
-          attempt.failures[p] = Failure{FailureKind::changed_boundary, static_cast<int>(p), {},
+          attempt.failures[p] = Failure{FailureKind::changed_boundary,
+                                        static_cast<int>(p),
+                                        {},
                                         "injected: TetGen cannot recover a cap (PARTET_INJECT_FAILURE=cuts)"};
       if (test_hooks::input_needs_surface_points()) inject_input_trouble(prepared, attempt.failures);
       for (std::size_t p = 0; p < attempt.failures.size(); ++p) {
@@ -388,7 +404,7 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
       if (failed.failure.message.empty()) {
         cache.clear();
         StageTimer timer(times);
-        TetMesh welded = attempt.welder.finish();
+        TetMesh welded = weld_attempt(attempt.welder, prepared);
         timer.lap("merge");
         if (plan.diagnosing()) {  // kept, in case the other partitions fail too
           one_piece = OnePieceMesh{std::move(prepared), std::move(welded), attempt_options};
@@ -436,7 +452,8 @@ MeshResult mesh_splitting_triangles(const SurfaceMesh& input, const MeshOptions&
   one_piece.tetgen.boundary_points = true;
   one_piece.tetgen.tolerance.clear();
   PreparedPieces prepared;
-  MeshedAttempt attempt = close_and_mesh(input, one_piece, {}, now_seconds(), prepared, ResultCache(), scheduler, times);
+  MeshedAttempt attempt =
+      close_and_mesh(input, one_piece, {}, now_seconds(), prepared, ResultCache(), scheduler, times);
   if (attempt.failures.at(0)) {
     Failure failure = *attempt.failures[0];
     failure.piece = -1;
@@ -444,7 +461,7 @@ MeshResult mesh_splitting_triangles(const SurfaceMesh& input, const MeshOptions&
     throw InputMeshingError(failure);
   }
   StageTimer timer(times);
-  TetMesh welded = attempt.welder.finish();
+  TetMesh welded = weld_attempt(attempt.welder, prepared);
   timer.lap("merge");
   return finish_mesh(input, prepared, std::move(welded), one_piece, scheduler, times);
 }

@@ -21,6 +21,16 @@ std::vector<std::int32_t> tets_touching_caps(const TetMesh& mesh, std::int32_t i
   return touching;
 }
 
+// Room reserved beyond the welded mesh's size, a fraction of it: seam healing can add tets and
+// points, and an array that outgrows its capacity is copied into one twice its size while the old
+// one still exists. Reserved pages cost no memory until they are written.
+constexpr std::size_t kHealingRoom = 8;  // 1/8
+
+template <class T>
+void reserve_with_room(std::vector<T>& array, std::size_t size) {
+  array.reserve(size + size / kHealingRoom + 1024);
+}
+
 [[noreturn]] void mismatch(int piece, const std::string& what) {
   throw InternalError("the result of piece " + std::to_string(piece) + " " + what);
 }
@@ -66,31 +76,34 @@ PieceTetMesh Welder::take_back(int p) {
   result.mesh.tets = std::move(block.tets);
   for (Tet& t : result.mesh.tets)
     for (auto& v : t)
-      v = v < first_steiner_
-              ? static_cast<std::int32_t>(std::lower_bound(global_ids.begin(), global_ids.end(), v) - global_ids.begin())
-              : surface_count + (v - first_steiner_);
+      v = v < first_steiner_ ? static_cast<std::int32_t>(std::lower_bound(global_ids.begin(), global_ids.end(), v) -
+                                                         global_ids.begin())
+                             : surface_count + (v - first_steiner_);
   result.mesh.neighbours = std::move(block.neighbours);
   result.mesh.steiner_points = std::move(block.steiner_points);
   block = Block();
   return result;
 }
 
-TetMesh Welder::finish() {
+TetMesh Welder::finish(std::vector<Point3> split_points) {
+  if (split_points.size() != static_cast<std::size_t>(first_steiner_))
+    throw InternalError("the welder was given " + std::to_string(split_points.size()) + " split points, not " +
+                        std::to_string(first_steiner_));
   std::size_t tet_total = 0, steiner_total = 0;
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
     if (!blocks_[p].in) mismatch(static_cast<int>(p), "is missing");
     tet_total += blocks_[p].tets.size();
     steiner_total += blocks_[p].steiner_points.size();
   }
-  if (tet_total > static_cast<std::size_t>(INT32_MAX) || split_.points.size() + steiner_total > INT32_MAX)
+  if (tet_total > static_cast<std::size_t>(INT32_MAX) || split_points.size() + steiner_total > INT32_MAX)
     throw MeshingError(FailureKind::other, -1,
                        "the merged mesh has more than 2^31 tetrahedra or points; this version numbers them with int32");
   TetMesh mesh;
-  mesh.points.reserve(split_.points.size() + steiner_total);
-  mesh.points = split_.points;
-  mesh.tets.reserve(tet_total);
-  mesh.neighbours.reserve(tet_total);
-  mesh.piece.reserve(tet_total);
+  mesh.points = std::move(split_points);
+  reserve_with_room(mesh.points, mesh.points.size() + steiner_total);
+  reserve_with_room(mesh.tets, tet_total);
+  reserve_with_room(mesh.neighbours, tet_total);
+  reserve_with_room(mesh.piece, tet_total);
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
     Block& block = blocks_[p];
     // Earlier pieces' Steiner points come first; tets follow each other in piece order.
@@ -119,7 +132,7 @@ TetMesh Welder::finish() {
 TetMesh weld(const SplitSurface& split, const std::vector<PieceSurface>& pieces, std::vector<PieceTetMesh>&& results) {
   Welder welder(split, pieces);
   for (auto& result : results) welder.add(std::move(result));
-  return welder.finish();
+  return welder.finish(split.points);
 }
 
 }  // namespace partet

@@ -25,8 +25,10 @@ class Welder {
   // Gives a piece's mesh back in its local numbering (a retry keeps the pieces it does not change).
   PieceTetMesh take_back(int piece);
 
-  // Once every piece is in: the welded mesh (the welder is then empty).
-  TetMesh finish();
+  // Once every piece is in: the welded mesh (the welder is then empty). Its first points are
+  // the split surface's, given here (moved in by a caller that no longer needs them, so they are
+  // held once); its arrays have room for what seam healing adds (see kHealingRoom).
+  TetMesh finish(std::vector<Point3> split_points);
 
  private:
   struct Block {

@@ -10,8 +10,8 @@
 #include <unordered_map>
 
 #include "common/keyed_sort.hpp"
-#include "stages/geometry.hpp"
 #include "partet/errors.hpp"
+#include "stages/geometry.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
@@ -90,11 +90,16 @@ std::vector<CutAxis> coordinate_axes_by_closeness(const SurfaceMesh& surface) {
 
 const char* axis_name(CutAxis axis) {
   switch (axis) {
-    case CutAxis::x: return "x";
-    case CutAxis::y: return "y";
-    case CutAxis::z: return "z";
-    case CutAxis::pca: return "pca";
-    default: return "auto";
+    case CutAxis::x:
+      return "x";
+    case CutAxis::y:
+      return "y";
+    case CutAxis::z:
+      return "z";
+    case CutAxis::pca:
+      return "pca";
+    default:
+      return "auto";
   }
 }
 
@@ -285,8 +290,8 @@ std::size_t nearest_gap(const std::vector<Gap>& gaps, std::size_t target, std::s
 
 }  // namespace
 
-std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode,
-                                        const std::vector<int>& shifts, const std::vector<double>& fractions) {
+std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode, const std::vector<int>& shifts,
+                                        const std::vector<double>& fractions) {
   if (k < 1) throw OptionError("the number of pieces must be at least 1 (got " + std::to_string(k) + ")");
   if (k == 1) return {};
   const Point3 axis = cut_axis(surface, mode);
@@ -426,7 +431,10 @@ void add_fan(const std::vector<std::int32_t>& polygon, int s, std::int32_t paren
 
 SplitSurface split_at_planes(const SurfaceMesh& surface, const std::vector<CutPlane>& planes) {
   SplitSurface split;
-  split.points = surface.points;
+  // Room for the cut vertices and the caps' points: a vector that outgrows its capacity is
+  // copied into one twice its size (reserved pages cost nothing until written).
+  split.points.reserve(surface.points.size() + surface.points.size() / 8 + 4096);
+  split.points.assign(surface.points.begin(), surface.points.end());
   split.input_vertex_count = static_cast<std::int32_t>(surface.points.size());
   split.piece_count = static_cast<int>(planes.size()) + 1;
 
@@ -438,7 +446,10 @@ SplitSurface split_at_planes(const SurfaceMesh& surface, const std::vector<CutPl
   }
 
   CutVertices cuts(surface, planes, split);
-  split.triangles.reserve(surface.triangles.size() + surface.triangles.size() / 8);
+  const std::size_t room = surface.triangles.size() + surface.triangles.size() / 8;
+  split.triangles.reserve(room);
+  split.piece.reserve(room);
+  split.parent.reserve(room);
   std::vector<std::int32_t> polygon;
   for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
     const Triangle& tri = surface.triangles[f];
@@ -456,6 +467,22 @@ SplitSurface split_at_planes(const SurfaceMesh& surface, const std::vector<CutPl
     }
   }
   return split;
+}
+
+void keep_seam_triangles(SplitSurface& split) {
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < split.triangles.size(); ++t) {
+    const Triangle& tri = split.triangles[t];
+    if (!split.is_cut_vertex(tri[0]) && !split.is_cut_vertex(tri[1]) && !split.is_cut_vertex(tri[2])) continue;
+    split.triangles[kept] = tri;
+    split.parent[kept] = split.parent[t];
+    ++kept;
+  }
+  split.triangles.resize(kept);
+  split.parent.resize(kept);
+  split.triangles.shrink_to_fit();
+  split.parent.shrink_to_fit();
+  std::vector<std::int32_t>().swap(split.piece);
 }
 
 }  // namespace partet

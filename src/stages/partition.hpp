@@ -66,4 +66,9 @@ struct SplitSurface {
 // constructed once in exact arithmetic and rounded to double once.
 SplitSurface split_at_planes(const SurfaceMesh& surface, const std::vector<CutPlane>& planes);
 
+// Keeps of the split triangles only those with a cut vertex, with their parents: all that seam
+// healing reads of them once the pieces are built. The piece labels go (shrunk to fit: rank 0
+// holds this beside the whole merged mesh).
+void keep_seam_triangles(SplitSurface& split);
+
 }  // namespace partet
