@@ -89,6 +89,10 @@ class ClosureStream {
     const int k = prepared_.split.piece_count;
     CapBuilder builder(prepared_.split, prepared_.planes, options_.density);
     PieceAssembler assembler(prepared_.split);
+    // The builder and the assembler hold what they need of the split's triangles now; seam
+    // healing needs only those with a cut vertex. Freed before the pieces are meshed, while
+    // rank 0's memory climbs to its peak.
+    keep_seam_triangles(prepared_.split);
     std::vector<Cap> caps(static_cast<std::size_t>(std::max(k - 1, 0)));
     prepared_.pieces.clear();
     prepared_.pieces.reserve(static_cast<std::size_t>(k));  // submitted pieces must not move
@@ -172,13 +176,11 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   return attempt;
 }
 
-// 4. Welds an attempt whose pieces all succeeded. From then on the partition is needed only by
-// seam healing, which reads the split triangles that have a cut vertex (with their parents) and
-// the planes of the cut and cap points: the pieces' surfaces, the split's other triangles and its
-// piece labels are freed, and its points move into the mesh (the merge is rank 0's peak).
+// 4. Welds an attempt whose pieces all succeeded. From then on no retry needs the pieces'
+// surfaces (kept so far so that a retry reuses the results of the pieces it does not change):
+// they are freed, and the split's points move into the mesh.
 TetMesh weld_attempt(Welder& welder, PreparedPieces& prepared) {
   for (PieceSurface& piece : prepared.pieces) piece = PieceSurface{piece.index, piece.seam_region, {}, {}, {}};
-  keep_seam_triangles(prepared.split);
   return welder.finish(std::move(prepared.split.points));
 }
 

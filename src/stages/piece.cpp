@@ -9,6 +9,9 @@
 namespace partet {
 
 PieceAssembler::PieceAssembler(const SplitSurface& split) : split_(split), input_part_(split.piece_count) {
+  std::vector<std::size_t> count(input_part_.size(), 0);  // exact sizes: no array grows past its need
+  for (auto p : split.piece) ++count[p];
+  for (std::size_t p = 0; p < count.size(); ++p) input_part_[p].reserve(count[p]);
   for (std::size_t t = 0; t < split.triangles.size(); ++t) input_part_[split.piece[t]].push_back(split.triangles[t]);
 }
 
