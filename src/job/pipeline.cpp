@@ -28,15 +28,20 @@ class ResultCache {
  public:
   std::optional<PieceTetMesh> find(const PieceSurface& piece) const {
     if (entries_.empty()) return std::nullopt;  // the first attempt: no need to hash the piece
-    auto hit = entries_.find(fingerprint(piece));
+    auto hit = entries_.find(fingerprint(piece.points, piece.triangles));
     if (hit == entries_.end() || hit->second.points != piece.points || hit->second.triangles != piece.triangles)
       return std::nullopt;
     PieceTetMesh result = hit->second.result;
     result.index = piece.index;
     return result;
   }
-  void keep(const PieceSurface& piece, PieceTetMesh&& result) {
-    entries_[fingerprint(piece)] = Entry{piece.points, piece.triangles, std::move(result)};
+  // The piece's coordinates are gone once its result is welded: they are the split's.
+  void keep(const PieceSurface& piece, const std::vector<Point3>& split_points, PieceTetMesh&& result) {
+    std::vector<Point3> points;
+    points.reserve(piece.global_ids.size());
+    for (auto g : piece.global_ids) points.push_back(split_points[g]);
+    const std::uint64_t key = fingerprint(points, piece.triangles);
+    entries_[key] = Entry{std::move(points), piece.triangles, std::move(result)};
   }
   void clear() { decltype(entries_)().swap(entries_); }
 
@@ -47,14 +52,14 @@ class ResultCache {
     PieceTetMesh result;
   };
   // FNV-1a over the coordinates and triangles: a quick key (hits are confirmed by comparing).
-  static std::uint64_t fingerprint(const PieceSurface& piece) {
+  static std::uint64_t fingerprint(const std::vector<Point3>& points, const std::vector<Triangle>& triangles) {
     std::uint64_t h = 1469598103934665603ull;
     auto mix = [&h](const void* data, std::size_t bytes) {
       const auto* b = static_cast<const unsigned char*>(data);
       for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
     };
-    if (!piece.points.empty()) mix(piece.points.data(), piece.points.size() * sizeof(Point3));
-    if (!piece.triangles.empty()) mix(piece.triangles.data(), piece.triangles.size() * sizeof(Triangle));
+    if (!points.empty()) mix(points.data(), points.size() * sizeof(Point3));
+    if (!triangles.empty()) mix(triangles.data(), triangles.size() * sizeof(Triangle));
     return h;
   }
   std::unordered_map<std::uint64_t, Entry> entries_;
@@ -163,6 +168,8 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
     } catch (...) {
       weld_error = std::current_exception();
     }
+    // Meshed: its coordinates (a copy of the split's) are no longer needed on this rank.
+    std::vector<Point3>().swap(prepared.pieces[piece].points);
     attempt.weld_seconds += now_seconds() - start;
   };
   for (PieceTetMesh& result : reused) {
@@ -420,7 +427,8 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
         return result;
       }
       for (std::size_t p = 0; p < attempt.failures.size(); ++p)  // the good results, for the next attempt
-        if (!attempt.failures[p]) cache.keep(prepared.pieces[p], attempt.welder.take_back(static_cast<int>(p)));
+        if (!attempt.failures[p])
+          cache.keep(prepared.pieces[p], prepared.split.points, attempt.welder.take_back(static_cast<int>(p)));
     } catch (const InputError&) {
       throw;
     } catch (const OptionError&) {

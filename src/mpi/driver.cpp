@@ -17,19 +17,19 @@
 
 #include <unistd.h>
 
-#include "job/root_run.hpp"
-#include "mpi/transport.hpp"
-#include "partet/errors.hpp"
 #include "common/log.hpp"
+#include "common/memory.hpp"
+#include "common/test_hooks.hpp"
 #include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
 #include "io/parallel_hdf5.hpp"
 #include "io/tetgen_files.hpp"
-#include "runner/serialize.hpp"
 #include "io/write_surface.hpp"
+#include "job/root_run.hpp"
+#include "mpi/transport.hpp"
+#include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
-#include "common/memory.hpp"
-#include "common/test_hooks.hpp"
+#include "runner/serialize.hpp"
 
 namespace partet::mpi {
 namespace {
@@ -132,8 +132,7 @@ void dump_piece(const MeshJob& job, const PieceSurface& piece) {
 // stored by submission, so the result does not depend on which rank meshed what.
 class RootScheduler : public PieceScheduler {
  public:
-  RootScheduler(const MeshJob& job, int size, RankStats& stats, std::map<int, PieceRecord>& records,
-                double job_start)
+  RootScheduler(const MeshJob& job, int size, RankStats& stats, std::map<int, PieceRecord>& records, double job_start)
       : job_(job),
         runner_(job.options.tetgen, job.options.run),
         size_(size),
@@ -267,8 +266,8 @@ class RootScheduler : public PieceScheduler {
     }
     // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
     // while idle is noticed here, within the same limit as one stopped while meshing.
-    const double limit = piece ? std::min(kWorkerSeconds, runner_.time_limit(*piece) + kReplyGraceSeconds)
-                               : kWorkerSeconds;
+    const double limit =
+        piece ? std::min(kWorkerSeconds, runner_.time_limit(*piece) + kReplyGraceSeconds) : kWorkerSeconds;
     try {
       stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, limit));
     } catch (const Stalled&) {
@@ -405,11 +404,11 @@ class RootScheduler : public PieceScheduler {
   double own_start_ = 0;
   bool verdict_pending_ = false;  // rank 1's check of the input not heard yet
   double verdict_limit_ = 0;
-  std::size_t meshing_ = 0;       // pieces or regions being meshed now, on all ranks
-  double meshing_since_ = 0;      // when that count last changed
-  double job_start_;              // for the progress lines
-  int rounds_ = 0;                // rounds begun
-  std::size_t done_ = 0;          // pieces or regions finished this round
+  std::size_t meshing_ = 0;   // pieces or regions being meshed now, on all ranks
+  double meshing_since_ = 0;  // when that count last changed
+  double job_start_;          // for the progress lines
+  int rounds_ = 0;            // rounds begun
+  std::size_t done_ = 0;      // pieces or regions finished this round
 };
 
 // A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
@@ -455,7 +454,8 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
 //   then an empty chunk), which rank 0 writes in order after its own block.
 
 constexpr int kTagText = 6;
-constexpr std::size_t kTextChunk = std::size_t{64} << 20;  // bytes of text per message
+// Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
+constexpr std::size_t kTextChunk = std::size_t{8} << 20;
 
 std::string absolute_path(const std::string& path) {
   if (!path.empty() && path[0] == '/') return path;
@@ -466,9 +466,8 @@ std::string absolute_path(const std::string& path) {
 
 // Rank 0's text to every rank.
 std::string broadcast_text(const std::string& text) {
-  const int size = bounded([&] {
-    return broadcast_int(static_cast<int>(text.size()), 0, job_comm(), collective_limit());
-  });
+  const int size =
+      bounded([&] { return broadcast_int(static_cast<int>(text.size()), 0, job_comm(), collective_limit()); });
   std::string received = text;
   received.resize(static_cast<std::size_t>(size));
   MPI_Bcast(received.data(), size, MPI_CHAR, 0, job_comm());
@@ -481,8 +480,7 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   // Absolute paths: the ranks' working directories may differ.
   Hdf5Paths paths = relative;
   paths.mesh = absolute_path(relative.mesh), paths.boundary = absolute_path(relative.boundary);
-  broadcast_text("hdf5\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' +
-                 paths.boundary_shown);
+  broadcast_text("hdf5\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' + paths.boundary_shown);
   int size = 1;
   MPI_Comm_size(job_comm(), &size);
   std::vector<std::int32_t> region;
@@ -706,11 +704,16 @@ void broadcast_error(ErrorText& error, MPI_Comm comm) {
 
 [[noreturn]] void throw_error(const ErrorText& error) {
   switch (error.type) {
-    case 4: throw InputMeshingError(Failure{FailureKind::other, -1, {}, error.message});
-    case 3: throw MeshingError(Failure{FailureKind::other, -1, {}, error.message});
-    case 2: throw OptionError(error.message);
-    case 1: throw InputError(error.message);
-    default: throw Error(error.message);
+    case 4:
+      throw InputMeshingError(Failure{FailureKind::other, -1, {}, error.message});
+    case 3:
+      throw MeshingError(Failure{FailureKind::other, -1, {}, error.message});
+    case 2:
+      throw OptionError(error.message);
+    case 1:
+      throw InputError(error.message);
+    default:
+      throw Error(error.message);
   }
 }
 
@@ -794,12 +797,12 @@ MeshResult mesh_collective(const SurfaceMesh& input, const MeshOptions& options,
   std::exception_ptr failure = rank == 0 ? failed_before : nullptr;
   if (rank == 0) {
     if (!failure) try {
-      std::map<int, PieceRecord> records;
-      RootScheduler scheduler(job, size, stats, records, now_seconds());
-      result = mesh_with_retries(input, options, scheduler, times);
-    } catch (...) {
-      failure = std::current_exception();
-    }
+        std::map<int, PieceRecord> records;
+        RootScheduler scheduler(job, size, stats, records, now_seconds());
+        result = mesh_with_retries(input, options, scheduler, times);
+      } catch (...) {
+        failure = std::current_exception();
+      }
     broadcast(kDone);
   } else {
     worker_loop(job, rank, stats);
