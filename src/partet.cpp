@@ -4,12 +4,12 @@
 
 #include <cmath>
 
-#include "stages/check.hpp"
-#include "job/job.hpp"
 #include "common/log.hpp"
-#include "mpi/driver.hpp"
-#include "job/pipeline.hpp"
 #include "common/stage_timer.hpp"
+#include "job/job.hpp"
+#include "job/pipeline.hpp"
+#include "mpi/driver.hpp"
+#include "stages/check.hpp"
 
 namespace partet {
 namespace {
@@ -30,14 +30,14 @@ SurfaceMesh prepared(const SurfaceMesh& surface, int* exponent) {
   return input;
 }
 
-Result result_of(MeshResult&& r, int exponent, double start) {
+Result result_of(MeshResult&& r, const SurfaceMesh& input, int exponent, double start) {
   scale_points(r.mesh.points, -exponent);
   Result result;
   result.report.pieces = r.pieces;
   result.report.retries = static_cast<int>(r.retries.size());
   result.report.split_input_faces = r.split_input_faces;
   result.mesh = std::move(r.mesh);
-  result.boundary_faces = std::move(r.boundary_faces);
+  result.boundary_faces = r.boundary_faces.empty() ? input.triangles : std::move(r.boundary_faces);
   result.split_faces_from = r.split_faces_from;
   result.report.seconds = now_seconds() - start;
   return result;
@@ -53,7 +53,7 @@ Result tetrahedralize(const SurfaceMesh& surface, const Options& options) {
   const MeshOptions m = mesh_options(options);
   int exponent = 0;
   const SurfaceMesh input = prepared(surface, &exponent);
-  return result_of(mesh_surface(input, m), exponent, start);
+  return result_of(mesh_surface(input, m), input, exponent, start);
 }
 
 Result tetrahedralize(const SurfaceMesh& surface, const Options& options, MPI_Comm comm) {
@@ -73,12 +73,12 @@ Result tetrahedralize(const SurfaceMesh& surface, const Options& options, MPI_Co
       input_error = std::current_exception();
     }
   MeshResult r = mpi::mesh_collective(input, m, comm, nullptr, input_error);
-  return rank == 0 ? result_of(std::move(r), exponent, start) : Result{};
+  return rank == 0 ? result_of(std::move(r), input, exponent, start) : Result{};
 }
 
 std::vector<std::string> check(const SurfaceMesh& surface, const Result& result) {
-  const BoundaryRule rule = result.split_faces_from < result.boundary_faces.size() ? BoundaryRule::split_allowed
-                                                                                  : BoundaryRule::exact;
+  const BoundaryRule rule =
+      result.split_faces_from < result.boundary_faces.size() ? BoundaryRule::split_allowed : BoundaryRule::exact;
   return check_mesh(surface, result.mesh, rule).violations;
 }
 

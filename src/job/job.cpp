@@ -6,12 +6,12 @@
 #include <cstdio>
 #include <cstring>
 
-#include "partet/errors.hpp"
 #include "common/log.hpp"
 #include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
-#include "stages/validate.hpp"
+#include "partet/errors.hpp"
 #include "stages/topology.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 
@@ -97,7 +97,7 @@ CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const 
     timer.lap("check");
     if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
   }
-  const MeshOutput output{result.mesh, result.boundary_faces, result.split_faces_from};
+  const MeshOutput output{result.mesh, output_boundary(result, input), result.split_faces_from};
   for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix, writers);
   outputs.finish_writes();  // the last file's writes belong to this stage too
   timer.lap("write");

@@ -35,13 +35,8 @@ class ResultCache {
     result.index = piece.index;
     return result;
   }
-  // The piece's coordinates are gone once its result is welded: they are the split's.
-  void keep(const PieceSurface& piece, const std::vector<Point3>& split_points, PieceTetMesh&& result) {
-    std::vector<Point3> points;
-    points.reserve(piece.global_ids.size());
-    for (auto g : piece.global_ids) points.push_back(split_points[g]);
-    const std::uint64_t key = fingerprint(points, piece.triangles);
-    entries_[key] = Entry{std::move(points), piece.triangles, std::move(result)};
+  void keep(const PieceSurface& piece, PieceTetMesh&& result) {
+    entries_[fingerprint(piece.points, piece.triangles)] = Entry{piece.points, piece.triangles, std::move(result)};
   }
   void clear() { decltype(entries_)().swap(entries_); }
 
@@ -81,10 +76,6 @@ class ClosureStream {
   // 1. Partition at the given planes (from choose_cut_planes).
   void partition(std::vector<CutPlane> planes) {
     prepared_.planes = std::move(planes);
-    if (options_.pieces > 1 && static_cast<int>(prepared_.planes.size()) + 1 < options_.pieces)
-      log::warning("the model has only " + std::to_string(prepared_.planes.size()) +
-                   " distinct cut positions along the cut axis; using " + std::to_string(prepared_.planes.size() + 1) +
-                   " pieces instead of " + std::to_string(options_.pieces));
     prepared_.split = split_at_planes(input_, prepared_.planes);
   }
 
@@ -132,6 +123,10 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
                              double partition_start, PreparedPieces& prepared, const ResultCache& cache,
                              PieceScheduler& scheduler, StageTimes* times) {
   StageTimer timer(times, partition_start);
+  if (options.pieces > 1 && static_cast<int>(planes.size()) + 1 < options.pieces)
+    log::warning("the model has only " + std::to_string(planes.size()) +
+                 " distinct cut positions along the cut axis; using " + std::to_string(planes.size() + 1) +
+                 " pieces instead of " + std::to_string(options.pieces));
   ClosureStream stream(input, options, prepared);
   stream.partition(std::move(planes));
   timer.lap("partition");
@@ -168,8 +163,10 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
     } catch (...) {
       weld_error = std::current_exception();
     }
-    // Meshed: its coordinates (a copy of the split's) are no longer needed on this rank.
+    // Meshed: its surface is not needed here any more (a failure elsewhere builds it again,
+    // rebuilt_pieces); its global ids stay, for the welder.
     std::vector<Point3>().swap(prepared.pieces[piece].points);
+    std::vector<Triangle>().swap(prepared.pieces[piece].triangles);
     attempt.weld_seconds += now_seconds() - start;
   };
   for (PieceTetMesh& result : reused) {
@@ -181,6 +178,22 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   timer.lap("tetgen");
   if (weld_error) std::rethrow_exception(weld_error);
   return attempt;
+}
+
+// An attempt's partition and closure built again from its planes, with every piece's surface:
+// close_and_mesh frees each piece's surface once its result is in, and a failure needs them (to
+// name input faces, to keep the good results for the next attempt). The same input, planes and
+// options give the same pieces; their global ids are compared to be sure.
+PreparedPieces rebuilt_pieces(const SurfaceMesh& input, const MeshOptions& options, const PreparedPieces& meshed) {
+  PreparedPieces again;
+  ClosureStream stream(input, options, again);
+  stream.partition(meshed.planes);
+  stream.close([](const PieceSurface&) {});
+  for (std::size_t p = 0; p < std::max(again.pieces.size(), meshed.pieces.size()); ++p)
+    if (p >= again.pieces.size() || p >= meshed.pieces.size() ||
+        again.pieces[p].global_ids != meshed.pieces[p].global_ids)
+      throw InternalError("piece " + std::to_string(p) + " came out different when its partition was built again");
+  return again;
 }
 
 // 4. Welds an attempt whose pieces all succeeded. From then on no retry needs the pieces'
@@ -254,9 +267,12 @@ std::vector<std::int64_t> input_faces_named(const Failure& failure, const Prepar
   return faces;
 }
 
-// Input vertices keep their order in the output; the ones no triangle uses are dropped.
-std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input) {
-  const std::vector<std::int32_t> new_id = compact_ids(used_vertices(input.points.size(), input.triangles));
+// Input vertices keep their order in the output; the ones no triangle uses are dropped. Empty
+// when that changes no id (see MeshResult::boundary_faces), unless `always`.
+std::vector<Triangle> input_in_output_numbering(const SurfaceMesh& input, bool always) {
+  const std::vector<char> used = used_vertices(input.points.size(), input.triangles);
+  if (!always && std::find(used.begin(), used.end(), 0) == used.end()) return {};
+  const std::vector<std::int32_t> new_id = compact_ids(used);
   std::vector<Triangle> faces;
   faces.reserve(input.triangles.size());
   for (const auto& t : input.triangles) faces.push_back({new_id[t[0]], new_id[t[1]], new_id[t[2]]});
@@ -330,7 +346,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
     result.polish = polish_poor_tets(result.mesh, PolishOptions(), polisher);
     timer.lap("polish");
   }
-  result.boundary_faces = input_in_output_numbering(input);
+  result.boundary_faces = input_in_output_numbering(input, options.tetgen.boundary_points);
   if (options.tetgen.boundary_points) add_split_faces(result);
   result.cut_vertices_inserted = prepared.split.cut_vertex_count();
   result.planes = prepared.planes;
@@ -401,12 +417,17 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
                                         static_cast<int>(p),
                                         {},
                                         "injected: TetGen cannot recover a cap (PARTET_INJECT_FAILURE=cuts)"};
-      if (test_hooks::input_needs_surface_points()) inject_input_trouble(prepared, attempt.failures);
+      std::optional<PreparedPieces> surfaces;  // the pieces' surfaces, built again when needed
+      auto whole = [&]() -> const PreparedPieces& {
+        if (!surfaces) surfaces = rebuilt_pieces(input, attempt_options, prepared);
+        return *surfaces;
+      };
+      if (test_hooks::input_needs_surface_points()) inject_input_trouble(whole(), attempt.failures);
       for (std::size_t p = 0; p < attempt.failures.size(); ++p) {
         if (!attempt.failures[p]) continue;
         if (failed.failure.message.empty()) {
           failed.failure = *attempt.failures[p];
-          failed.input_faces = input_faces_named(failed.failure, prepared, input);
+          if (!failed.failure.faces.empty()) failed.input_faces = input_faces_named(failed.failure, whole(), input);
         }
         add_planes_around(static_cast<int>(p), attempt.failures.size(), failed.planes);
       }
@@ -427,8 +448,7 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
         return result;
       }
       for (std::size_t p = 0; p < attempt.failures.size(); ++p)  // the good results, for the next attempt
-        if (!attempt.failures[p])
-          cache.keep(prepared.pieces[p], prepared.split.points, attempt.welder.take_back(static_cast<int>(p)));
+        if (!attempt.failures[p]) cache.keep(whole().pieces[p], attempt.welder.take_back(static_cast<int>(p)));
     } catch (const InputError&) {
       throw;
     } catch (const OptionError&) {

@@ -6,15 +6,15 @@
 #include <string>
 #include <vector>
 
-#include "stages/closure.hpp"
-#include "partet/mesh_types.hpp"
-#include "stages/partition.hpp"
-#include "stages/piece.hpp"
-#include "runner/piece_runner.hpp"
-#include "stages/polish.hpp"
-#include "stages/seam_healing.hpp"
 #include "common/stage_timer.hpp"
 #include "mesher/tetgen_mesher.hpp"
+#include "partet/mesh_types.hpp"
+#include "runner/piece_runner.hpp"
+#include "stages/closure.hpp"
+#include "stages/partition.hpp"
+#include "stages/piece.hpp"
+#include "stages/polish.hpp"
+#include "stages/seam_healing.hpp"
 
 namespace partet {
 
@@ -73,9 +73,12 @@ struct RetryRecord {
 
 struct MeshResult {
   TetMesh mesh;
-  std::vector<CutPlane> planes;          // the cut planes used (around them: the seam zone)
+  std::vector<CutPlane> planes;  // the cut planes used (around them: the seam zone)
   // The boundary faces, outward, in output numbering: the input triangles; with split faces the
   // whole input triangles first, then the parts of the split ones from split_faces_from on.
+  // Empty when they are the input's triangles as they stand (every input vertex is used, so the
+  // output keeps its numbering, and none is split): rank 0 then holds them once. Read them with
+  // output_boundary.
   std::vector<Triangle> boundary_faces;
   std::size_t split_faces_from = SIZE_MAX;  // SIZE_MAX: no input triangle was split
   std::int64_t split_input_faces = 0;       // input triangles split by points on the surface
@@ -84,11 +87,16 @@ struct MeshResult {
   PolishStats polish;
   std::int64_t cut_vertices_inserted = 0;
   std::int64_t cap_triangles = 0;
-  int pieces = 0;  // pieces actually used (fewer than asked when the model allows fewer)
+  int pieces = 0;                               // pieces actually used (fewer than asked when the model allows fewer)
   CutAxis axis = CutAxis::coordinate_near_pca;  // the direction of the cuts that worked
   std::vector<RetryRecord> retries;
   double merge_seconds_overlapped = 0;  // welding done while the last pieces were being meshed
 };
+
+// The result's boundary faces in output numbering (see MeshResult::boundary_faces).
+inline const std::vector<Triangle>& output_boundary(const MeshResult& result, const SurfaceMesh& input) {
+  return result.boundary_faces.empty() ? input.triangles : result.boundary_faces;
+}
 
 // 3. Where the pieces of an attempt are meshed: this process, or the ranks of an MPI job. The
 // pipeline submits each piece as soon as it is closed (so meshing overlaps the closure of the

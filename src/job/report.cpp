@@ -10,16 +10,16 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 
-#include "partet/errors.hpp"
 #include "common/log.hpp"
-#include "stages/piece_cost.hpp"
-#include "runner/piece_runner.hpp"
+#include "common/memory.hpp"
 #include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
-#include "stages/validate.hpp"
-#include "common/memory.hpp"
+#include "partet/errors.hpp"
+#include "runner/piece_runner.hpp"
+#include "stages/piece_cost.hpp"
 #include "stages/quality_json.hpp"
 #include "stages/topology.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 
@@ -164,7 +164,7 @@ void print_summary(const JobSummary& s) {
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
   if (s.result.split_input_faces > 0)
     log::warning(std::to_string(s.result.split_input_faces) + " input triangles are split, into " +
-                 std::to_string(s.result.boundary_faces.size() - s.result.split_faces_from) + " faces by " +
+                 std::to_string(output_boundary(s.result, s.input).size() - s.result.split_faces_from) + " faces by " +
                  std::to_string(s.result.surface_points_added) +
                  " points TetGen put on the surface (--allow-split-faces); those faces have boundary marker 2 "
                  "(.face, .mesh) or physical group 3 \"split boundary\" (.msh)");

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Each rank's memory in one mesh run, for one or more partet binaries run one after another on the
+# same input: rank 0's resident memory after each stage, every rank's own peak and its largest
+# TetGen child's (which counts the pages it shares with its rank), rank 0's peak in bytes per
+# input face, the machine's peak use (`free`, sampled each second, minus what it used before),
+# and the files' md5 (the binaries must write the same bytes). Figures, not a test: run it on a
+# quiet machine.
+#
+# Usage: rank_memory.sh [-n RANKS] [-k K] [-o DIR] INPUT BINARY [BINARY ...]
+#   -n  MPI ranks (default 2)   -k  pieces (default 16)   -o  keep the reports there (rB.json)
+set -euo pipefail
+source "$(dirname "$0")/../common.sh"
+ranks=2 k=16 keep=""
+while getopts "n:k:o:" opt; do
+  case $opt in
+    n) ranks=$OPTARG ;; k) k=$OPTARG ;; o) keep=$OPTARG ;;
+    *) sed -n '2,10p' "$0"; exit 2 ;;
+  esac
+done
+shift $((OPTIND - 1))
+[ $# -ge 2 ] || { sed -n '2,10p' "$0"; exit 2; }
+input=$1
+shift
+make_work_dir
+
+used_mb() { free -m | awk '/^Mem:/ {print $3}'; }
+
+for ((b = 1; b <= $#; b++)); do
+  binary=${!b}
+  mkdir -p "$work/out$b"
+  before=$(used_mb)
+  (while true; do used_mb; sleep 1; done) > "$work/free$b" &
+  sampler=$!
+  mpirun -np "$ranks" "$binary" mesh "$input" -k "$k" -o "$work/out$b/m" --quiet --report "$work/r$b.json"
+  kill "$sampler"
+  wait "$sampler" 2>/dev/null || true
+  machine=$(sort -n "$work/free$b" | tail -1)
+  md5=$(cd "$work/out$b" && md5sum m.node m.ele m.face m.neigh | md5sum | cut -c1-12)
+  /usr/bin/python3 - "$work/r$b.json" "$(basename "$binary")" "$((machine - before))" "$md5" <<'EOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+faces = r["counts"]["input_faces"]
+order = "read validate partition input_check_wait closure tetgen merge seam_healing polish check write".split()
+stages = [(s, r["stage_rss_mb"][s]) for s in order if s in r["stage_rss_mb"]]
+print(f"{sys.argv[2]}: {faces} faces, {r['counts']['output_tets']} tets, {r['total_seconds']:.1f} s, md5 {sys.argv[4]}")
+print("  rank 0 after each stage (MB): " + ", ".join(f"{s} {mb:.0f}" for s, mb in stages))
+for rank in r["rank"]:
+    print(f"  rank {rank['rank']}: own peak {rank['peak_rss_mb']:.0f} MB, largest TetGen child {rank['tetgen_process_peak_rss_mb']:.0f} MB, pieces {len(rank['pieces'])}")
+peak0 = r["rank"][0]["peak_rss_mb"]
+print(f"  rank 0's own peak: {peak0 * 2**20 / faces:.0f} bytes per input face; machine's peak use {sys.argv[3]} MB above its use before the run")
+EOF
+done
+if [ -n "$keep" ]; then mkdir -p "$keep" && cp "$work"/r*.json "$keep"/; fi
