@@ -100,7 +100,10 @@ TetMesh Welder::finish(std::vector<Point3> split_points) {
                        "the merged mesh has more than 2^31 tetrahedra or points; this version numbers them with int32");
   TetMesh mesh;
   mesh.points = std::move(split_points);
-  reserve_with_room(mesh.points, mesh.points.size() + steiner_total);
+  // The split reserved room (split_at_planes): every point is copied only when that room cannot
+  // take the Steiner points and what healing adds.
+  const std::size_t points = mesh.points.size() + steiner_total;
+  if (mesh.points.capacity() < points + points / kHealingRoom) reserve_with_room(mesh.points, points);
   reserve_with_room(mesh.tets, tet_total);
   reserve_with_room(mesh.neighbours, tet_total);
   reserve_with_room(mesh.piece, tet_total);

@@ -431,9 +431,10 @@ void add_fan(const std::vector<std::int32_t>& polygon, int s, std::int32_t paren
 
 SplitSurface split_at_planes(const SurfaceMesh& surface, const std::vector<CutPlane>& planes) {
   SplitSurface split;
-  // Room for the cut vertices and the caps' points: a vector that outgrows its capacity is
-  // copied into one twice its size (reserved pages cost nothing until written).
-  split.points.reserve(surface.points.size() + surface.points.size() / 8 + 4096);
+  // Room for the cut vertices, the caps' points and, once the points move into the merged mesh,
+  // the Steiner points and what healing adds (Welder::finish): a vector that outgrows its
+  // capacity is copied into one twice its size, and reserved pages cost nothing until written.
+  split.points.reserve(surface.points.size() + surface.points.size() / 4 + 4096);
   split.points.assign(surface.points.begin(), surface.points.end());
   split.input_vertex_count = static_cast<std::int32_t>(surface.points.size());
   split.piece_count = static_cast<int>(planes.size()) + 1;

@@ -113,13 +113,12 @@ Replacement replace_region(TetMesh& mesh, const std::vector<char>& in_region, co
 std::vector<char> drop_unused_points(TetMesh& mesh) {
   std::vector<char> used = used_vertices(mesh.points.size(), mesh.tets);
   const std::vector<std::int32_t> new_id = compact_ids(used);
-  std::vector<Point3> points;
-  points.reserve(mesh.points.size());
+  std::size_t kept = 0;  // in place (a point only moves down): no second array of every point
   for (std::size_t v = 0; v < mesh.points.size(); ++v)
-    if (used[v]) points.push_back(mesh.points[v]);
+    if (used[v]) mesh.points[kept++] = mesh.points[v];
+  mesh.points.resize(kept);
   for (auto& t : mesh.tets)
     for (auto& v : t) v = new_id[v];
-  mesh.points = std::move(points);
   return used;
 }
 
