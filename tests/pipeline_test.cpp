@@ -280,8 +280,8 @@ TEST(MeshWithRetries, FailedPieceMovesItsPlanes) {
   // The second partition differs from the first (moved planes), and the result is valid.
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_NE(seen[0][1].points, seen[1][1].points);
-  // Piece 3 did not change: its first result is reused (its coordinates, freed once it was
-  // welded, are recovered from the split surface for the comparison).
+  // Piece 3 did not change: its first result is reused (its surface, freed once it was welded,
+  // is built again from the failed attempt's planes for the comparison).
   ASSERT_EQ(seen[1].size(), 3u);
   EXPECT_EQ(seen[1][2].index, 2);
   const CheckReport report = check_mesh(s, r.mesh);

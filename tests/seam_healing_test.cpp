@@ -121,7 +121,7 @@ TEST(HealSeams, DirectCallOnWeldedMesh) {
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
 }
 
-// Once the pieces are welded, rank 0 keeps only the split triangles with a cut vertex: healing
+// Once the pieces are built, rank 0 keeps only the split triangles with a cut vertex: healing
 // reads nothing else of them, so it gives the same mesh (cut vertices only, and caps healed too).
 TEST(HealSeams, SeamTrianglesAreAllHealingReads) {
   const SurfaceMesh input = generate_surface("torus", 1500);

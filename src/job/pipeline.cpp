@@ -28,7 +28,7 @@ class ResultCache {
  public:
   std::optional<PieceTetMesh> find(const PieceSurface& piece) const {
     if (entries_.empty()) return std::nullopt;  // the first attempt: no need to hash the piece
-    auto hit = entries_.find(fingerprint(piece.points, piece.triangles));
+    auto hit = entries_.find(fingerprint(piece));
     if (hit == entries_.end() || hit->second.points != piece.points || hit->second.triangles != piece.triangles)
       return std::nullopt;
     PieceTetMesh result = hit->second.result;
@@ -36,7 +36,7 @@ class ResultCache {
     return result;
   }
   void keep(const PieceSurface& piece, PieceTetMesh&& result) {
-    entries_[fingerprint(piece.points, piece.triangles)] = Entry{piece.points, piece.triangles, std::move(result)};
+    entries_[fingerprint(piece)] = Entry{piece.points, piece.triangles, std::move(result)};
   }
   void clear() { decltype(entries_)().swap(entries_); }
 
@@ -47,14 +47,14 @@ class ResultCache {
     PieceTetMesh result;
   };
   // FNV-1a over the coordinates and triangles: a quick key (hits are confirmed by comparing).
-  static std::uint64_t fingerprint(const std::vector<Point3>& points, const std::vector<Triangle>& triangles) {
+  static std::uint64_t fingerprint(const PieceSurface& piece) {
     std::uint64_t h = 1469598103934665603ull;
     auto mix = [&h](const void* data, std::size_t bytes) {
       const auto* b = static_cast<const unsigned char*>(data);
       for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
     };
-    if (!points.empty()) mix(points.data(), points.size() * sizeof(Point3));
-    if (!triangles.empty()) mix(triangles.data(), triangles.size() * sizeof(Triangle));
+    if (!piece.points.empty()) mix(piece.points.data(), piece.points.size() * sizeof(Point3));
+    if (!piece.triangles.empty()) mix(piece.triangles.data(), piece.triangles.size() * sizeof(Triangle));
     return h;
   }
   std::unordered_map<std::uint64_t, Entry> entries_;
@@ -189,18 +189,20 @@ PreparedPieces rebuilt_pieces(const SurfaceMesh& input, const MeshOptions& optio
   ClosureStream stream(input, options, again);
   stream.partition(meshed.planes);
   stream.close([](const PieceSurface&) {});
-  for (std::size_t p = 0; p < std::max(again.pieces.size(), meshed.pieces.size()); ++p)
-    if (p >= again.pieces.size() || p >= meshed.pieces.size() ||
-        again.pieces[p].global_ids != meshed.pieces[p].global_ids)
+  if (again.pieces.size() != meshed.pieces.size())
+    throw InternalError("the partition built again has " + std::to_string(again.pieces.size()) + " pieces, not " +
+                        std::to_string(meshed.pieces.size()));
+  for (std::size_t p = 0; p < again.pieces.size(); ++p)
+    if (again.pieces[p].global_ids != meshed.pieces[p].global_ids)
       throw InternalError("piece " + std::to_string(p) + " came out different when its partition was built again");
   return again;
 }
 
-// 4. Welds an attempt whose pieces all succeeded. From then on no retry needs the pieces'
-// surfaces (kept so far so that a retry reuses the results of the pieces it does not change):
-// they are freed, and the split's points move into the mesh.
+// 4. Welds an attempt whose pieces all succeeded. The pieces' surfaces went as their results came
+// in (close_and_mesh); their global ids, which the welder needed until now, go too, and the
+// split's points move into the mesh.
 TetMesh weld_attempt(Welder& welder, PreparedPieces& prepared) {
-  for (PieceSurface& piece : prepared.pieces) piece = PieceSurface{piece.index, piece.seam_region, {}, {}, {}};
+  for (PieceSurface& piece : prepared.pieces) std::vector<std::int32_t>().swap(piece.global_ids);
   return welder.finish(std::move(prepared.split.points));
 }
 

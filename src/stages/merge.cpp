@@ -100,10 +100,9 @@ TetMesh Welder::finish(std::vector<Point3> split_points) {
                        "the merged mesh has more than 2^31 tetrahedra or points; this version numbers them with int32");
   TetMesh mesh;
   mesh.points = std::move(split_points);
-  // The split reserved room (split_at_planes): every point is copied only when that room cannot
-  // take the Steiner points and what healing adds.
-  const std::size_t points = mesh.points.size() + steiner_total;
-  if (mesh.points.capacity() < points + points / kHealingRoom) reserve_with_room(mesh.points, points);
+  // The split reserved room (split_at_planes), so this copies every point only when that room
+  // cannot take the Steiner points and what healing adds (reserve keeps a large enough array).
+  reserve_with_room(mesh.points, mesh.points.size() + steiner_total);
   reserve_with_room(mesh.tets, tet_total);
   reserve_with_room(mesh.neighbours, tet_total);
   reserve_with_room(mesh.piece, tet_total);
