@@ -146,6 +146,36 @@ TEST(HealSeams, SeamTrianglesAreAllHealingReads) {
   }
 }
 
+// A region TetGen cannot re-mesh grows by a layer of tets and is tried again; the other regions,
+// unchanged, are not meshed again (their first meshes are kept), and the mesh ends clean.
+TEST(HealSeams, AFailedRegionGrowsAndTheOthersAreKept) {
+  const SurfaceMesh input = generate_surface("torus", 1500);
+  const Stage s = prepare(input, 4);
+  TetMesh mesh = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  std::vector<std::size_t> batch_sizes;
+  std::vector<std::size_t> first_region_triangles;
+  const RegionMesher meshes_here = here(s.options);
+  const RegionMesher fails_once = [&](const std::vector<PieceSurface>& regions) {
+    std::vector<PieceOutcome> outcomes = meshes_here(regions);
+    batch_sizes.push_back(regions.size());
+    if (batch_sizes.size() == 1) {
+      first_region_triangles.push_back(regions.front().triangles.size());
+      outcomes.front().failure = Failure(FailureKind::changed_boundary, -1, {}, "refused by the test");
+    } else if (batch_sizes.size() == 2) {
+      first_region_triangles.push_back(regions.front().triangles.size());
+    }
+    return outcomes;
+  };
+  const SeamStats stats = heal_seams(mesh, input, s.prepared.split, HealOptions{false, 0}, fails_once);
+  ASSERT_GE(batch_sizes.size(), 2u);
+  ASSERT_GT(batch_sizes[0], 1u);  // several regions, of which the first failed
+  EXPECT_EQ(batch_sizes[1], 1u);  // only the grown one is meshed again
+  EXPECT_GT(first_region_triangles[1], first_region_triangles[0]);
+  EXPECT_EQ(stats.cut_vertices_removed, s.prepared.split.cut_vertex_count());
+  const CheckReport report = check_mesh(input, mesh);
+  EXPECT_TRUE(report.ok()) << violations(report);
+}
+
 TEST(HealSeams, HealingRemovesEveryCapPoint) {
   const SurfaceMesh input = generate_surface("sphere", 1500);
   Stage s = prepare(input, 3, 2.0);

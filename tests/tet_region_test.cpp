@@ -93,6 +93,33 @@ TEST(ReplaceRegion, FewerTetsFillTheRegionAndMoveTheLastTetsIntoItsSlots) {
     if (piece >= 0) EXPECT_EQ(expected.at(tet), piece);
 }
 
+// Region slots near the end: the last kept tet moves into the first vacant slot, and the vacant
+// slots then left at the end are dropped, never the slot just filled.
+TEST(ReplaceRegion, VacantSlotsAtTheEndAreDroppedAndTheOthersFilled) {
+  const TetMesh split = cube(true);  // centre tets 0-3, corner tets 4-7
+  TetMesh mesh = split;
+  const std::vector<std::size_t> order{0, 4, 5, 6, 1, 2, 3, 7};  // centre tets at slots 0, 4, 5, 6
+  for (std::size_t slot = 0; slot < order.size(); ++slot) {
+    mesh.tets[slot] = split.tets[order[slot]];
+    mesh.piece[slot] = split.piece[order[slot]];
+  }
+  mesh.neighbours = compute_neighbours(mesh.tets);
+  const TetMesh before = mesh;
+  RegionMesh centre;
+  centre.ids = {1, 2, 4, 7};
+  centre.mesh.tets = {positive(mesh.points, {0, 1, 2, 3})};
+  centre.mesh.neighbours = {{-1, -1, -1, -1}};
+  const Replacement where = replace_region(mesh, {1, 0, 0, 0, 1, 1, 1, 0}, {centre});
+
+  ASSERT_EQ(mesh.tets.size(), 5u);
+  expect_consistent(mesh);
+  EXPECT_EQ(where.new_tets, (std::vector<std::int32_t>{0}));
+  EXPECT_EQ(where.moved, (std::vector<std::pair<std::int32_t, std::int32_t>>{{7, 4}}));
+  EXPECT_EQ(mesh.tets[4], before.tets[7]);
+  EXPECT_EQ(mesh.piece[4], before.piece[7]);
+  for (std::size_t t = 1; t < 4; ++t) EXPECT_EQ(mesh.tets[t], before.tets[t]);
+}
+
 TEST(ReplaceRegion, MoreTetsFillTheRegionThenGoAtTheEnd) {
   TetMesh mesh = cube(false);
   const TetMesh before = mesh;

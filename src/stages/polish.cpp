@@ -170,14 +170,14 @@ void split_in_halves(const std::vector<std::size_t>& batch, std::vector<std::vec
 // the neighbourhood of each of its triangles.
 PieceSurface batch_surface(const std::vector<std::size_t>& batch, const std::vector<Neighbourhood>& parts,
                            const TetMesh& mesh, int index, std::vector<std::int32_t>& ids,
-                           std::vector<std::size_t>& face_part, std::vector<std::int32_t>& scratch) {
+                           std::vector<std::size_t>& face_part) {
   std::vector<Triangle> faces;
   face_part.clear();
   for (auto c : batch) {
     faces.insert(faces.end(), parts[c].faces.begin(), parts[c].faces.end());
     face_part.resize(faces.size(), c);
   }
-  return region_surface(std::move(faces), mesh, index, ids, scratch);
+  return region_surface(std::move(faces), mesh, index, ids);
 }
 
 // Splits a batch's tets by neighbourhood: tets are connected across their faces inside one
@@ -246,7 +246,6 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
                                                PolishStats& stats) {
   std::vector<char> kept(parts.size(), 0);
   std::vector<RegionMesh> better;
-  std::vector<std::int32_t> scratch(mesh.points.size(), -1);
   std::vector<std::vector<std::size_t>> batches = batches_of(parts, options);
   std::int64_t remeshed = 0;
   for (const auto& batch : batches) remeshed += static_cast<std::int64_t>(batch.size());
@@ -255,7 +254,7 @@ std::vector<RegionMesh> remesh_and_keep_better(const std::vector<Neighbourhood>&
     std::vector<RegionMesh> results(batches.size());
     std::vector<std::vector<std::size_t>> face_part(batches.size());
     for (std::size_t b = 0; b < batches.size(); ++b)
-      surfaces[b] = batch_surface(batches[b], parts, mesh, static_cast<int>(b), results[b].ids, face_part[b], scratch);
+      surfaces[b] = batch_surface(batches[b], parts, mesh, static_cast<int>(b), results[b].ids, face_part[b]);
     std::vector<PieceOutcome> outcomes = mesher(surfaces, optimization);
     std::vector<std::vector<std::size_t>> failed;
     for (std::size_t b = 0; b < batches.size(); ++b) {
@@ -294,10 +293,10 @@ void polish_attempt(TetMesh& mesh, const PolishOptions& options, const PoorTest&
         mesh, [&](std::size_t t) { return in_region[t] != 0; }, in_region);
   std::vector<std::int32_t> part_of;
   const std::vector<Neighbourhood> parts = neighbourhoods(mesh, in_region, options, part_of);
-  const std::vector<RegionMesh> better =
+  std::vector<RegionMesh> better =
       remesh_and_keep_better(parts, part_of, mesh, options, optimization_of(attempt), mesher, in_region, stats);
   if (better.empty()) return;
-  const Replacement where = replace_region(mesh, in_region, better);
+  const Replacement where = replace_region(mesh, in_region, std::move(better));
   stats.poor_after = carry_poor_flags(mesh, is_poor, where, poor);
 }
 

@@ -55,7 +55,15 @@ struct Part {
   RegionMesh remeshed;
 };
 
-// Splits the region into parts, numbered in tet order. Removed vertices that share a tet are in
+// Where region tet t is in the region (ascending). Per-tet data of a region is stored by this
+// position, not per mesh tet: at 33M tets (22M input faces) a label per mesh tet cost rank 0
+// 130 MB.
+std::size_t position_in(const std::vector<std::int32_t>& region, std::int32_t t) {
+  return static_cast<std::size_t>(std::lower_bound(region.begin(), region.end(), t) - region.begin());
+}
+
+// Splits the region into parts, numbered in tet order; part_of gets each region tet's part, by
+// its position in the region. Removed vertices that share a tet are in
 // one part (a vertex's whole star must be re-meshed at once); tets without a removed vertex join
 // the part of a neighbour. Tets of different cuts that merely touch stay in different parts (with
 // the faces between them fixed), so a solid whose interior tets span two cuts still heals as
@@ -74,44 +82,50 @@ std::int32_t label_parts(const TetMesh& mesh, const std::vector<std::int32_t>& r
           sets.join(v, first);
       }
   }
-  // Parts of the tets with removed vertices, then the others by breadth-first search.
-  part_of.assign(mesh.tets.size(), -1);
-  std::vector<std::int32_t> number(sets.size(), -1), frontier;
+  // Parts of the tets with removed vertices, then the others by breadth-first search (the
+  // frontier holds positions in the region).
+  part_of.assign(region.size(), -1);
+  std::vector<std::int32_t> number(sets.size(), -1);
+  std::vector<std::size_t> frontier;
   std::int32_t count = 0;
-  for (auto t : region)
-    for (auto v : mesh.tets[t])
+  for (std::size_t i = 0; i < region.size(); ++i)
+    for (auto v : mesh.tets[region[i]])
       if (removed.contains(v)) {
         std::int32_t& n = number[sets.find(v)];
         if (n < 0) n = count++;
-        part_of[t] = n;
-        frontier.push_back(t);
+        part_of[i] = n;
+        frontier.push_back(i);
         break;
       }
   for (std::size_t i = 0; i < frontier.size(); ++i)
-    for (auto nb : mesh.neighbours[frontier[i]])
-      if (nb >= 0 && in_region[nb] && part_of[nb] < 0) {
-        part_of[nb] = part_of[frontier[i]];
-        frontier.push_back(nb);
+    for (auto nb : mesh.neighbours[region[frontier[i]]]) {
+      if (nb < 0 || !in_region[nb]) continue;
+      const std::size_t at = position_in(region, nb);
+      if (part_of[at] < 0) {
+        part_of[at] = part_of[frontier[i]];
+        frontier.push_back(at);
       }
+    }
   if (frontier.size() != region.size()) throw InternalError("seam healing: a region tet reaches no removed vertex");
   return count;
 }
 
-// Collects each part's boundary: faces towards tets outside the part, and mesh-boundary faces
-// without a cut vertex. Mesh-boundary faces with a
+// Collects each part's boundary (`part_of` as label_parts gives it): faces towards tets outside
+// the part, and mesh-boundary faces without a cut vertex. Mesh-boundary faces with a
 // cut vertex are fragments of split input triangles, recorded by their input triangle (all
 // fragments of a triangle share cut vertices, so they lie in one part).
 std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
-                               const std::vector<char>& in_region, const std::vector<std::int32_t>& component,
-                               std::int32_t component_count, const Removed& removed, const FragmentParents& parent_of) {
-  std::vector<Part> parts(component_count);
-  for (auto t : region) {
-    Part& part = parts[component[t]];
+                               const std::vector<char>& in_region, const std::vector<std::int32_t>& part_of,
+                               std::int32_t part_count, const Removed& removed, const FragmentParents& parent_of) {
+  std::vector<Part> parts(part_count);
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    const std::int32_t t = region[i];
+    Part& part = parts[part_of[i]];
     for (auto v : mesh.tets[t])
       if (removed.contains(v)) part.planes.push_back(removed.plane_of(v));
     for (int j = 0; j < 4; ++j) {
       const auto nb = mesh.neighbours[t][j];
-      if (nb >= 0 && in_region[nb] && component[nb] == component[t]) continue;
+      if (nb >= 0 && in_region[nb] && part_of[position_in(region, nb)] == part_of[i]) continue;
       const Triangle face = outward_face(mesh.tets[t], j);
       if (nb < 0 && removed.touches(face)) {
         auto it = parent_of.find(FaceKey(face));
@@ -133,12 +147,11 @@ void sort_unique(std::vector<T>& v) {
 }
 
 // Closes a part's boundary with its input triangles; its surface for TetGen.
-PieceSurface close_part(Part& part, const TetMesh& mesh, const SurfaceMesh& input, int index,
-                        std::vector<std::int32_t>& scratch) {
+PieceSurface close_part(Part& part, const TetMesh& mesh, const SurfaceMesh& input, int index) {
   sort_unique(part.parents);
   for (auto f : part.parents) part.faces.push_back(input.triangles[f]);
   sort_unique(part.planes);
-  return region_surface(part.faces, mesh, index, part.remeshed.ids, scratch);
+  return region_surface(part.faces, mesh, index, part.remeshed.ids);
 }
 
 // Re-meshed regions by content: after a region grows, the regions it did not touch come back
@@ -149,7 +162,9 @@ class RegionCache {
     auto it = meshes_.find(key(region));
     return it == meshes_.end() ? nullptr : &it->second;
   }
-  void keep(const PieceSurface& region, LocalTetMesh mesh) { meshes_[key(region)] = std::move(mesh); }
+  void keep(PieceSurface&& region, LocalTetMesh mesh) {
+    meshes_[{std::move(region.points), std::move(region.triangles)}] = std::move(mesh);
+  }
 
  private:
   static std::pair<std::vector<Point3>, std::vector<Triangle>> key(const PieceSurface& region) {
@@ -159,23 +174,25 @@ class RegionCache {
 };
 
 // Meshes every part (those not in the cache in one batch); returns the parts that failed, with
-// the failure of the first.
+// the failure of the first. The cache keeps the others' meshes only when some part failed (the
+// region then grows and is meshed again); otherwise it would copy every new tet.
 std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& mesh, const SurfaceMesh& input,
                                      const RegionMesher& mesher, RegionCache& cache, Failure& failure) {
-  std::vector<std::int32_t> scratch(mesh.points.size(), -1);
-  std::vector<PieceSurface> regions(parts.size()), batch;
+  std::vector<PieceSurface> batch;
   std::vector<std::size_t> in_batch;
   for (std::size_t c = 0; c < parts.size(); ++c) {
     Part& part = parts[c];
-    PieceSurface& region = regions[c] = close_part(part, mesh, input, static_cast<int>(c), scratch);
+    PieceSurface region = close_part(part, mesh, input, static_cast<int>(c));
     if (const LocalTetMesh* known = cache.find(region)) {
       part.remeshed.mesh = *known;
     } else {
-      batch.push_back(region);
+      batch.push_back(std::move(region));
       in_batch.push_back(c);
     }
   }
   std::vector<PieceOutcome> outcomes = batch.empty() ? std::vector<PieceOutcome>() : mesher(batch);
+  const bool regions_grow =
+      std::any_of(outcomes.begin(), outcomes.end(), [](const PieceOutcome& o) { return o.failure.has_value(); });
   std::vector<std::int32_t> failed;
   for (std::size_t i = 0; i < in_batch.size(); ++i) {
     const std::size_t c = in_batch[i];
@@ -186,25 +203,28 @@ std::vector<std::int32_t> mesh_parts(std::vector<Part>& parts, const TetMesh& me
     }
     std::string planes;
     for (int p : parts[c].planes) planes += (planes.empty() ? "" : ",") + std::to_string(p);
-    log::debug("seam region " + std::to_string(c) + ": " + std::to_string(regions[c].triangles.size()) +
+    log::debug("seam region " + std::to_string(c) + ": " + std::to_string(batch[i].triangles.size()) +
                " triangles, cut(s) " + planes + " -> " + std::to_string(outcomes[i].result.mesh.tets.size()) +
                " tets in " + std::to_string(outcomes[i].seconds) + " s");
     parts[c].remeshed.mesh = std::move(outcomes[i].result.mesh);
-    cache.keep(regions[c], parts[c].remeshed.mesh);
+    if (regions_grow) cache.keep(std::move(batch[i]), parts[c].remeshed.mesh);
   }
   std::sort(failed.begin(), failed.end());
   return failed;
 }
 
-// Adds to the region every tet sharing a vertex with a failed part.
-void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& component,
+// Adds to the region every tet sharing a vertex with a failed part (`failed` ascending;
+// `part_of` as label_parts gives it).
+void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& region, const std::vector<std::int32_t>& part_of,
                  const std::vector<std::int32_t>& failed, std::vector<char>& in_region) {
   std::vector<char> failing(failed.empty() ? 0 : static_cast<std::size_t>(failed.back()) + 1, 0);
   for (auto c : failed) failing[c] = 1;
   add_layer(
       mesh,
       [&](std::size_t t) {
-        return component[t] >= 0 && static_cast<std::size_t>(component[t]) < failing.size() && failing[component[t]];
+        if (!in_region[t]) return false;
+        const std::int32_t part = part_of[position_in(region, static_cast<std::int32_t>(t))];
+        return static_cast<std::size_t>(part) < failing.size() && failing[part];
       },
       in_region);
 }
@@ -317,12 +337,12 @@ std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, co
   clock.lap("region");
 
   constexpr int kMaxGrowth = 3;
-  std::vector<std::int32_t> component;
+  std::vector<std::int32_t> part_of;  // by position in the region
   std::vector<Part> parts;
   RegionCache cache;
   for (int growth = 0;; ++growth) {
-    const std::int32_t count = label_parts(mesh, region, in_region, removed, component);
-    parts = region_parts(mesh, region, in_region, component, count, removed, parent_of);
+    const std::int32_t count = label_parts(mesh, region, in_region, removed, part_of);
+    parts = region_parts(mesh, region, in_region, part_of, count, removed, parent_of);
     clock.lap("parts");
     Failure failure;
     const std::vector<std::int32_t> failed = mesh_parts(parts, mesh, input, mesher, cache, failure);
@@ -338,16 +358,19 @@ std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, co
       failure.planes = part.planes;
       throw MeshingError(failure);
     }
-    grow_region(mesh, component, failed, in_region);
+    grow_region(mesh, region, part_of, failed, in_region);
     region = marked_tets(in_region);
   }
-  stats.regions += static_cast<std::int64_t>(parts.size());
+  cache = RegionCache();  // its copies are not needed any more
+  const std::size_t part_count = parts.size();
+  stats.regions += static_cast<std::int64_t>(part_count);
   std::vector<RegionMesh> remeshed;
   remeshed.reserve(parts.size());
   for (Part& part : parts) remeshed.push_back(std::move(part.remeshed));
-  const Replacement where = replace_region(mesh, in_region, remeshed);
+  std::vector<Part>().swap(parts);
+  const Replacement where = replace_region(mesh, in_region, std::move(remeshed));
   clock.lap("splice");
-  log::debug("seam healing round: " + std::to_string(parts.size()) + " regions of " + std::to_string(region.size()) +
+  log::debug("seam healing round: " + std::to_string(part_count) + " regions of " + std::to_string(region.size()) +
              " tets; " + clock.steps);
   return surviving_stars(star_tets, in_region, where);
 }

@@ -37,8 +37,7 @@ struct RegionMesh {
 // numbered locally and `ids` receives the global id of each local point. `scratch` has one
 // entry per mesh point, all -1, and is left that way. The surface is marked as a region: it may
 // pinch at vertices, so TetGen's regions are classified and the piece topology check is skipped.
-PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index, std::vector<std::int32_t>& ids,
-                            std::vector<std::int32_t>& scratch);
+PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index, std::vector<std::int32_t>& ids);
 
 // Where replace_region put the tets: the slot of each new tet (in the parts' order), and the
 // kept tets it moved into slots left over (from, to, in that order), so per-tet data can follow.
@@ -52,7 +51,8 @@ struct Replacement {
 // tets. Tets outside the region keep their neighbours among themselves; faces towards the region
 // are joined to the new tets. New tets get piece -1. In place because copying the mesh each round
 // cost 0.04 s per round on armadillo_loop1 (1.2M tets), a third of a round's other bookkeeping.
-Replacement replace_region(TetMesh& mesh, const std::vector<char>& in_region, const std::vector<RegionMesh>& parts);
+// Each part's mesh is freed once its tets are taken.
+Replacement replace_region(TetMesh& mesh, const std::vector<char>& in_region, std::vector<RegionMesh> parts);
 
 // Drops the points no tet uses, keeping the order of the others. Returns which old points were
 // used.

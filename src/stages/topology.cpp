@@ -1,5 +1,7 @@
 #include "stages/topology.hpp"
 
+#include <algorithm>
+
 #include <boost/sort/spreadsort/integer_sort.hpp>
 
 #include "partet/errors.hpp"
@@ -74,6 +76,18 @@ std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles, std
   for (auto& t : triangles)
     for (auto& v : t) v = scratch[v];
   for (auto id : ids) scratch[id] = -1;
+  return ids;
+}
+
+std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles) {
+  std::vector<std::int32_t> ids;
+  ids.reserve(3 * triangles.size());
+  for (const auto& t : triangles) ids.insert(ids.end(), t.begin(), t.end());
+  boost::sort::spreadsort::integer_sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  ids.shrink_to_fit();
+  for (auto& t : triangles)
+    for (auto& v : t) v = static_cast<std::int32_t>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin());
   return ids;
 }
 

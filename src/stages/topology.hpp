@@ -84,6 +84,9 @@ std::int32_t label_tet_regions(const std::vector<Tet>& neighbours, Include inclu
 // triangles are rewritten in place. Returns the original ids (local id -> original id).
 // `scratch` must have one entry per original vertex, all -1; it is left that way.
 std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles, std::vector<std::int32_t>& scratch);
+// The same numbering without an array over every original vertex: for the small surfaces of
+// re-meshed regions, where that array (4 bytes per mesh point) would cost more than the sort.
+std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles);
 
 // Disjoint sets of the ids [first, first + count) (union-find with path halving).
 class DisjointSets {
