@@ -1,4 +1,4 @@
-// The XDMF set's pieces that need no MPI: the blocks ranks write, their bytes, the XDMF text.
+// The XDMF set's pieces that need no MPI: the blocks ranks write, the XDMF text.
 // (The collective HDF5 write is tested under mpiexec by tests/formats/formats.sh.)
 #include "io/xdmf.hpp"
 
@@ -23,44 +23,50 @@ struct TwoTets {
   MeshOutput output() const { return MeshOutput{mesh, boundary, 5}; }
 };
 
-TEST(MeshBlock, BlocksInOrderMakeTheWholeArrays) {
+template <class T>
+void append(std::vector<T>& all, const ArrayRun<T>& run) {
+  all.insert(all.end(), run.data, run.data + run.size);
+}
+
+// Every rank's block, in rank order, makes the whole arrays, for any number of ranks.
+TEST(MeshBlockView, BlocksInOrderMakeTheWholeArrays) {
   const TwoTets m;
   const std::vector<std::int32_t> region = region_of_tets(m.mesh);
   for (int parts = 1; parts <= 7; ++parts) {
-    MeshBlock all;
+    std::vector<Point3> points;
+    std::vector<Tet> tets;
+    std::vector<Triangle> faces;
+    std::vector<std::int32_t> piece, tet_region, marker;
     for (int part = 0; part < parts; ++part) {
-      const MeshBlock b = mesh_block(m.output(), region, part, parts);
-      all.points.insert(all.points.end(), b.points.begin(), b.points.end());
-      all.tets.insert(all.tets.end(), b.tets.begin(), b.tets.end());
-      all.tet_piece.insert(all.tet_piece.end(), b.tet_piece.begin(), b.tet_piece.end());
-      all.tet_region.insert(all.tet_region.end(), b.tet_region.begin(), b.tet_region.end());
-      all.faces.insert(all.faces.end(), b.faces.begin(), b.faces.end());
-      all.face_marker.insert(all.face_marker.end(), b.face_marker.begin(), b.face_marker.end());
+      MadeColumns made;
+      const MeshBlockView b = mesh_block_view(m.output(), region, part, parts, made);
+      append(points, b.points), append(tets, b.tets), append(piece, b.tet_piece);
+      append(tet_region, b.tet_region), append(faces, b.faces), append(marker, b.face_marker);
     }
-    EXPECT_EQ(all.points, m.mesh.points) << parts << " parts";
-    ASSERT_EQ(all.tets.size(), 2u);
-    EXPECT_EQ(all.tets[1], (std::array<std::int64_t, 4>{1, 4, 2, 3}));
-    EXPECT_EQ(all.tet_piece, (std::vector<std::int32_t>{0, -1}));
-    EXPECT_EQ(all.tet_region, (std::vector<std::int32_t>{1, 1}));  // one connected solid
-    ASSERT_EQ(all.faces.size(), 6u);
-    EXPECT_EQ(all.faces[3], (std::array<std::int64_t, 3>{1, 2, 4}));
-    EXPECT_EQ(all.face_marker, (std::vector<std::int32_t>{1, 1, 1, 1, 1, 2}));  // the split part: 2
+    EXPECT_EQ(points, m.mesh.points) << parts << " parts";
+    EXPECT_EQ(tets, m.mesh.tets);
+    EXPECT_EQ(piece, (std::vector<std::int32_t>{0, -1}));
+    EXPECT_EQ(tet_region, (std::vector<std::int32_t>{1, 1}));  // one connected solid
+    EXPECT_EQ(faces, m.boundary);
+    EXPECT_EQ(marker, (std::vector<std::int32_t>{1, 1, 1, 1, 1, 2}));  // the split part: 2
   }
 }
 
-TEST(MeshBlock, BytesRoundTripAndTruncatedBytesAreRefused) {
-  const TwoTets m;
-  const MeshBlock block = mesh_block(m.output(), region_of_tets(m.mesh), 0, 1);
-  const std::string bytes = block_bytes(block);
-  const MeshBlock back = block_from_bytes(bytes);
-  EXPECT_EQ(back.points, block.points);
-  EXPECT_EQ(back.tets, block.tets);
-  EXPECT_EQ(back.faces, block.faces);
-  EXPECT_EQ(back.face_marker, block.face_marker);
-  EXPECT_EQ(back.tet_piece, block.tet_piece);
-  EXPECT_THROW(block_from_bytes(std::string_view(bytes).substr(0, bytes.size() - 1)), InternalError);
-  EXPECT_THROW(block_from_bytes(bytes + "x"), InternalError);
-  EXPECT_EQ(block_from_bytes(block_bytes(MeshBlock{})).tets.size(), 0u);
+// The block views the mesh's arrays where they are; only the columns it lacks are made.
+TEST(MeshBlockView, ViewsTheMeshAndMakesOnlyWhatItLacks) {
+  TwoTets m;
+  const std::vector<std::int32_t> region = region_of_tets(m.mesh);
+  MadeColumns made;
+  MeshBlockView b = mesh_block_view(m.output(), region, 1, 2, made);
+  EXPECT_EQ(b.points.data, m.mesh.points.data() + 2);
+  EXPECT_EQ(b.tets.data, m.mesh.tets.data() + 1);
+  EXPECT_EQ(b.tet_piece.data, m.mesh.piece.data() + 1);
+  EXPECT_TRUE(made.piece.empty());
+  m.mesh.piece.clear();  // a mesh without piece numbers: -1 for each tet of the run
+  b = mesh_block_view(m.output(), region, 0, 1, made);
+  ASSERT_EQ(b.tet_piece.size, 2u);
+  EXPECT_EQ(b.tet_piece.data, made.piece.data());
+  EXPECT_EQ(made.piece, (std::vector<std::int32_t>{-1, -1}));
 }
 
 TEST(XdmfText, NamesTheCountsAnd64BitDatasetsOfTheHdf5File) {

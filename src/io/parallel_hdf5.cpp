@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <type_traits>
 
 #include "partet/errors.hpp"
 
@@ -40,8 +41,8 @@ struct Placement {
   std::uint64_t total[3] = {0, 0, 0};
 };
 
-Placement place(MPI_Comm comm, const MeshBlock& block) {
-  const std::uint64_t mine[3] = {block.points.size(), block.tets.size(), block.faces.size()};
+Placement place(MPI_Comm comm, const MeshBlockView& block) {
+  const std::uint64_t mine[3] = {block.points.size, block.tets.size, block.faces.size};
   Placement p;
   MPI_Exscan(mine, p.first, 3, MPI_UINT64_T, MPI_SUM, comm);
   int rank = 0;
@@ -60,7 +61,8 @@ bool all_ranks(MPI_Comm comm, bool mine) {
 // One rank's rows of a 2D dataset [total x columns] starting at `first`.
 struct Rows {
   const char* dataset;
-  hid_t type;            // the file's and memory's type
+  hid_t file_type;       // the dataset's values
+  hid_t memory_type;     // the values in `data` (HDF5 converts them to file_type as it writes)
   std::size_t columns;   // values per row
   std::size_t row_bytes;
   const void* data;
@@ -93,7 +95,7 @@ class Hdf5File {
     // No modification times: the same mesh gives the same bytes, on any number of ranks.
     Hid creation(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
     H5Pset_obj_track_times(creation.get(), false);
-    Hid dataset(H5Dcreate2(file_, rows.dataset, rows.type, file_space.get(), link.get(), creation.get(), H5P_DEFAULT),
+    Hid dataset(H5Dcreate2(file_, rows.dataset, rows.file_type, file_space.get(), link.get(), creation.get(), H5P_DEFAULT),
                 H5Dclose);
     if (!all_ranks(comm_, dataset.ok())) fail(std::string("create ") + rows.dataset);
     Hid transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
@@ -130,7 +132,7 @@ class Hdf5File {
     }
     static const char kNothing[16] = {};
     const void* data = n == 0 ? kNothing : static_cast<const char*>(rows.data) + begin * rows.row_bytes;
-    return H5Dwrite(dataset, rows.type, memory_space.get(), file_space, transfer, data) >= 0;
+    return H5Dwrite(dataset, rows.memory_type, memory_space.get(), file_space, transfer, data) >= 0;
   }
 
   [[noreturn]] void fail(const std::string& step) {
@@ -143,10 +145,22 @@ class Hdf5File {
   hid_t file_ = -1;
 };
 
+// The values of a row in memory: points hold doubles, every other row 32-bit integers.
 template <class T>
-Rows rows_of(const char* dataset, hid_t type, std::size_t columns, const std::vector<T>& values, std::uint64_t first,
+hid_t memory_type_of() {
+  if constexpr (std::is_same_v<T, Point3>) {
+    return H5T_NATIVE_DOUBLE;
+  } else {
+    static_assert(sizeof(T) % sizeof(std::int32_t) == 0 && alignof(T) == alignof(std::int32_t));
+    return H5T_NATIVE_INT32;
+  }
+}
+
+// A rank's rows of `values`, stored in the file as `file_type`.
+template <class T>
+Rows rows_of(const char* dataset, hid_t file_type, std::size_t columns, const ArrayRun<T>& values, std::uint64_t first,
              std::uint64_t total) {
-  return Rows{dataset, type, columns, sizeof(T), values.data(), values.size(), first, total};
+  return Rows{dataset, file_type, memory_type_of<T>(), columns, sizeof(T), values.data, values.size, first, total};
 }
 
 bool file_exists(const std::string& path) {
@@ -171,7 +185,7 @@ void refuse_on_trouble(MPI_Comm comm, WriteTrouble trouble, const std::string& s
 
 }  // namespace
 
-MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlock& block, const Hdf5Paths& paths, WriteTrouble trouble) {
+MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5Paths& paths, WriteTrouble trouble) {
   if (trouble == WriteTrouble::none && !(file_exists(paths.mesh) && file_exists(paths.boundary)))
     trouble = WriteTrouble::file_not_seen;
   refuse_on_trouble(comm, trouble, paths.mesh_shown);
@@ -268,7 +282,9 @@ MeshBlock read_mesh_hdf5(MPI_Comm comm, const std::string& mesh_h5, const std::s
 }
 
 MeshTotals write_hdf5_here(const MeshOutput& output, const Hdf5Paths& paths) {
-  return write_mesh_hdf5(MPI_COMM_SELF, mesh_block(output, region_of_tets(output.mesh), 0, 1), paths);
+  const std::vector<std::int32_t> region = region_of_tets(output.mesh);
+  MadeColumns made;
+  return write_mesh_hdf5(MPI_COMM_SELF, mesh_block_view(output, region, 0, 1, made), paths);
 }
 
 }  // namespace partet

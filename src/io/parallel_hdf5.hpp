@@ -19,7 +19,7 @@ enum class WriteTrouble : int { none = 0, no_block = 1, file_not_seen = 2 };
 // filesystem rank 0 does not share, and must not write a file of its own. Returns the totals on
 // every rank. Throws OutputError (naming the final file, and the rank in trouble) on every rank
 // when any rank fails.
-MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlock& block, const Hdf5Paths& paths,
+MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5Paths& paths,
                            WriteTrouble trouble = WriteTrouble::none);
 
 // Collective over comm: each rank reads its run of the rows (the rank-th of comm's size near-equal

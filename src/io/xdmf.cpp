@@ -3,7 +3,6 @@
 #include "io/xdmf.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <functional>
 
 #include "io/buffered_file.hpp"
@@ -47,63 +46,28 @@ std::string cell_attribute(const char* name, std::uint64_t cells, const std::str
          data_item(std::to_string(cells), "Int", 4, h5_name, dataset) + "</Attribute>\n";
 }
 
-// Byte packing of flat arrays.
-template <class T>
-void put(std::string& out, const std::vector<T>& values) {
-  const std::uint64_t n = values.size();
-  out.append(reinterpret_cast<const char*>(&n), sizeof n);
-  out.append(reinterpret_cast<const char*>(values.data()), n * sizeof(T));
-}
-
-template <class T>
-void take(std::string_view& in, std::vector<T>& values) {
-  std::uint64_t n = 0;
-  if (in.size() < sizeof n) throw InternalError("a mesh block's bytes end early");
-  std::memcpy(&n, in.data(), sizeof n);
-  in.remove_prefix(sizeof n);
-  if (n > in.size() / sizeof(T)) throw InternalError("a mesh block's bytes end early");
-  values.resize(n);
-  std::memcpy(values.data(), in.data(), n * sizeof(T));
-  in.remove_prefix(n * sizeof(T));
-}
-
 }  // namespace
 
-MeshBlock mesh_block(const MeshOutput& output, const std::vector<std::int32_t>& region, int part, int parts) {
+MeshBlockView mesh_block_view(const MeshOutput& output, const std::vector<std::int32_t>& region, int part, int parts,
+                              MadeColumns& made) {
   const TetMesh& mesh = output.mesh;
-  MeshBlock block;
+  MeshBlockView block;
   const auto [p0, p1] = run_of(mesh.points.size(), part, parts);
-  block.points.assign(mesh.points.begin() + p0, mesh.points.begin() + p1);
+  block.points = {mesh.points.data() + p0, p1 - p0};
   const auto [t0, t1] = run_of(mesh.tets.size(), part, parts);
-  for (std::size_t t = t0; t < t1; ++t) {
-    const Tet& tet = mesh.tets[t];
-    block.tets.push_back({tet[0], tet[1], tet[2], tet[3]});
-    block.tet_region.push_back(region[t]);
-    block.tet_piece.push_back(mesh.piece.empty() ? -1 : mesh.piece[t]);
+  block.tets = {mesh.tets.data() + t0, t1 - t0};
+  block.tet_region = {region.data() + t0, t1 - t0};
+  if (mesh.piece.empty()) {
+    made.piece.assign(t1 - t0, -1);
+    block.tet_piece = {made.piece.data(), made.piece.size()};
+  } else {
+    block.tet_piece = {mesh.piece.data() + t0, t1 - t0};
   }
   const auto [f0, f1] = run_of(output.boundary.size(), part, parts);
-  for (std::size_t f = f0; f < f1; ++f) {
-    const Triangle& face = output.boundary[f];
-    block.faces.push_back({face[0], face[1], face[2]});
-    block.face_marker.push_back(f < output.split_from ? 1 : 2);
-  }
-  return block;
-}
-
-std::string block_bytes(const MeshBlock& block) {
-  std::string out;
-  put(out, block.points), put(out, block.tets), put(out, block.tet_region), put(out, block.tet_piece);
-  put(out, block.faces), put(out, block.face_marker);
-  return out;
-}
-
-MeshBlock block_from_bytes(std::string_view in) {
-  MeshBlock block;
-  take(in, block.points), take(in, block.tets), take(in, block.tet_region), take(in, block.tet_piece);
-  take(in, block.faces), take(in, block.face_marker);
-  if (!in.empty() || block.tet_region.size() != block.tets.size() || block.tet_piece.size() != block.tets.size() ||
-      block.face_marker.size() != block.faces.size())
-    throw InternalError("bytes that are no mesh block");
+  block.faces = {output.boundary.data() + f0, f1 - f0};
+  made.marker.clear();
+  for (std::size_t f = f0; f < f1; ++f) made.marker.push_back(f < output.split_from ? 1 : 2);
+  block.face_marker = {made.marker.data(), made.marker.size()};
   return block;
 }
 

@@ -474,8 +474,61 @@ std::string broadcast_text(const std::string& text) {
   return received;
 }
 
-// Rank 0's Hdf5Write. A block it cannot make goes as no bytes, so every rank still joins the
-// collective write and learns of the failure there.
+// A block of the HDF5 files goes to its rank as a header ("B", or "" when rank 0 cannot make it),
+// then its six arrays' bytes, straight from the mesh (mesh_block_view): no copy of it on either
+// side.
+constexpr int kBlockArrays = 6;
+
+void send_block(const MeshBlockView& block, bool ok, int rank) {
+  const auto send = [rank](const auto& run) {
+    const std::string_view bytes(reinterpret_cast<const char*>(run.data), run.size * sizeof(*run.data));
+    bounded([&] { return send_bytes(bytes, rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  };
+  bounded([&] { return send_bytes(ok ? "B" : "", rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  if (!ok) return;
+  send(block.points), send(block.tets), send(block.tet_region), send(block.tet_piece);
+  send(block.faces), send(block.face_marker);
+}
+
+// A worker's block as it came: the six arrays' bytes, viewed in place.
+struct ReceivedBlock {
+  bool made = false;  // rank 0 could make it
+  std::string arrays[kBlockArrays];
+
+  static ReceivedBlock receive() {
+    ReceivedBlock block;
+    const auto receive_one = [] {
+      return bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    };
+    block.made = !receive_one().empty();
+    if (block.made)
+      for (std::string& bytes : block.arrays) bytes = receive_one();
+    return block;
+  }
+
+  // The view, or nothing when the arrays do not fit together (lost or cut bytes).
+  std::optional<MeshBlockView> view() const {
+    if (!made) return std::nullopt;
+    MeshBlockView block;
+    const bool whole = as_run(arrays[0], block.points) && as_run(arrays[1], block.tets) &&
+                       as_run(arrays[2], block.tet_region) && as_run(arrays[3], block.tet_piece) &&
+                       as_run(arrays[4], block.faces) && as_run(arrays[5], block.face_marker);
+    if (!whole || block.tet_region.size != block.tets.size || block.tet_piece.size != block.tets.size ||
+        block.face_marker.size != block.faces.size)
+      return std::nullopt;
+    return block;
+  }
+
+ private:
+  template <class T>
+  static bool as_run(const std::string& bytes, ArrayRun<T>& run) {
+    run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};  // malloc'd: aligned for T
+    return bytes.size() % sizeof(T) == 0;
+  }
+};
+
+// Rank 0's Hdf5Write. A block it cannot make goes as a header alone, so every rank still joins
+// the collective write and learns of the failure there.
 MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& relative) {
   // Absolute paths: the ranks' working directories may differ.
   Hdf5Paths paths = relative;
@@ -490,17 +543,18 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   } catch (const std::bad_alloc&) {
     ok = false;
   }
+  MadeColumns made;
   for (int r = 1; r < size; ++r) {
-    std::string bytes;
+    MeshBlockView block;
     if (ok) try {
-        bytes = block_bytes(mesh_block(output, region, r, size));
+        block = mesh_block_view(output, region, r, size, made);
       } catch (const std::bad_alloc&) {
         ok = false;
       }
-    bounded([&] { return send_bytes(bytes, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+    send_block(block, ok, r);
   }
-  MeshBlock own;
-  if (ok) own = mesh_block(output, region, 0, size);
+  MeshBlockView own;
+  if (ok) own = mesh_block_view(output, region, 0, size, made);
   return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
 }
 
@@ -582,16 +636,12 @@ void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
   Hdf5Paths paths;
   std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
   std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
-  const std::string bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
-  MeshBlock block;
-  bool ok = !bytes.empty() && !test_hooks::block_lost(my_rank());
-  if (ok) try {
-      block = block_from_bytes(bytes);
-    } catch (const std::exception&) {
-      ok = false;
-    }
+  const ReceivedBlock received = ReceivedBlock::receive();
+  std::optional<MeshBlockView> block = received.view();
+  if (test_hooks::block_lost(my_rank())) block.reset();
   try {
-    write_mesh_hdf5(job_comm(), block, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+    write_mesh_hdf5(job_comm(), block.value_or(MeshBlockView()), paths,
+                    block ? WriteTrouble::none : WriteTrouble::no_block);
   } catch (const std::exception& e) {
     status.error = e.what();  // rank 0 has the same error and reports it
   }
