@@ -87,21 +87,23 @@ void check_outputs(const MeshJob& job) {
   remove_stale_temporaries(output_paths(job));
 }
 
-CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
-                            OutputSet& outputs, const RankWriters& writers) {
+CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times) {
   CheckReport check;
+  if (!job.check_output) return check;
   StageTimer timer(&times);
-  if (job.check_output) {
-    check = check_mesh(input, result.mesh,
-                       result.split_input_faces > 0 ? BoundaryRule::split_allowed : BoundaryRule::exact);
-    timer.lap("check");
-    if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
-  }
+  check = check_mesh(input, result.mesh, result.split_input_faces > 0 ? BoundaryRule::split_allowed : BoundaryRule::exact);
+  timer.lap("check");
+  if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
+  return check;
+}
+
+void write_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
+                  OutputSet& outputs, const RankWriters& writers) {
+  StageTimer timer(&times);
   const MeshOutput output{result.mesh, output_boundary(result, input), result.split_faces_from};
   for (MeshFormat format : job.formats) add_mesh_files(outputs, format, output, job.output_prefix, writers);
   outputs.finish_writes();  // the last file's writes belong to this stage too
   timer.lap("write");
-  return check;
 }
 
 }  // namespace partet

@@ -85,10 +85,12 @@ std::vector<std::string> output_paths(const MeshJob& job);
 // completes a publish a killed run left half done, and removes temporaries killed runs left.
 void check_outputs(const MeshJob& job);
 
-// Checks the result if asked (throws Error when the check fails) and writes the mesh files
-// under temporary names into `outputs` (published once every rank agrees); an XDMF set's HDF5
-// file, and TetGen files' lines, with the other ranks' help (writers).
-CheckReport check_and_write(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
-                            OutputSet& outputs, const RankWriters& writers);
+// Checks the result if asked (throws Error when the check fails).
+CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times);
+// Writes the mesh files under temporary names into `outputs` (published once every rank agrees);
+// an XDMF set's HDF5 file, and TetGen files' lines, with the other ranks' help (writers). Reads
+// only the input's triangles (the output's boundary when the numbering is the input's).
+void write_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
+                  OutputSet& outputs, const RankWriters& writers);
 
 }  // namespace partet

@@ -53,7 +53,7 @@ std::string report_json(const JobSummary& s) {
   // Work done while pieces were still being meshed (inside the tetgen stage's time): welding
   // each piece's result as it arrived. stage_seconds.merge is what was left after the last one.
   report["overlapped_seconds"] = {{"merge", s.result.merge_seconds_overlapped}};
-  report["counts"] = {{"input_vertices", s.input.points.size()},
+  report["counts"] = {{"input_vertices", s.input_vertices},
                       {"input_faces", s.input.triangles.size()},
                       {"cut_vertices_inserted", s.result.cut_vertices_inserted},
                       {"cut_vertices_removed", s.result.seam.cut_vertices_removed},
@@ -84,7 +84,7 @@ std::string report_json(const JobSummary& s) {
   report["piece"] = nlohmann::json::array();
   report["balance"] = s.job.options.balance == Balance::cost ? "cost" : "vertices";
   // What the planes balanced, for comparing with the times (scripts/bench/piece_cost.sh).
-  const std::vector<double> estimate = estimated_piece_costs(s.input, s.result.planes, s.job.options.density);
+  const std::vector<double>& estimate = s.estimated_costs;
   for (const PieceRecord& p : s.pieces)
     report["piece"].push_back(
         {{"index", p.index},

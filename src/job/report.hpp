@@ -11,7 +11,9 @@ namespace partet {
 // Everything the report and the summary say about a finished job.
 struct JobSummary {
   const MeshJob& job;
-  const SurfaceMesh& input;
+  const SurfaceMesh& input;   // its triangles (its points may be gone once the files are written)
+  std::size_t input_vertices;
+  const std::vector<double>& estimated_costs;  // each piece's, as the planes balanced them
   const MeshResult& result;
   const CheckReport& check;  // with --check: its quality covers the whole mesh
   const StageTimes& times;

@@ -24,7 +24,7 @@ class RootRun {
   //    InputChecks::elsewhere, the driver has another rank check it (check_input) and reports
   //    the verdict through the scheduler's confirm_input.
   void prepare(InputChecks checks = InputChecks::here);
-  const SurfaceMesh& input() const { return input_; }
+  const SurfaceMesh& input() const { return input_; }  // whole until check_and_write
   // 3-8. Partition, closure, meshing (on the scheduler's ranks), merge, seam healing and polish,
   //      with the retries of mesh_with_retries.
   void mesh(PieceScheduler& scheduler);
@@ -43,7 +43,9 @@ class RootRun {
  private:
   const MeshJob& job_;
   StageTimes times_;
-  SurfaceMesh input_;
+  SurfaceMesh input_;  // its points only until the files are written (check_and_write)
+  std::size_t input_vertices_ = 0;
+  std::vector<double> estimated_costs_;  // each piece's (for the report), before the points go
   int scale_exponent_ = 0;  // the input is meshed scaled by 2^scale_exponent_
   MeshResult result_;
   CheckReport check_;

@@ -451,11 +451,15 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
 // - hdf5: the HDF5 files of an XDMF set, written by every rank at once (parallel HDF5).
 // - rows: the lines of a TetGen file; each rank formats its block of rows while rank 0 formats
 //   its own, then sends the text back in chunks ("T" + text; "E" + a message when it cannot;
-//   then an empty chunk), which rank 0 writes in order after its own block.
+//   then an empty chunk), which rank 0 writes in order after its own block. The block comes in
+//   parts of kRowPart rows, so a rank frees each part as it formats it: it holds its text and
+//   one part, not its whole block beside its text.
 
 constexpr int kTagText = 6;
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
 constexpr std::size_t kTextChunk = std::size_t{8} << 20;
+// Rows per part of a block (32 MB of .node rows, 16 MB of .ele rows).
+constexpr std::size_t kRowPart = std::size_t{1} << 20;
 
 std::string absolute_path(const std::string& path) {
   if (!path.empty() && path[0] == '/') return path;
@@ -568,8 +572,10 @@ void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out)
   const std::size_t bytes_per_row = row_bytes(rows.file);
   for (int r = 1; r < size; ++r) {
     const auto [first, last] = run_of(rows.count, r, size);
-    const std::string_view block(rows.data + first * bytes_per_row, (last - first) * bytes_per_row);
-    bounded([&] { return send_bytes(block, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+    for (std::size_t row = first; row < last || row == first; row += kRowPart) {  // an empty block: one empty part
+      const std::string_view part(rows.data + row * bytes_per_row, (std::min(last, row + kRowPart) - row) * bytes_per_row);
+      bounded([&] { return send_bytes(part, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+    }
   }
   std::exception_ptr failure;
   try {
@@ -601,27 +607,40 @@ void format_rows_block(std::istringstream& order) {
   int file = 0;
   std::size_t count = 0, split_from = 0;
   order >> file >> count >> split_from;
-  const std::string block = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
   int size = 1;
   MPI_Comm_size(job_comm(), &size);
   const auto [first, last] = run_of(count, my_rank(), size);
+  std::vector<std::string> parts;  // of kRowPart rows (the last shorter); one empty part when there are none
+  for (std::size_t row = first; row < last || row == first; row += kRowPart)
+    parts.push_back(bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); }));
   const auto kind = static_cast<TetgenFile>(file);
   const std::size_t bytes_per_row = row_bytes(kind);
   auto send = [](const std::string& chunk) {
     bounded([&] { return send_bytes(chunk, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
   };
   try {
-    if (block.size() != (last - first) * bytes_per_row || test_hooks::block_lost(my_rank()))
+    std::size_t received = 0;
+    for (const std::string& part : parts) received += part.size();
+    if (received != (last - first) * bytes_per_row || test_hooks::block_lost(my_rank()))
       throw OutputError("rank " + std::to_string(my_rank()) + " did not receive its block of the " +
                         std::string(extension(kind)) + " file's rows");
-    // The whole block first (rank 0 is formatting its own meanwhile), then the chunks.
-    std::string text;
-    append_tetgen_lines(text, kind, block.data(), first, last - first, split_from);
+    // The whole block first (rank 0 is formatting its own meanwhile), then the chunks. Each
+    // part's text is a string of its own: one string for the block would be copied as it grows.
+    std::vector<std::string> texts(parts.size());
+    for (std::size_t i = 0, row = first; i < parts.size(); ++i) {
+      const std::size_t rows_in_part = parts[i].size() / bytes_per_row;
+      append_tetgen_lines(texts[i], kind, parts[i].data(), row, rows_in_part, split_from);
+      row += rows_in_part;
+      std::string().swap(parts[i]);
+    }
     std::string chunk;
-    for (std::size_t done = 0; done < text.size(); done += kTextChunk) {
-      chunk.assign("T");
-      chunk.append(text, done, kTextChunk);
-      send(chunk);
+    for (std::string& text : texts) {
+      for (std::size_t done = 0; done < text.size(); done += kTextChunk) {
+        chunk.assign("T");
+        chunk.append(text, done, kTextChunk);
+        send(chunk);
+      }
+      std::string().swap(text);
     }
   } catch (const std::exception& e) {
     send(std::string("E") + e.what());

@@ -17,6 +17,14 @@ bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 "$partet" generate sphere --faces 3000 -o sphere.off > /dev/null
 "${launch[@]}" "$partet" mesh torus.off -o m --pieces 3 --quiet --report m.json || bad "first run"
 mkdir before && cp m.node m.ele m.face m.neigh m.json before/
+# The report's input figures survive the input's points being freed before the files are written.
+vertices=$(awk 'NR == 2 {print $1}' torus.off)
+/usr/bin/python3 - m.json "$vertices" << 'EOF' && ok "report counts the input and estimates each piece" || bad "report's input figures"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["counts"]["input_vertices"] == int(sys.argv[2]), r["counts"]
+assert len(r["piece"]) == 3 and all(p["estimated_cost"] > 0 for p in r["piece"]), r["piece"]
+EOF
 # run_with VAR=VALUE ARGS...: partet ARGS with VAR set (passed on to the ranks under a launcher).
 run_with() {
   local assignment=$1
