@@ -461,6 +461,12 @@ constexpr std::size_t kTextChunk = std::size_t{8} << 20;
 // Rows per part of a block (32 MB of .node rows, 16 MB of .ele rows).
 constexpr std::size_t kRowPart = std::size_t{1} << 20;
 
+// How many parts the block of rows [first, last) travels in: kRowPart rows each, the last
+// shorter; an empty block is one empty part. Sender and receiver both count by this.
+std::size_t row_part_count(std::size_t first, std::size_t last) {
+  return std::max<std::size_t>(1, (last - first + kRowPart - 1) / kRowPart);
+}
+
 std::string absolute_path(const std::string& path) {
   if (!path.empty() && path[0] == '/') return path;
   std::string directory(4096, '\0');
@@ -572,7 +578,8 @@ void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out)
   const std::size_t bytes_per_row = row_bytes(rows.file);
   for (int r = 1; r < size; ++r) {
     const auto [first, last] = run_of(rows.count, r, size);
-    for (std::size_t row = first; row < last || row == first; row += kRowPart) {  // an empty block: one empty part
+    for (std::size_t i = 0; i < row_part_count(first, last); ++i) {
+      const std::size_t row = first + i * kRowPart;
       const std::string_view part(rows.data + row * bytes_per_row, (std::min(last, row + kRowPart) - row) * bytes_per_row);
       bounded([&] { return send_bytes(part, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
     }
@@ -610,9 +617,9 @@ void format_rows_block(std::istringstream& order) {
   int size = 1;
   MPI_Comm_size(job_comm(), &size);
   const auto [first, last] = run_of(count, my_rank(), size);
-  std::vector<std::string> parts;  // of kRowPart rows (the last shorter); one empty part when there are none
-  for (std::size_t row = first; row < last || row == first; row += kRowPart)
-    parts.push_back(bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); }));
+  std::vector<std::string> parts(row_part_count(first, last));
+  for (std::string& part : parts)
+    part = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
   const auto kind = static_cast<TetgenFile>(file);
   const std::size_t bytes_per_row = row_bytes(kind);
   auto send = [](const std::string& chunk) {

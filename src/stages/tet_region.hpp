@@ -34,9 +34,9 @@ struct RegionMesh {
 };
 
 // The closed surface of one part of a region, for TetGen: `faces` (global ids, outward) are
-// numbered locally and `ids` receives the global id of each local point. `scratch` has one
-// entry per mesh point, all -1, and is left that way. The surface is marked as a region: it may
-// pinch at vertices, so TetGen's regions are classified and the piece topology check is skipped.
+// numbered locally and `ids` receives the global id of each local point. The surface is marked
+// as a region: it may pinch at vertices, so TetGen's regions are classified and the piece
+// topology check is skipped.
 PieceSurface region_surface(std::vector<Triangle> faces, const TetMesh& mesh, int index, std::vector<std::int32_t>& ids);
 
 // Where replace_region put the tets: the slot of each new tet (in the parts' order), and the
