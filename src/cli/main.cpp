@@ -180,6 +180,19 @@ int launched_rank() {
   return 0;
 }
 
+// A usage error: one line from the first rank, exit code 2. Under a launcher the other ranks
+// wait until it has said it (a barrier): one that exited first could make the launcher end the
+// job before the first rank has even started, and the user would see no reason.
+int usage_error(int argc, char** argv, const std::string& message) {
+  if (launched_rank() == 0) partet::log::error(message);
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") && std::atoi(std::getenv("OMPI_COMM_WORLD_SIZE")) > 1) {
+    MPI_Init(&argc, &argv);
+    MPI_Barrier(MPI_COMM_WORLD);
+    MPI_Finalize();
+  }
+  return 2;
+}
+
 // Whether MPI can make its session directory under dir: the nearest existing ancestor (it makes
 // the missing ones) must be a directory this process may write.
 bool session_directory_possible(std::filesystem::path dir) {
@@ -612,8 +625,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
     // Usage errors: one line, exit code 2, from the first rank only when launched by MPI.
-    if (launched_rank() == 0) partet::log::error(std::string(e.what()) + " (see partet --help)");
-    return 2;
+    return usage_error(argc, argv, std::string(e.what()) + " (see partet --help)");
   }
 
   try {
@@ -642,14 +654,12 @@ int main(int argc, char** argv) {
   try {
     c.job.options.tetgen.quality = partet::parse_quality(c.quality);
   } catch (const partet::OptionError& e) {
-    if (launched_rank() == 0) partet::log::error(std::string("--quality: ") + e.what());
-    return 2;
+    return usage_error(argc, argv, std::string("--quality: ") + e.what());
   }
   try {
     choose_formats(c.formats, c.job);
   } catch (const partet::OptionError& e) {
-    if (launched_rank() == 0) partet::log::error(e.what());
-    return 2;
+    return usage_error(argc, argv, e.what());
   }
   c.job.options.heal = c.heal ? partet::Heal::on : c.no_heal ? partet::Heal::off : partet::Heal::automatic;
   c.job.options.polish = !c.no_polish;

@@ -38,8 +38,13 @@ void scale_points(std::vector<Point3>& points, int exponent) {
 }
 
 void check_input(const SurfaceMesh& input) {
-  validate_topology(input);
-  const double volume = enclosed_volume(input);
+  validate_indices(input);
+  judge_input(check_whole(input));
+}
+
+void judge_input(const InputFindings& findings) {
+  throw_first_problem(findings, "input");
+  const auto volume = static_cast<double>(findings.six_volume / 6);
   if (!(volume > 0))
     throw InputError("input is inside out: normals point inwards (enclosed volume " + std::to_string(volume) +
                      "); flip the face orientation");

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "stages/check.hpp"
+#include "stages/input_share.hpp"
 #include "io/mesh_formats.hpp"
 #include "io/output_set.hpp"
 #include "job/pipeline.hpp"
@@ -38,7 +39,7 @@ struct RankStats {
   // Rank 0 only: wall time during which some rank was meshing a piece or region. The rest of
   // the run is serial: no number of ranks shortens it.
   double meshing_wall_seconds = 0;
-  double input_check_seconds = 0;  // rank 1 with several ranks: checking the input (check_input)
+  double input_check_seconds = 0;  // with several ranks, each rank but 0: receiving and checking its share of the input
 };
 constexpr int kRankStatsDoubles = 10;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
@@ -65,6 +66,8 @@ void scale_points(std::vector<Point3>& points, int exponent);
 // InputError. Self-intersections are left to TetGen, with a check of the whole input when a
 // piece fails.
 void check_input(const SurfaceMesh& input);
+// The verdict of check_input from the findings of its checks (one share's or all shares' merged).
+void judge_input(const InputFindings& findings);
 
 // Where check_input runs: in this process before anything else, or on another rank while this
 // one partitions (only validate_indices runs here first, which the partition needs).

@@ -30,6 +30,8 @@
 #include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
 #include "runner/serialize.hpp"
+#include "stages/input_share.hpp"
+#include "stages/validate.hpp"
 
 namespace partet::mpi {
 namespace {
@@ -37,8 +39,8 @@ namespace {
 constexpr int kTagPiece = 1;
 constexpr int kTagReply = 2;
 constexpr int kTagBlock = 3;
-constexpr int kTagInput = 4;    // the input, to the rank that checks it
-constexpr int kTagVerdict = 5;  // that rank's verdict
+constexpr int kTagVerdict = 5;   // rank 1's verdict on the input
+constexpr int kTagFindings = 6;  // another checking rank's findings, to rank 1
 // How long rank 0 sleeps between looks at MPI when idle: the pause doubles from the shortest to
 // the longest while nothing happens, so replies to small regions (seams, polish) are taken at
 // once and long pieces still leave the core to the TetGen processes.
@@ -140,7 +142,7 @@ class RootScheduler : public PieceScheduler {
         records_(records),
         job_start_(job_start) {}
 
-  // Rank 1 is checking the input (check_input_on_rank_1); confirm_input waits for its verdict.
+  // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
   void expect_input_verdict(std::size_t faces) {
     verdict_pending_ = true;
     // kWorkerSeconds + 1 s per million faces
@@ -687,25 +689,58 @@ void join_writes(JobStatus& status) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 2b. With several ranks, rank 1 checks the input (check_input) while rank 0 partitions it:
-// rank 0 sends it the scaled input, rank 1 sends back "" (valid), "I" + an InputError's message,
-// or "E" + another error's.
+// 2b. With several ranks, the others check the input while rank 0 partitions it, each its share
+// (input_share.hpp): rank 0 broadcasts each vertex's share, the faces and the points in parts;
+// each rank keeps its share and checks it; ranks 2... send their findings to rank 1 ("F" + the
+// findings' bytes, or "E" + an error), which merges them in rank order and sends rank 0 the
+// verdict: "" (valid), "I" + an InputError's message, or "E" + another error's.
 
-void send_input_for_checks(const SurfaceMesh& input) {
-  const std::string_view points(reinterpret_cast<const char*>(input.points.data()),
-                                input.points.size() * sizeof(Point3));
-  const std::string_view triangles(reinterpret_cast<const char*>(input.triangles.data()),
-                                   input.triangles.size() * sizeof(Triangle));
-  for (std::string_view part : {points, triangles})
-    bounded([&] { return send_bytes(part, 1, kTagInput, job_comm(), kMaxChunk, kWorkerSeconds); });
+constexpr std::size_t kStreamPartValues = std::size_t{1} << 19;  // values per broadcast part
+
+// Rank 0's side of one stream.
+template <class T>
+void broadcast_values(const std::vector<T>& values) {
+  for (std::size_t first = 0; first < values.size(); first += kStreamPartValues) {
+    const std::size_t n = std::min(kStreamPartValues, values.size() - first);
+    MPI_Request request = start_broadcast(const_cast<T*>(values.data() + first), n * sizeof(T), 0, job_comm());
+    bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kWorkerSeconds); });
+  }
 }
 
-template <class T>
-std::vector<T> received_array(int tag) {
-  const std::string bytes = bounded([&] { return recv_bytes(0, tag, job_comm(), kMaxChunk, kRootSeconds); });
-  std::vector<T> values(bytes.size() / sizeof(T));
-  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
-  return values;
+// A checking rank's side: hands each part of `count` values to take(values, n) while the next
+// part comes. After take has failed, the rest is received and dropped (rank 0 is waiting for
+// every rank to take every part), and the failure is kept.
+template <class T, class Take>
+void receive_values(std::size_t count, std::exception_ptr& failure, const Take& take) {
+  const std::size_t parts = (count + kStreamPartValues - 1) / kStreamPartValues;
+  std::vector<T> buffers[2];
+  MPI_Request requests[2];
+  auto part_size = [&](std::size_t part) { return std::min(kStreamPartValues, count - part * kStreamPartValues); };
+  auto start = [&](std::size_t part) {
+    std::vector<T>& buffer = buffers[part % 2];
+    buffer.resize(part_size(part));
+    requests[part % 2] = start_broadcast(buffer.data(), buffer.size() * sizeof(T), 0, job_comm());
+  };
+  if (parts > 0) start(0);
+  for (std::size_t part = 0; part < parts; ++part) {
+    if (part + 1 < parts) start(part + 1);
+    bounded([&] { return wait_sleeping(requests[part % 2], MPI_STATUS_IGNORE, kRootSeconds); });
+    if (failure) continue;
+    try {
+      take(buffers[part % 2].data(), buffers[part % 2].size());
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  }
+}
+
+void send_input_for_checks(const SurfaceMesh& input, int size) {
+  std::uint64_t counts[2] = {input.points.size(), input.triangles.size()};
+  MPI_Request request = start_broadcast(counts, sizeof counts, 0, job_comm());
+  bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kWorkerSeconds); });
+  broadcast_values(vertex_shares(input.points, size - 1));
+  broadcast_values(input.triangles);
+  broadcast_values(input.points);
 }
 
 // What a rank that ran out of memory says (its own figures).
@@ -716,22 +751,76 @@ std::string out_of_memory_message(int rank) {
          " MB available now): use a machine with more memory for " + name;
 }
 
-void check_input_on_rank_1(RankStats& stats) {
-  const double start = now_seconds();
-  std::string verdict;
+std::string error_message(std::exception_ptr failure, int rank) {
   try {
-    SurfaceMesh input;
-    input.points = received_array<Point3>(kTagInput);
-    input.triangles = received_array<Triangle>(kTagInput);
-    check_input(input);
-  } catch (const InputError& e) {
-    verdict = std::string("I") + e.what();
+    std::rethrow_exception(failure);
   } catch (const std::bad_alloc&) {
-    verdict = "E" + out_of_memory_message(1);
+    return out_of_memory_message(rank);
   } catch (const std::exception& e) {
-    verdict = std::string("E") + e.what();
+    return e.what();
   }
+}
+
+// Receives this rank's share of the input and checks it: "F" + the findings, or "E" + an error.
+std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
+  MPI_Request request = start_broadcast(counts, sizeof counts, 0, job_comm());
+  bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kRootSeconds); });
+  std::exception_ptr failure;
+  std::optional<InputShareBuilder> builder;
+  try {
+    builder.emplace(rank - 1, size - 1, counts[0], counts[1]);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  receive_values<std::uint16_t>(counts[0], failure, [&](auto* v, std::size_t n) { builder->add_vertex_shares(v, n); });
+  receive_values<Triangle>(counts[1], failure, [&](auto* v, std::size_t n) { builder->add_faces(v, n); });
+  receive_values<Point3>(counts[0], failure, [&](auto* v, std::size_t n) { builder->add_points(v, n); });
+  if (!failure) try {
+      const InputFindings findings = check_share(builder->finish());
+      return "F" + std::string(reinterpret_cast<const char*>(&findings), sizeof findings);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  return "E" + error_message(failure, rank);
+}
+
+// Rank 1: its own and the other ranks' findings, merged in rank order, judged.
+std::string input_verdict(const std::string& own, int size, std::size_t faces) {
+  const double limit = kWorkerSeconds + 1e-6 * static_cast<double>(faces);
+  InputFindings merged;
+  for (int rank = 1; rank < size; ++rank) {
+    std::string findings = own;
+    if (rank > 1) try {
+        findings = recv_bytes(rank, kTagFindings, job_comm(), kMaxChunk, limit);
+      } catch (const Stalled&) {
+        return "Erank " + std::to_string(rank) + " has not reported its share of the input check within " +
+               std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)";
+      }
+    if (!findings.empty() && findings[0] == 'E') return findings;
+    if (findings.size() != 1 + sizeof(InputFindings) || findings[0] != 'F')
+      return "Erank " + std::to_string(rank) + " sent malformed findings of its input check";
+    InputFindings share;
+    std::memcpy(static_cast<void*>(&share), findings.data() + 1, sizeof share);
+    merged.merge(share);
+  }
+  try {
+    judge_input(merged);
+  } catch (const InputError& e) {
+    return std::string("I") + e.what();
+  }
+  return "";
+}
+
+void check_input_on_rank(int rank, int size, RankStats& stats) {
+  const double start = now_seconds();
+  std::uint64_t counts[2] = {0, 0};  // vertices, faces
+  const std::string findings = check_input_share(rank, size, counts);
   stats.input_check_seconds = now_seconds() - start;
+  if (rank > 1) {
+    bounded([&] { return send_bytes(findings, 1, kTagFindings, job_comm(), kMaxChunk, kRootSeconds); });
+    return;
+  }
+  const std::string verdict = input_verdict(findings, size, counts[1]);
   test_hooks::verdict_stop(1);
   bounded([&] { return send_bytes(verdict, 0, kTagVerdict, job_comm(), kMaxChunk, kRootSeconds); });
 }
@@ -909,10 +998,12 @@ JobStatus run_mesh_job(const MeshJob& job) {
   const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
   state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, job_comm(), collective_limit()); });
   if (state.status.exit_code != 0) return state.status;
-  // 2b. Rank 1 checks the input while rank 0 partitions it (the verdict comes before any piece).
+  // 2b. The other ranks check the input while rank 0 partitions it (the verdict comes before any piece).
   if (checks == InputChecks::elsewhere) {
-    if (root) send_input_for_checks(root->input());
-    if (state.rank == 1) check_input_on_rank_1(state.stats);
+    if (root)
+      send_input_for_checks(root->input(), state.size);
+    else
+      check_input_on_rank(state.rank, state.size, state.stats);
   }
   // 3-8. Rank 0 partitions, closes, merges and heals; every rank meshes pieces and regions.
   if (root) {

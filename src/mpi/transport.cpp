@@ -60,6 +60,12 @@ int broadcast_int(int value, int root, MPI_Comm comm, double timeout_seconds) {
   return value;
 }
 
+MPI_Request start_broadcast(void* data, std::size_t bytes, int root, MPI_Comm comm) {
+  MPI_Request request;
+  MPI_Ibcast(data, static_cast<int>(bytes), MPI_BYTE, root, comm, &request);
+  return request;
+}
+
 bool all_true(bool mine, MPI_Comm comm, double timeout_seconds) {
   int value = mine ? 1 : 0, all = 0;
   MPI_Request request;

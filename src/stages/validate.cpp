@@ -40,12 +40,6 @@ std::uint64_t mix(std::uint64_t x) {
   return x;
 }
 
-std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
-  auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return lo << 32 | hi;
-}
-
 bool is_collinear(const Triangle& t, const std::vector<Point3>& points) {
   return CGAL::collinear(to_kernel(points[t[0]]), to_kernel(points[t[1]]), to_kernel(points[t[2]]));
 }
@@ -67,25 +61,44 @@ void check_indices_and_coordinates(const SurfaceMesh& surface, const char* what)
     }
 }
 
-void check_degenerate_faces(const SurfaceMesh& surface, const char* what) {
-  const std::string prefix = std::string(what) + " has a degenerate face: face ";
-  for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
-    const Triangle& t = surface.triangles[f];
-    if (t[0] == t[1] || t[0] == t[2]) throw InputError(prefix + str(f) + " repeats vertex " + str(t[0]));
-    if (t[1] == t[2]) throw InputError(prefix + str(f) + " repeats vertex " + str(t[1]));
+// A share of the input as its checks see it: a problem is the share's when it owns the lowest
+// vertex involved (of a face, of an edge) or the vertex itself.
+struct Share {
+  const std::vector<Point3>& points;
+  const std::vector<Triangle>& faces;
+  const ShareNumbering& ids;
+  bool owns_face(std::size_t f) const {
+    const Triangle& t = faces[f];
+    return ids.owns(std::min({t[0], t[1], t[2]}));
   }
-  for (std::size_t f = 0; f < surface.triangles.size(); ++f)
-    if (is_collinear(surface.triangles[f], surface.points))
-      throw InputError(prefix + str(f) + " has collinear corners");
+  std::int64_t vertex(std::int32_t v) const { return ids.vertex_id(v); }
+};
+
+bool repeats_a_vertex(const Triangle& t) { return t[0] == t[1] || t[0] == t[2] || t[1] == t[2]; }
+
+void find_degenerate_faces(const Share& share, InputFindings& found) {
+  for (std::size_t f = 0; f < share.faces.size(); ++f) {
+    if (!share.owns_face(f)) continue;
+    const Triangle& t = share.faces[f];
+    if (t[0] == t[1] || t[0] == t[2])
+      found.repeated.add(share.ids.face_id(f), share.vertex(t[0]));
+    else if (t[1] == t[2])
+      found.repeated.add(share.ids.face_id(f), share.vertex(t[1]));
+    else if (is_collinear(t, share.points))
+      found.collinear.add(share.ids.face_id(f));
+  }
 }
 
 // Two used vertices at the same position make the surface touch itself there, which TetGen
-// cannot mesh; an unmerged soup (e.g. from STL) also shows up here first.
-void check_duplicate_vertices(const SurfaceMesh& surface, const char* what) {
-  const std::vector<Point3>& points = surface.points;
-  std::vector<char> used(points.size(), 0);
-  for (const Triangle& t : surface.triangles)
-    for (std::int32_t v : t) used[v] = 1;
+// cannot mesh; an unmerged soup (e.g. from STL) also shows up here first. Vertices at one
+// position are in one share (vertex_shares), and every face around an owned vertex is in it.
+void find_duplicate_vertices(const Share& share, InputFindings& found) {
+  const std::vector<Point3>& points = share.points;
+  std::vector<char> candidate(points.size(), 0);  // used and owned
+  std::size_t candidates = 0;
+  for (const Triangle& t : share.faces)
+    for (std::int32_t v : t)
+      if (!candidate[v] && share.ids.owns(v)) candidate[v] = 1, ++candidates;
 
   auto hash_point = [](const Point3& p) {
     std::uint64_t h = 0;
@@ -98,33 +111,26 @@ void check_duplicate_vertices(const SurfaceMesh& surface, const char* what) {
     return h;
   };
   std::size_t capacity = 16;
-  while (capacity < 2 * points.size()) capacity *= 2;
+  while (capacity < 2 * candidates) capacity *= 2;
   const std::size_t mask = capacity - 1;
   constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> slots(capacity, kEmpty);
-
-  long long duplicates = 0;
-  std::int64_t first_a = -1, first_b = -1;
+  // In ascending order, so the first duplicate is the lowest vertex at a position seen before.
   for (std::size_t v = 0; v < points.size(); ++v) {
-    if (!used[v]) continue;
+    if (!candidate[v]) continue;
     for (std::size_t slot = hash_point(points[v]) & mask;; slot = (slot + 1) & mask) {
       if (slots[slot] == kEmpty) {
         slots[slot] = static_cast<std::uint32_t>(v);
         break;
       }
       if (points[slots[slot]] == points[v]) {
-        if (duplicates++ == 0) {
-          first_a = slots[slot];
-          first_b = static_cast<std::int64_t>(v);
-        }
+        const std::int64_t later = share.vertex(static_cast<std::int32_t>(v));
+        if (later < found.duplicate.order) found.duplicate_at = points[slots[slot]];  // the earlier one
+        found.duplicate.add(later, share.vertex(static_cast<std::int32_t>(slots[slot])));
         break;
       }
     }
   }
-  if (duplicates > 0)
-    throw InputError(std::string(what) + " has duplicate vertices: vertices " + str(first_a) + " and " + str(first_b) +
-                     " are both at " + coordinates_text(points[first_a]) +
-                     (duplicates > 1 ? " (" + str(duplicates) + " duplicates)" : ""));
 }
 
 // The corners (3 f + c: the edge from corner c to c + 1 of face f) bucketed by their edge's lower
@@ -197,96 +203,139 @@ int corner_along(const Triangle& t, std::int32_t v, std::int32_t w) {
   while (std::minmax(t[c], t[(c + 1) % 3]) != std::minmax(v, w)) ++c;
   return c;
 }
-
-// The first of a kind of problem edge, in the order of the corner that introduces it (the edge's
-// lowest face, and that face's corner along it).
-struct FirstEdge {
-  long long count = 0;
-  std::size_t corner = SIZE_MAX;
-  std::int32_t faces[2] = {-1, -1};
-  void add(std::size_t c, std::int32_t f0, std::int32_t f1) {
-    if (count++ == 0 || c < corner) corner = c, faces[0] = f0, faces[1] = f1;
-  }
-};
-
-}  // namespace
-
-std::vector<std::int32_t> faces_across_edges(const SurfaceMesh& surface, const std::string& subject,
-                                             std::size_t corners_per_range) {
-  const std::vector<Triangle>& triangles = surface.triangles;
-  std::vector<std::int32_t> across(3 * triangles.size(), -1);
-  FirstEdge border, crowded, misoriented;
-  EdgeBuckets(triangles, surface.points.size(), corners_per_range)
+// Every edge at an owned vertex is used by exactly two faces traversing it in opposite directions;
+// a problem is counted by the share owning the edge's lower vertex (which holds every face of
+// the edge). Returns, per local corner 3 f + c, the local face across the edge from corner c to
+// c + 1 of face f when that edge is at an owned vertex and shared properly, else -1.
+std::vector<std::int32_t> find_edge_problems(const Share& share, InputFindings& found, std::size_t corners_per_range) {
+  const std::vector<Triangle>& faces = share.faces;
+  std::vector<std::int32_t> across(3 * faces.size(), -1);
+  auto face_id = [&](std::int32_t f) { return share.ids.face_id(static_cast<std::size_t>(f)); };
+  EdgeBuckets(faces, share.points.size(), corners_per_range)
       .for_each_edge([&](std::int32_t v, const EdgeBuckets::Use* uses, std::size_t count) {
-        // The faces are not degenerate: validate_topology checks that first.
         const std::int32_t w = uses[0].higher, f0 = uses[0].face;
-        const int c0 = corner_along(triangles[f0], v, w);
-        const std::size_t introduced = 3 * static_cast<std::size_t>(f0) + static_cast<std::size_t>(c0);
-        if (count == 1) return border.add(introduced, f0, -1);
-        if (count > 2) return crowded.add(introduced, f0, -1);
+        const bool counted = share.ids.owns(v);
+        if (!counted && !share.ids.owns(w)) return;  // some of its faces may be in other shares only
+        const int c0 = corner_along(faces[f0], v, w);
+        // The corner that introduces the edge: its lowest face's corner along it.
+        const std::int64_t introduced = 3 * face_id(f0) + c0;
+        if (count == 1) {
+          if (counted) found.border.add(introduced, share.vertex(faces[f0][c0]));
+          return;
+        }
+        if (count > 2) {
+          if (counted) found.crowded.add(introduced, share.vertex(v), share.vertex(w));
+          return;
+        }
         const std::int32_t f1 = uses[1].face;
-        const int c1 = corner_along(triangles[f1], v, w);
-        if ((triangles[f0][c0] < triangles[f0][(c0 + 1) % 3]) == (triangles[f1][c1] < triangles[f1][(c1 + 1) % 3]))
-          return misoriented.add(introduced, f0, f1);
-        across[introduced] = f1;
+        const int c1 = corner_along(faces[f1], v, w);
+        if ((faces[f0][c0] < faces[f0][(c0 + 1) % 3]) == (faces[f1][c1] < faces[f1][(c1 + 1) % 3])) {
+          if (counted) found.misoriented.add(introduced, face_id(f0), face_id(f1), share.vertex(v), share.vertex(w));
+          return;
+        }
+        across[3 * static_cast<std::size_t>(f0) + static_cast<std::size_t>(c0)] = f1;
         across[3 * static_cast<std::size_t>(f1) + static_cast<std::size_t>(c1)] = f0;
       });
-  auto vertices_of = [&](const FirstEdge& e) {
-    const std::uint64_t key =
-        edge_key(triangles[e.corner / 3][e.corner % 3], triangles[e.corner / 3][(e.corner % 3 + 1) % 3]);
-    return str(static_cast<long long>(key >> 32)) + " and " + str(static_cast<long long>(key & 0xffffffffu));
-  };
-  if (border.count > 0)
-    throw InputError(subject + " is not closed: " + str(border.count) + " border edge" + (border.count > 1 ? "s" : "") +
-                     ", first at vertex " + str(triangles[border.corner / 3][border.corner % 3]));
-  if (crowded.count > 0)
-    throw InputError(subject + " is not manifold: " + str(crowded.count) + " edge" + (crowded.count > 1 ? "s" : "") +
-                     " shared by more than two faces, first between vertices " + vertices_of(crowded));
-  if (misoriented.count > 0)
-    throw InputError(subject + " is not consistently oriented: faces " + str(misoriented.faces[0]) + " and " +
-                     str(misoriented.faces[1]) + " traverse the edge between vertices " + vertices_of(misoriented) +
-                     " in the same direction" +
-                     (misoriented.count > 1 ? " (" + str(misoriented.count) + " such edges)" : ""));
   return across;
 }
 
-namespace {
-
-// The faces around each vertex must form a single fan. Walk around each vertex: from corner
+// The faces around each owned vertex must form a single fan. Walk around each vertex: from corner
 // (f, v), cross the edge leaving v to the other face of that edge. With every edge shared by
 // exactly two opposite faces this is a permutation of the corners, and its cycles at v are the
-// fans of faces around v.
-void check_fans(const SurfaceMesh& surface, const std::vector<std::int32_t>& across, const std::string& subject) {
-  const std::vector<Triangle>& triangles = surface.triangles;
-  const std::size_t face_count = triangles.size();
-  std::vector<char> visited(face_count * 3, 0);
-  std::vector<std::uint32_t> fans(surface.points.size(), 0);
-  for (std::size_t start = 0; start < face_count * 3; ++start) {
-    if (visited[start]) continue;
-    const std::int32_t v = triangles[start / 3][start % 3];
+// fans of faces around v. Skipped when an edge here is not shared properly: that problem is
+// reported first (by the share owning the edge).
+void find_split_fans(const Share& share, const std::vector<std::int32_t>& across, InputFindings& found) {
+  const std::vector<Triangle>& faces = share.faces;
+  for (std::size_t corner = 0; corner < across.size(); ++corner)
+    if (across[corner] < 0 && share.ids.owns(faces[corner / 3][corner % 3])) return;
+  std::vector<char> visited(across.size(), 0);
+  std::vector<std::uint32_t> fans(share.points.size(), 0);
+  for (std::size_t start = 0; start < across.size(); ++start) {
+    const std::int32_t v = faces[start / 3][start % 3];
+    if (visited[start] || !share.ids.owns(v)) continue;
     ++fans[v];
     std::size_t corner = start;
     while (!visited[corner]) {
       visited[corner] = 1;
       const std::int32_t g = across[corner];
       int c = 0;
-      while (triangles[g][c] != v) ++c;
+      while (faces[g][c] != v) ++c;
       corner = 3 * static_cast<std::size_t>(g) + c;
     }
   }
-  long long split_vertices = 0;
-  std::int64_t first_split = -1;
   for (std::size_t v = 0; v < fans.size(); ++v)
-    if (fans[v] > 1 && split_vertices++ == 0) first_split = static_cast<std::int64_t>(v);
-  if (split_vertices > 0)
-    throw InputError(subject + " is not manifold: vertex " + str(first_split) + " joins " + str(fans[first_split]) +
-                     " separate fans of faces" +
-                     (split_vertices > 1 ? " (" + str(split_vertices) + " such vertices)" : ""));
+    if (fans[v] > 1) found.split.add(share.vertex(static_cast<std::int32_t>(v)), fans[v]);
 }
 
-void check_edges_and_fans(const SurfaceMesh& surface, const char* what) {
-  check_fans(surface, faces_across_edges(surface, what), what);
+// Six times the signed volume of the tet from `origin` to face t.
+long double six_volume_term(const std::vector<Point3>& points, const Triangle& t, const long double origin[3]) {
+  long double a[3], b[3], c[3];
+  for (int i = 0; i < 3; ++i) {
+    a[i] = points[t[0]][i] - origin[i];
+    b[i] = points[t[1]][i] - origin[i];
+    c[i] = points[t[2]][i] - origin[i];
+  }
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
+
+// Volumes are measured from the centre of the used vertices' box: small terms, so far-from-origin
+// inputs (or a far unused vertex) do not lose the volume to cancellation.
+void box_centre(const Point3& low, const Point3& high, long double origin[3]) {
+  for (int i = 0; i < 3; ++i) origin[i] = (static_cast<long double>(low[i]) + high[i]) / 2;
+}
+
+void used_box(const SurfaceMesh& surface, Point3& low, Point3& high) {
+  if (surface.triangles.empty()) return;
+  low = high = surface.points[surface.triangles[0][0]];
+  for (const Triangle& t : surface.triangles)
+    for (std::int32_t v : t)
+      for (int i = 0; i < 3; ++i) {
+        low[i] = std::min(low[i], surface.points[v][i]);
+        high[i] = std::max(high[i], surface.points[v][i]);
+      }
+}
+
+void add_volume(const Share& share, InputFindings& found) {
+  long double origin[3];
+  box_centre(share.ids.box_low, share.ids.box_high, origin);
+  for (std::size_t f = 0; f < share.faces.size(); ++f)
+    if (share.owns_face(f)) found.six_volume += six_volume_term(share.points, share.faces[f], origin);
+}
+
+}  // namespace
+
+InputFindings check_share(const InputShare& share) { return check_share(share.points, share.faces, share.numbering); }
+
+InputFindings check_share(const std::vector<Point3>& points, const std::vector<Triangle>& faces,
+                          const ShareNumbering& numbering, std::size_t corners_per_range) {
+  const Share share{points, faces, numbering};
+  InputFindings found;
+  find_degenerate_faces(share, found);
+  find_duplicate_vertices(share, found);
+  // The edges need proper triangles; a face repeating a vertex is reported first (by its share).
+  if (std::none_of(faces.begin(), faces.end(), repeats_a_vertex))
+    find_split_fans(share, find_edge_problems(share, found, corners_per_range), found);
+  add_volume(share, found);
+  return found;
+}
+
+InputFindings check_whole(const SurfaceMesh& surface) {
+  ShareNumbering whole;
+  used_box(surface, whole.box_low, whole.box_high);
+  return check_share(surface.points, surface.triangles, whole);
+}
+
+std::vector<std::int32_t> faces_across_edges(const SurfaceMesh& surface, const std::string& subject,
+                                             std::size_t corners_per_range) {
+  const ShareNumbering whole;
+  InputFindings found;
+  std::vector<std::int32_t> across =
+      find_edge_problems({surface.points, surface.triangles, whole}, found, corners_per_range);
+  throw_first_problem(found, subject);  // only the edges' problems were looked for
+  return across;
+}
+
+namespace {
 
 // True if faces a and b share more than a common edge or vertex (mirrors the rules of CGAL's
 // Polygon_mesh_processing::does_self_intersect, but on indices so it works on any soup).
@@ -388,17 +437,17 @@ void check_shell_nesting(const SurfaceMesh& surface) {
 void validate_indices(const SurfaceMesh& surface) { check_indices_and_coordinates(surface, "input"); }
 
 void validate_topology(const SurfaceMesh& surface) {
-  const char* what = "input";
-  check_indices_and_coordinates(surface, what);
-  check_degenerate_faces(surface, what);
-  check_duplicate_vertices(surface, what);
-  check_edges_and_fans(surface, what);
+  check_indices_and_coordinates(surface, "input");
+  throw_first_problem(check_whole(surface), "input");
 }
 
 void check_no_self_intersections(const SurfaceMesh& surface, const char* what) {
   // The intersection predicates require proper triangles.
   check_indices_and_coordinates(surface, what);
-  check_degenerate_faces(surface, what);
+  const ShareNumbering whole;
+  InputFindings degenerate;
+  find_degenerate_faces({surface.points, surface.triangles, whole}, degenerate);
+  throw_first_problem(degenerate, what);
 
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
   const std::vector<Point3>& points = surface.points;
@@ -429,30 +478,12 @@ void check_no_self_intersections(const SurfaceMesh& surface, const char* what) {
 double enclosed_volume(const SurfaceMesh& surface) { return static_cast<double>(enclosed_volume_precise(surface)); }
 
 long double enclosed_volume_precise(const SurfaceMesh& surface) {
-  if (surface.triangles.empty()) return 0.0;
-  // Measuring from the centre of the used vertices' bounding box keeps the terms small, so that
-  // far-from-origin inputs (or a far unused vertex) do not lose the volume to cancellation.
-  Point3 lo = surface.points[surface.triangles[0][0]], hi = lo;
-  for (const Triangle& t : surface.triangles)
-    for (std::int32_t v : t)
-      for (int i = 0; i < 3; ++i) {
-        lo[i] = std::min(lo[i], surface.points[v][i]);
-        hi[i] = std::max(hi[i], surface.points[v][i]);
-      }
-  long double origin[3];
-  for (int i = 0; i < 3; ++i) origin[i] = (static_cast<long double>(lo[i]) + hi[i]) / 2;
-
+  long double origin[3] = {0, 0, 0};
+  Point3 low{}, high{};
+  used_box(surface, low, high);
+  box_centre(low, high, origin);
   long double six_volume = 0;
-  for (const Triangle& t : surface.triangles) {
-    long double a[3], b[3], c[3];
-    for (int i = 0; i < 3; ++i) {
-      a[i] = surface.points[t[0]][i] - origin[i];
-      b[i] = surface.points[t[1]][i] - origin[i];
-      c[i] = surface.points[t[2]][i] - origin[i];
-    }
-    six_volume +=
-        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
-  }
+  for (const Triangle& t : surface.triangles) six_volume += six_volume_term(surface.points, t, origin);
   return six_volume / 6;
 }
 

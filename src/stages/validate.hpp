@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "stages/input_share.hpp"
 
 namespace partet {
 
@@ -17,6 +18,15 @@ void validate_indices(const SurfaceMesh& surface);
 // Combinatorial and degeneracy checks (cheap, linear). Throws InputError naming the first
 // problem and where it is, e.g. "input is not closed: 12 border edges, first at vertex 381".
 void validate_topology(const SurfaceMesh& surface);
+
+// The checks of validate_topology (and the enclosed volume) on one share of an input
+// (input_share.hpp), or on the whole input as one share; the indices must be valid
+// (validate_indices). The edges are gathered corners_per_range at a time (a bound on the
+// memory; the findings do not depend on it).
+InputFindings check_share(const InputShare& share);
+InputFindings check_share(const std::vector<Point3>& points, const std::vector<Triangle>& faces,
+                          const ShareNumbering& numbering, std::size_t corners_per_range = std::size_t(8) << 20);
+InputFindings check_whole(const SurfaceMesh& surface);
 
 // Every undirected edge is used by exactly two faces traversing it in opposite directions, else
 // InputError naming the first that is not ("subject is not closed: ..."). Returns, for each
