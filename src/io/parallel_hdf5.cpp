@@ -5,6 +5,8 @@
 #include <hdf5.h>
 
 #include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <type_traits>
@@ -69,9 +71,18 @@ struct Rows {
   std::uint64_t count, first, total;
 };
 
+// Whether the file system holding `path` is full: HDF5 reports only that a write failed.
+bool file_system_full(const std::string& path) {
+  struct statvfs fs {};
+  if (statvfs(path.c_str(), &fs) != 0) return false;
+  const auto blocks = ::geteuid() == 0 ? fs.f_bfree : fs.f_bavail;  // root may use the reserved blocks
+  return static_cast<double>(blocks) * static_cast<double>(fs.f_frsize) < double(1 << 20);
+}
+
 class Hdf5File {
  public:
-  Hdf5File(MPI_Comm comm, const std::string& path, const std::string& shown) : comm_(comm), shown_(shown) {
+  Hdf5File(MPI_Comm comm, const std::string& path, const std::string& shown)
+      : comm_(comm), path_(path), shown_(shown) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
     Hid access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
     H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL);
@@ -137,11 +148,12 @@ class Hdf5File {
 
   [[noreturn]] void fail(const std::string& step) {
     throw OutputError("cannot write '" + shown_ + "': parallel HDF5 could not " + step +
-                      " (is the directory writable, is there space left?)");
+                      (file_system_full(path_) ? ": No space left on device"
+                                               : " (is the directory writable, is there space left?)"));
   }
 
   MPI_Comm comm_;
-  std::string shown_;
+  std::string path_, shown_;
   hid_t file_ = -1;
 };
 

@@ -697,6 +697,10 @@ void join_writes(JobStatus& status) {
 
 constexpr std::size_t kStreamPartValues = std::size_t{1} << 19;  // values per broadcast part
 
+// How many shares the input's check has with `size` ranks: one per rank but 0, as many as a
+// vertex's 16-bit share can name (ranks beyond check an empty share).
+int input_shares(int size) { return std::min(size - 1, 65535); }
+
 // Rank 0's side of one stream.
 template <class T>
 void broadcast_values(const std::vector<T>& values) {
@@ -738,7 +742,7 @@ void send_input_for_checks(const SurfaceMesh& input, int size) {
   std::uint64_t counts[2] = {input.points.size(), input.triangles.size()};
   MPI_Request request = start_broadcast(counts, sizeof counts, 0, job_comm());
   bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kWorkerSeconds); });
-  broadcast_values(vertex_shares(input.points, size - 1));
+  broadcast_values(vertex_shares(input.points, input_shares(size)));
   broadcast_values(input.triangles);
   broadcast_values(input.points);
 }
@@ -768,7 +772,7 @@ std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
   std::exception_ptr failure;
   std::optional<InputShareBuilder> builder;
   try {
-    builder.emplace(rank - 1, size - 1, counts[0], counts[1]);
+    builder.emplace(rank - 1, input_shares(size), counts[0], counts[1]);
   } catch (...) {
     failure = std::current_exception();
   }

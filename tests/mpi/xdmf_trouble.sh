@@ -6,6 +6,7 @@
 #   lost-rows:  the same, writing TetGen files;
 #   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
 #               the run ends with the disk's error, nothing left behind, no rank left waiting;
+#   full-hdf5:  the same while both ranks write the XDMF set's HDF5 file;
 #   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
@@ -67,3 +68,14 @@ umount full
 grep -q "cannot write 'full/m\.[a-z]*': No space left on device" log || { echo "FAIL: full: the error:"; cat log; exit 1; }
 [ -z "$left" ] || { echo "FAIL: full: files left: $left"; exit 1; }
 echo "ok: full: $(grep -o "cannot write[^;]*" log | head -n 1), nothing left"
+
+# full-hdf5: the disk fills while both ranks write the XDMF set's HDF5 file at once.
+mount -t tmpfs -o size=1m tmpfs full
+if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o full/m.xdmf --pieces 4 --quiet 2> log; then
+  umount full; echo "FAIL: full-hdf5: a full disk exited 0"; exit 1
+fi
+left=$(ls full)
+umount full
+grep -q "m\.h5.*No space left on device" log || { echo "FAIL: full-hdf5: the error:"; cat log; exit 1; }
+[ -z "$left" ] || { echo "FAIL: full-hdf5: files left: $left"; exit 1; }
+echo "ok: full-hdf5: $(grep -o "[^:]*m\.h5[^;]*" log | head -n 1), nothing left"
