@@ -180,12 +180,21 @@ int launched_rank() {
   return 0;
 }
 
+// How many ranks an MPI launcher started (before MPI_Init: from its environment); 1 without one.
+int launched_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* value = std::getenv(name)) return std::atoi(value);
+  if (std::getenv("SLURM_PROCID"))  // started by srun
+    if (const char* value = std::getenv("SLURM_STEP_NUM_TASKS")) return std::atoi(value);
+  return 1;
+}
+
 // A usage error: one line from the first rank, exit code 2. Under a launcher the other ranks
 // wait until it has said it (a barrier): one that exited first could make the launcher end the
 // job before the first rank has even started, and the user would see no reason.
 int usage_error(int argc, char** argv, const std::string& message) {
   if (launched_rank() == 0) partet::log::error(message);
-  if (std::getenv("OMPI_COMM_WORLD_SIZE") && std::atoi(std::getenv("OMPI_COMM_WORLD_SIZE")) > 1) {
+  if (launched_size() > 1) {
     MPI_Init(&argc, &argv);
     MPI_Barrier(MPI_COMM_WORLD);
     MPI_Finalize();

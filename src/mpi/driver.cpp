@@ -113,6 +113,10 @@ Command receive_command() {
   return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, job_comm(), collective_limit()); }));
 }
 
+// How long a rank waits for the check of an input of `faces` faces: kWorkerSeconds + 1 s per
+// million faces (rank 0 for rank 1's verdict, rank 1 for the other checking ranks' findings).
+double input_check_limit(std::size_t faces) { return kWorkerSeconds + 1e-6 * static_cast<double>(faces); }
+
 // Adds the seconds an object lives to a total.
 struct AddSeconds {
   double& total;
@@ -145,8 +149,7 @@ class RootScheduler : public PieceScheduler {
   // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
   void expect_input_verdict(std::size_t faces) {
     verdict_pending_ = true;
-    // kWorkerSeconds + 1 s per million faces
-    verdict_limit_ = test_hooks::verdict_wait_seconds(kWorkerSeconds + 1e-6 * static_cast<double>(faces));
+    verdict_limit_ = test_hooks::verdict_wait_seconds(input_check_limit(faces));
   }
 
   bool confirm_input() override {
@@ -706,8 +709,7 @@ template <class T>
 void broadcast_values(const std::vector<T>& values) {
   for (std::size_t first = 0; first < values.size(); first += kStreamPartValues) {
     const std::size_t n = std::min(kStreamPartValues, values.size() - first);
-    MPI_Request request = start_broadcast(const_cast<T*>(values.data() + first), n * sizeof(T), 0, job_comm());
-    bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kWorkerSeconds); });
+    bounded([&] { broadcast_bytes(const_cast<T*>(values.data() + first), n * sizeof(T), 0, job_comm(), kWorkerSeconds); });
   }
 }
 
@@ -740,8 +742,7 @@ void receive_values(std::size_t count, std::exception_ptr& failure, const Take& 
 
 void send_input_for_checks(const SurfaceMesh& input, int size) {
   std::uint64_t counts[2] = {input.points.size(), input.triangles.size()};
-  MPI_Request request = start_broadcast(counts, sizeof counts, 0, job_comm());
-  bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kWorkerSeconds); });
+  bounded([&] { broadcast_bytes(counts, sizeof counts, 0, job_comm(), kWorkerSeconds); });
   broadcast_values(vertex_shares(input.points, input_shares(size)));
   broadcast_values(input.triangles);
   broadcast_values(input.points);
@@ -767,8 +768,7 @@ std::string error_message(std::exception_ptr failure, int rank) {
 
 // Receives this rank's share of the input and checks it: "F" + the findings, or "E" + an error.
 std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
-  MPI_Request request = start_broadcast(counts, sizeof counts, 0, job_comm());
-  bounded([&] { return wait_sleeping(request, MPI_STATUS_IGNORE, kRootSeconds); });
+  bounded([&] { broadcast_bytes(counts, sizeof counts, 0, job_comm(), kRootSeconds); });
   std::exception_ptr failure;
   std::optional<InputShareBuilder> builder;
   try {
@@ -790,7 +790,7 @@ std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
 
 // Rank 1: its own and the other ranks' findings, merged in rank order, judged.
 std::string input_verdict(const std::string& own, int size, std::size_t faces) {
-  const double limit = kWorkerSeconds + 1e-6 * static_cast<double>(faces);
+  const double limit = input_check_limit(faces);
   InputFindings merged;
   for (int rank = 1; rank < size; ++rank) {
     std::string findings = own;

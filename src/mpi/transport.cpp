@@ -66,6 +66,11 @@ MPI_Request start_broadcast(void* data, std::size_t bytes, int root, MPI_Comm co
   return request;
 }
 
+void broadcast_bytes(void* data, std::size_t bytes, int root, MPI_Comm comm, double timeout_seconds) {
+  MPI_Request request = start_broadcast(data, bytes, root, comm);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
+}
+
 bool all_true(bool mine, MPI_Comm comm, double timeout_seconds) {
   int value = mine ? 1 : 0, all = 0;
   MPI_Request request;

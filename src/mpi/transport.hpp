@@ -38,6 +38,8 @@ int broadcast_int(int value, int root, MPI_Comm comm, double timeout_seconds = 0
 bool all_true(bool mine, MPI_Comm comm, double timeout_seconds = 0);  // every rank learns whether all said true
 // Starts a broadcast of `bytes` (at most INT_MAX) at `data` from root; wait_sleeping finishes it.
 MPI_Request start_broadcast(void* data, std::size_t bytes, int root, MPI_Comm comm);
+// The same, waiting for it (at most timeout_seconds; 0: no limit).
+void broadcast_bytes(void* data, std::size_t bytes, int root, MPI_Comm comm, double timeout_seconds = 0);
 void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm, double timeout_seconds = 0);
 
 }  // namespace partet::mpi

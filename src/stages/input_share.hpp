@@ -82,7 +82,7 @@ class InputShareBuilder {
   InputShare finish();  // after every part has come
 
  private:
-  bool mine(std::int32_t v) const { return shares_ == 1 || owner_[static_cast<std::size_t>(v)] == share_; }
+  bool mine(std::int32_t v) const { return owner_[static_cast<std::size_t>(v)] == share_; }  // with several shares
   static bool bit(const std::vector<std::uint64_t>& bits, std::size_t i) { return (bits[i >> 6] >> (i & 63)) & 1; }
   static void set(std::vector<std::uint64_t>& bits, std::size_t i) { bits[i >> 6] |= std::uint64_t{1} << (i & 63); }
 
