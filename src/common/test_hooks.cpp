@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <new>
 #include <string>
 #include <thread>
 
@@ -60,6 +61,14 @@ void worker_stop(int rank) {
 
 void verdict_stop(int rank) {
   if (rank == 1 && injected("worker:stop-before-verdict")) ::raise(SIGSTOP);
+}
+
+void share_failure(int rank) {
+  if (rank == 2 && injected("worker:share-out-of-memory")) throw std::bad_alloc();
+}
+
+void share_stop(int rank) {
+  if (rank == 2 && injected("worker:stop-before-findings")) ::raise(SIGSTOP);
 }
 
 double verdict_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_VERDICT_WAIT_S", fallback); }

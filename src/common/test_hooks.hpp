@@ -21,7 +21,14 @@ void worker_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-before-verdict": rank 1 stops itself (SIGSTOP) once it has
 // checked the input, before it reports the verdict rank 0 waits for.
 void verdict_stop(int rank);
-// PARTET_TEST_VERDICT_WAIT_S=S: how long rank 0 waits for rank 1's verdict (else fallback).
+// PARTET_INJECT_FAILURE="worker:share-out-of-memory": rank 2 runs out of memory checking its
+// share of the input (std::bad_alloc).
+void share_failure(int rank);
+// PARTET_INJECT_FAILURE="worker:stop-before-findings": rank 2 stops itself (SIGSTOP) once it has
+// checked its share of the input, before it sends its findings to rank 1.
+void share_stop(int rank);
+// PARTET_TEST_VERDICT_WAIT_S=S: how long rank 1 waits for the other ranks' findings (else
+// fallback); rank 0 waits twice that for rank 1's verdict.
 double verdict_wait_seconds(double fallback);
 // PARTET_INJECT_FAILURE="worker:abort-before-agreement": rank 1 dies after its last piece, while
 // rank 0 writes (the job must then publish nothing).

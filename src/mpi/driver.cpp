@@ -113,9 +113,11 @@ Command receive_command() {
   return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, job_comm(), collective_limit()); }));
 }
 
-// How long a rank waits for the check of an input of `faces` faces: kWorkerSeconds + 1 s per
-// million faces (rank 0 for rank 1's verdict, rank 1 for the other checking ranks' findings).
-double input_check_limit(std::size_t faces) { return kWorkerSeconds + 1e-6 * static_cast<double>(faces); }
+// How long rank 1 waits for the other checking ranks' findings on an input of `faces` faces:
+// kWorkerSeconds + 1 s per million faces (rank 0 waits twice that for rank 1's verdict).
+double input_check_limit(std::size_t faces) {
+  return test_hooks::verdict_wait_seconds(kWorkerSeconds + 1e-6 * static_cast<double>(faces));
+}
 
 // Adds the seconds an object lives to a total.
 struct AddSeconds {
@@ -149,7 +151,9 @@ class RootScheduler : public PieceScheduler {
   // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
   void expect_input_verdict(std::size_t faces) {
     verdict_pending_ = true;
-    verdict_limit_ = test_hooks::verdict_wait_seconds(input_check_limit(faces));
+    // Twice rank 1's own wait for the other ranks (input_verdict): when one of them stalls,
+    // rank 1's verdict naming it comes first, not a timeout here naming rank 1.
+    verdict_limit_ = 2 * input_check_limit(faces);
   }
 
   bool confirm_input() override {
@@ -164,7 +168,9 @@ class RootScheduler : public PieceScheduler {
     }
     if (verdict.empty()) return true;
     if (verdict[0] == 'I') throw InputError(verdict.substr(1));
-    throw Error(verdict.substr(1));
+    // A checking rank failed or fell silent: the input is not known to be valid, and another
+    // partition would not change that (nor wake a stopped rank).
+    abort_job(verdict.substr(1));
   }
 
   void begin_round(const TetgenOptions& tetgen) override {
@@ -780,6 +786,7 @@ std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
   receive_values<Triangle>(counts[1], failure, [&](auto* v, std::size_t n) { builder->add_faces(v, n); });
   receive_values<Point3>(counts[0], failure, [&](auto* v, std::size_t n) { builder->add_points(v, n); });
   if (!failure) try {
+      test_hooks::share_failure(rank);
       const InputFindings findings = check_share(builder->finish());
       return "F" + std::string(reinterpret_cast<const char*>(&findings), sizeof findings);
     } catch (...) {
@@ -790,12 +797,13 @@ std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
 
 // Rank 1: its own and the other ranks' findings, merged in rank order, judged.
 std::string input_verdict(const std::string& own, int size, std::size_t faces) {
-  const double limit = input_check_limit(faces);
+  // One deadline for all of them, so rank 0's wait for this verdict (twice the limit) ends later.
+  const double limit = input_check_limit(faces), deadline = now_seconds() + limit;
   InputFindings merged;
   for (int rank = 1; rank < size; ++rank) {
     std::string findings = own;
     if (rank > 1) try {
-        findings = recv_bytes(rank, kTagFindings, job_comm(), kMaxChunk, limit);
+        findings = recv_bytes(rank, kTagFindings, job_comm(), kMaxChunk, std::max(deadline - now_seconds(), 1e-3));
       } catch (const Stalled&) {
         return "Erank " + std::to_string(rank) + " has not reported its share of the input check within " +
                std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)";
@@ -821,6 +829,7 @@ void check_input_on_rank(int rank, int size, RankStats& stats) {
   const std::string findings = check_input_share(rank, size, counts);
   stats.input_check_seconds = now_seconds() - start;
   if (rank > 1) {
+    test_hooks::share_stop(rank);
     bounded([&] { return send_bytes(findings, 1, kTagFindings, job_comm(), kMaxChunk, kRootSeconds); });
     return;
   }

@@ -6,8 +6,14 @@
 #            rank 0's next piece, larger than MPI's eager limit, waits for someone to take it.
 #   verdict: rank 1 stops itself after checking the input, before reporting it
 #            (worker:stop-before-verdict); rank 0 waits for that verdict before the first piece,
-#            for PARTET_TEST_VERDICT_WAIT_S (3 s here; 120 s + 1 s per million faces normally).
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict]
+#            for twice PARTET_TEST_VERDICT_WAIT_S (3 s here, so 6 s; normally 120 s + 1 s per
+#            million faces, twice).
+#   share:   4 ranks; rank 2 stops itself after checking its share of the input, before sending
+#            its findings to rank 1 (worker:stop-before-findings). Rank 1 must name rank 2 (after
+#            3 s), before rank 0's longer wait could blame rank 1.
+#   share-oom: 4 ranks; rank 2 runs out of memory checking its share (worker:share-out-of-memory):
+#            the job ends at once with rank 2's own message.
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -15,12 +21,20 @@ trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 "$partet" generate torus --faces 60000 -o "$work/torus.off" > /dev/null || exit 1
 inject=()
 [ "$mode" = idle ] && inject=(-x PARTET_INJECT_FAILURE) && export PARTET_INJECT_FAILURE=worker:stop-when-idle
-if [ "$mode" = verdict ]; then
-  inject=(-x PARTET_INJECT_FAILURE -x PARTET_TEST_VERDICT_WAIT_S)
-  export PARTET_INJECT_FAILURE=worker:stop-before-verdict PARTET_TEST_VERDICT_WAIT_S=3
-fi
+ranks=(-n 2)
+case $mode in
+  verdict) export PARTET_INJECT_FAILURE=worker:stop-before-verdict ;;
+  share) export PARTET_INJECT_FAILURE=worker:stop-before-findings ;;
+  share-oom) export PARTET_INJECT_FAILURE=worker:share-out-of-memory ;;
+esac
+case $mode in
+  verdict | share | share-oom)
+    inject=(-x PARTET_INJECT_FAILURE -x PARTET_TEST_VERDICT_WAIT_S)
+    export PARTET_TEST_VERDICT_WAIT_S=3 ;;
+esac
+case $mode in share*) ranks=(-n 4 --oversubscribe) ;; esac
 start=$(date +%s)
-timeout 120 "$mpiexec" -n 2 "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
+timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
   --piece-timeout 2 > "$work/log" 2>&1 &
 launcher=$!
 if [ "$mode" = meshing ]; then
@@ -44,8 +58,14 @@ fail() { echo "FAIL: $*"; cat "$work/log"; exit 1; }
 [ "$code" -ne 0 ] || fail "exit code 0"
 [ "$code" -ne 124 ] || fail "the job hung (killed after 120 s)"
 [ "$elapsed" -le 40 ] || fail "took ${elapsed} s (limit 40 s)"
-expected="rank 1 has not answered"
-[ "$mode" = verdict ] && expected="rank 1 has not reported its check of the input within 3 s"
-grep -q "$expected" "$work/log" || fail "no message naming rank 1"
+case $mode in
+  verdict) expected="rank 1 has not reported its check of the input within 6 s" ;;
+  share) expected="rank 2 has not reported its share of the input check within 3 s" ;;
+  share-oom) expected="rank 2 ran out of memory" ;;
+  *) expected="rank 1 has not answered" ;;
+esac
+grep -q "$expected" "$work/log" || fail "no message '$expected'"
+[ "$mode" != share ] || ! grep -q "rank 1 has not" "$work/log" || fail "rank 1 blamed for rank 2's silence"
+[ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
-echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 'rank 1 has' "$work/log")"
+echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 "$expected" "$work/log")"
