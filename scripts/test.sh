@@ -2,7 +2,8 @@
 # The README's second command (and CI): install, build, run the whole test suite.
 # Set PARTET_TEST_LABEL to run one label only (e.g. unit, mpi, models). PARTET_TEST_SLURM=1 (set by
 # CI) also installs Slurm and munge, starts a private single-node Slurm and runs the cluster/
-# batch recipes in it (tests/cluster/slurm.sh).
+# batch recipes in it, then the same on three nodes made of network namespaces
+# (tests/cluster/slurm.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -20,4 +21,6 @@ if [ "${PARTET_TEST_SLURM:-0}" = 1 ]; then
   model=../shared/meshes/fertility.off
   [ -f "$model" ] || model=""
   tests/cluster/slurm.sh build/partet $model
+  # Three nodes (network namespaces, each with its own slurmd): jobs spanning them.
+  tests/cluster/slurm.sh --nodes 3 build/partet $model
 fi

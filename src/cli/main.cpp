@@ -162,9 +162,9 @@ int run_check_xdmf(const std::string& input_path, const std::string& xdmf_path, 
   } else {
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    std::printf("%lld vertices, %lld tets, %lld boundary faces (checked on %d ranks)\n",
+    std::printf("%lld vertices, %lld tets, %lld boundary faces (checked on %d rank%s)\n",
                 static_cast<long long>(report.vertices), static_cast<long long>(report.tets),
-                static_cast<long long>(report.boundary_faces), ranks);
+                static_cast<long long>(report.boundary_faces), ranks, ranks == 1 ? "" : "s");
     std::printf("volume %.17g (input encloses %.17g), V-E+F-T %ld (expected %ld)\n", report.tet_volume,
                 report.surface_volume, report.euler_mesh, report.euler_expected);
     for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());

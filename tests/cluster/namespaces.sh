@@ -16,39 +16,22 @@
 set -euo pipefail
 partet=$(realpath "$1") mpiexec=$2
 here=$(cd "$(dirname "$0")" && pwd)
-tag=$(( $$ % 100000 ))
-net="10.$(( $$ % 200 + 20 )).$(( $$ / 200 % 250 ))"  # a private /24 of its own
-bridge=ptb$tag
-nodes=(ptn${tag}a ptn${tag}b ptn${tag}c)
+source "$here/nodes.sh"
+nodes=() bridge=""
 work=$(mktemp -d)
 
 cleanup() {
-  for ns in "${nodes[@]}"; do ip netns del "$ns" 2> /dev/null || true; done
-  ip link del "$bridge" 2> /dev/null || true
+  remove_nodes
   rm -rf "$work"
 }
 trap cleanup EXIT
 
-if [ "$(id -u)" -ne 0 ] || ! ip netns add "${nodes[0]}" 2> /dev/null || ! unshare --uts --mount true 2> /dev/null; then
+if ! can_make_nodes; then
   echo "skipped: needs root with ip netns and unshare"
   exit 77
 fi
-ip link add "$bridge" type bridge
-ip addr add "$net.1/24" dev "$bridge"
-ip link set "$bridge" up
-hosts=()
-for i in 0 1 2; do
-  ns=${nodes[$i]}
-  [ "$i" -eq 0 ] || ip netns add "$ns"
-  ip link add "v$tag$i" type veth peer name "e$tag$i"
-  ip link set "e$tag$i" netns "$ns"
-  ip link set "v$tag$i" master "$bridge" up
-  ip -n "$ns" addr add "$net.$((i + 2))/24" dev "e$tag$i"
-  ip -n "$ns" link set "e$tag$i" up
-  ip -n "$ns" link set lo up
-  hosts+=("$net.$((i + 2))")
-  echo "$net.$((i + 2)) $ns node$((i + 1))" >> "$work/nodes"  # address, namespace, hostname
-done
+make_nodes 3
+for i in 0 1 2; do echo "${hosts[$i]} ${nodes[$i]} node$((i + 1))" >> "$work/nodes"; done  # address, namespace, hostname
 
 mkdir -p "$work/shared" "$work/scratch"
 export PARTET_NODES=$work/nodes PARTET_NODE_SCRATCH=$work/scratch

@@ -1,16 +1,30 @@
 #!/usr/bin/env bash
-# A real single-node Slurm, started by hand: installs Debian's slurmctld, slurmd, slurm-client and
-# munge if missing, writes a private configuration (this machine's CPUs and memory, non-default
-# ports, all state in a temporary directory), starts munged, slurmctld and slurmd, submits every
-# sbatch recipe in cluster/ (unchanged but for its arguments) on INPUT, waits for them, prints
-# each job's log (ending with its `partet check` result) and stops the daemons by PID, also on
-# failure.
-# Usage: tests/cluster/slurm.sh PARTET [INPUT]   (INPUT default: a generated genus-3 surface)
+# A real Slurm, started by hand: installs Debian's slurmctld, slurmd, slurm-client and munge if
+# missing, writes a private configuration (this machine's CPUs and memory, non-default ports, all
+# state in a temporary directory), starts munged, slurmctld and slurmd, submits every sbatch
+# recipe in cluster/ (unchanged but for its arguments) on INPUT, waits for them, prints each
+# job's log (ending with its `partet check` result) and stops the daemons by PID, also on failure.
+#
+# With --nodes 3 the cluster has three nodes: network namespaces with their own address on a
+# private bridge (tests/cluster/nodes.sh), hostname and /tmp, each running its own slurmd, all
+# sharing the job directory (as a cluster shares its home or project filesystem). The jobs then
+# span the three nodes (srun --mpi=pmix and mpirun inside the allocation, the ranks talking over
+# TCP between the nodes' addresses), and their TetGen files and XDMF set must be byte-identical to
+# a 1-process run's.
+# Usage: tests/cluster/slurm.sh [--nodes 3] PARTET [INPUT]   (INPUT default: a generated genus-3 surface)
+# PARTET_KEEP_SLURM=1 keeps the run directory (configuration, daemon and job logs) for a look.
 set -euo pipefail
+node_count=1
+if [ "${1:-}" = --nodes ]; then node_count=$2; shift 2; fi
 partet=$(realpath "${1:?partet binary}")
 project=$(cd "$(dirname "$0")/../.." && pwd)
+source "$project/tests/cluster/nodes.sh"
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+if [ "$node_count" -gt 1 ] && ! can_make_nodes; then
+  echo "skipped: several nodes need root with ip netns and unshare"
+  exit 77
+fi
 
 # 1. Packages.
 need=()
@@ -24,15 +38,17 @@ if [ ${#need[@]} -gt 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" > /dev/null
 fi
 
-# 2. A private configuration. Everything lives in $run; the daemons' PIDs are kept to stop them.
-run=$(mktemp -d /tmp/partet-slurm.XXXXXX)
+# 2. A private configuration. Everything lives in $run (outside /tmp, which each node of
+# several has of its own); the daemons' PIDs are kept to stop them.
+run=$(mktemp -d /var/tmp/partet-slurm.XXXXXX)
 chmod 755 "$run"
-pids=()
+pids=() nodes=() bridge=""
 stop_daemons() {
-  for pid in "${pids[@]}"; do $SUDO kill "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]}" $(cat "$run"/slurmd.*.pid 2>/dev/null); do $SUDO kill "$pid" 2>/dev/null || true; done
   sleep 1
-  for pid in "${pids[@]}"; do $SUDO kill -9 "$pid" 2>/dev/null || true; done
-  rm -rf "$run"
+  for pid in "${pids[@]}" $(cat "$run"/slurmd.*.pid 2>/dev/null); do $SUDO kill -9 "$pid" 2>/dev/null || true; done
+  remove_nodes
+  [ -n "${PARTET_KEEP_SLURM:-}" ] || rm -rf "$run"
 }
 trap stop_daemons EXIT
 user=$(id -un)
@@ -40,10 +56,23 @@ host=$(hostname -s)
 cpus=$(nproc)
 mem_mb=$(awk '/MemTotal/ { printf "%d", $2 / 1024 * 0.9 }' /proc/meminfo)
 port=$((20000 + RANDOM % 20000))
-mkdir -p "$run/state" "$run/spool" "$run/jobs"
+mkdir -p "$run/state" "$run/jobs"
+if [ "$node_count" -eq 1 ]; then
+  controller=$host
+  node_lines="NodeName=$host CPUs=$cpus RealMemory=$mem_mb State=UNKNOWN"
+  node_list=$host
+else
+  make_nodes "$node_count"
+  controller="$host($net.1)"  # the nodes reach it over the bridge
+  node_lines=""
+  for ((i = 0; i < node_count; i++)); do
+    node_lines+="NodeName=node$((i + 1)) NodeAddr=${hosts[$i]} CPUs=$cpus RealMemory=$((mem_mb / node_count)) State=UNKNOWN"$'\n'
+  done
+  node_list="node[1-$node_count]"
+fi
 cat > "$run/slurm.conf" <<CONF
 ClusterName=partet-test
-SlurmctldHost=$host
+SlurmctldHost=$controller
 SlurmctldPort=$port
 SlurmdPort=$((port + 1))
 SlurmUser=$user
@@ -52,11 +81,11 @@ AuthType=auth/munge
 AuthInfo=socket=$run/munge.socket
 CredType=cred/munge
 StateSaveLocation=$run/state
-SlurmdSpoolDir=$run/spool
+SlurmdSpoolDir=$run/spool.%n
 SlurmctldPidFile=$run/slurmctld.pid
-SlurmdPidFile=$run/slurmd.pid
+SlurmdPidFile=$run/slurmd.%n.pid
 SlurmctldLogFile=$run/slurmctld.log
-SlurmdLogFile=$run/slurmd.log
+SlurmdLogFile=$run/slurmd.%n.log
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 JobAcctGatherType=jobacct_gather/none
@@ -65,8 +94,8 @@ SelectTypeParameters=CR_Core_Memory
 MpiDefault=none
 ReturnToService=2
 SchedulerType=sched/builtin
-NodeName=$host CPUs=$cpus RealMemory=$mem_mb State=UNKNOWN
-PartitionName=test Nodes=$host Default=YES MaxTime=60 State=UP
+$node_lines
+PartitionName=test Nodes=$node_list Default=YES MaxTime=60 State=UP
 CONF
 export SLURM_CONF=$run/slurm.conf
 
@@ -79,15 +108,25 @@ pids+=("$(cat "$run/munged.pid")")
 $SUDO env SLURM_CONF="$SLURM_CONF" slurmctld -f "$SLURM_CONF"
 for _ in $(seq 50); do [ -s "$run/slurmctld.pid" ] && break; sleep 0.1; done
 pids+=("$(cat "$run/slurmctld.pid")")
-$SUDO env SLURM_CONF="$SLURM_CONF" slurmd -f "$SLURM_CONF"
-for _ in $(seq 50); do [ -s "$run/slurmd.pid" ] && break; sleep 0.1; done
-pids+=("$(cat "$run/slurmd.pid")")
+# A node of several: its network namespace (nsenter, which keeps this machine's /sys and so its
+# cgroups), its own hostname and /tmp (PMIx keeps per-step directories there).
+if [ "$node_count" -eq 1 ]; then
+  $SUDO env SLURM_CONF="$SLURM_CONF" slurmd -f "$SLURM_CONF"
+else
+  for ((i = 0; i < node_count; i++)); do
+    name=node$((i + 1))
+    mkdir -p "$run/spool.$name"
+    nsenter --net="/run/netns/${nodes[$i]}" unshare --uts --mount --propagation private \
+      sh -c 'mount -t tmpfs tmpfs /tmp && hostname "$1" && exec slurmd -f "$SLURM_CONF" -N "$1"' node "$name"
+  done
+fi
 for _ in $(seq 100); do
-  sinfo -h -o %T 2>/dev/null | grep -q idle && break
+  [ "$(sinfo -h -N -o %T 2>/dev/null | grep -c idle)" -eq "$node_count" ] && break
   sleep 0.2
 done
-sinfo -h -o "%P %D %T %c %m" | sed 's/^/slurm test: node /'
-sinfo -h -o %T | grep -q idle || { echo "FAIL: the node never became idle"; cat "$run"/slurm*.log; exit 1; }
+sinfo -h -N -o "%N %T %c %m" | sed 's/^/slurm test: node /'
+[ "$(sinfo -h -N -o %T | grep -c idle)" -eq "$node_count" ] || {
+  echo "FAIL: not every node became idle"; tail -n 20 "$run"/slurm*.log; exit 1; }
 
 # 4. Every recipe in cluster/, unchanged: srun --mpi=pmix, mpirun inside the allocation, the
 # multi-node job (on this one node: its resources overridden on the sbatch line), and a job array
@@ -114,13 +153,34 @@ submit() {  # NAME LOG SBATCH-OPTIONS... -- RECIPE ARGS...
   id=$(sbatch --parsable "${over[@]}" --mem=2G --chdir="$run/jobs" --output="$run/jobs/$log" "${options[@]}" "$@")
   echo "slurm test: submitted $name as job $id"
   jobs+=("$id")
+  job_names+=("$name")
 }
-jobs=()
-submit srun slurm-srun.log -- "$project/cluster/slurm-srun.sbatch" "$input" "$run/jobs/srun/out"
-submit mpirun slurm-mpirun.log -- "$project/cluster/slurm-mpirun.sbatch" "$input" "$run/jobs/mpirun/out"
-submit multinode slurm-multinode.log --nodes=1 --ntasks-per-node=2 --time=10 \
-  -- "$project/cluster/slurm-multinode.sbatch" "$input" "$run/jobs/multinode/out"
-submit array "slurm-array-%a.log" --array=1-2 -- "$project/cluster/slurm-array.sbatch" "$run/jobs/inputs.txt" "$run/jobs/array"
+jobs=() job_names=()
+if [ "$node_count" -eq 1 ]; then
+  submit srun slurm-srun.log -- "$project/cluster/slurm-srun.sbatch" "$input" "$run/jobs/srun/out"
+  submit mpirun slurm-mpirun.log -- "$project/cluster/slurm-mpirun.sbatch" "$input" "$run/jobs/mpirun/out"
+  submit multinode slurm-multinode.log --nodes=1 --ntasks-per-node=2 --time=10 \
+    -- "$project/cluster/slurm-multinode.sbatch" "$input" "$run/jobs/multinode/out"
+  submit array "slurm-array-%a.log" --array=1-2 -- "$project/cluster/slurm-array.sbatch" "$run/jobs/inputs.txt" "$run/jobs/array"
+  logs="slurm-srun.log slurm-mpirun.log slurm-multinode.log slurm-array-1.log slurm-array-2.log"
+else
+  # Where a job's ranks run: one per node, each with the node's hostname and address.
+  srun -N "$node_count" --ntasks-per-node=1 --mem=100M sh -c \
+    'echo "$(hostname) $(ip -4 -o addr show scope global | awk "{print \$4}")"' | sort > "$run/where"
+  sed 's/^/slurm test: a task on /' "$run/where"
+  [ "$(cut -d' ' -f1 "$run/where" | sort -u | wc -l)" -eq "$node_count" ] &&
+    [ "$(cut -d' ' -f2 "$run/where" | sort -u | wc -l)" -eq "$node_count" ] ||
+    { echo "FAIL: the tasks did not run on $node_count hosts with their own addresses"; exit 1; }
+  spread=(--nodes="$node_count" --ntasks-per-node=1)
+  submit srun slurm-srun.log "${spread[@]}" --ntasks="$node_count" \
+    -- "$project/cluster/slurm-srun.sbatch" "$input" "$run/jobs/srun/out"
+  submit mpirun slurm-mpirun.log "${spread[@]}" --ntasks="$node_count" \
+    -- "$project/cluster/slurm-mpirun.sbatch" "$input" "$run/jobs/mpirun/out"
+  # The XDMF set: every rank writes its block of the HDF5 files into the shared directory.
+  submit multinode slurm-multinode.log "${spread[@]}" --time=10 \
+    -- "$project/cluster/slurm-multinode.sbatch" "$input" "$run/jobs/multinode/out.xdmf"
+  logs="slurm-srun.log slurm-mpirun.log slurm-multinode.log"
+fi
 
 # 5. Wait (at most 10 minutes), then judge each job by its log: it must end with a passed check.
 deadline=$((SECONDS + 600))
@@ -129,7 +189,7 @@ while [ -n "$(squeue -h -j "$(IFS=,; echo "${jobs[*]}")" 2>/dev/null)" ]; do
   sleep 1
 done
 failed=0
-for log in slurm-srun.log slurm-mpirun.log slurm-multinode.log slurm-array-1.log slurm-array-2.log; do
+for log in $logs; do
   echo "---- $log:"
   cat "$run/jobs/$log" 2>/dev/null || echo "(no log)"
   if tail -n 1 "$run/jobs/$log" 2>/dev/null | grep -q "check passed"; then
@@ -139,8 +199,34 @@ for log in slurm-srun.log slurm-mpirun.log slurm-multinode.log slurm-array-1.log
     failed=1
   fi
 done
+# On several nodes the files must be those one process writes (same pieces: 2 and 4 per rank).
+if [ "$node_count" -gt 1 ] && [ $failed -eq 0 ]; then
+  (cd "$run/jobs" && "$partet" mesh "$input" -o one --pieces $((2 * node_count)) --quiet &&
+    "$partet" mesh "$input" -o many.xdmf --pieces $((4 * node_count)) --quiet)
+  for pair in srun/out.node:one.node srun/out.ele:one.ele srun/out.neigh:one.neigh mpirun/out.ele:one.ele \
+    multinode/out.h5:many.h5 multinode/out_boundary.h5:many_boundary.h5; do
+    if cmp -s "$run/jobs/${pair%%:*}" "$run/jobs/${pair#*:}"; then
+      echo "ok: ${pair%%:*} is byte-identical to 1 process's ${pair#*:}"
+    else
+      echo "FAIL: ${pair%%:*} differs from 1 process's ${pair#*:}"
+      failed=1
+    fi
+  done
+  # Each job ran on every node: node1 ran the batch script (and mpirun's or srun's rank 0), and
+  # every other node's slurmd launched a task of the job's first step (a rank, or mpirun's daemon).
+  for ((j = 0; j < ${#jobs[@]}; j++)); do
+    grep -q "Launching batch job ${jobs[$j]} " "$run/slurmd.node1.log" ||
+      { echo "FAIL: the ${job_names[$j]} job's script did not run on node1"; failed=1; }
+    for ((i = 2; i <= node_count; i++)); do
+      grep -q "launch task StepId=${jobs[$j]}\.0 " "$run/slurmd.node$i.log" ||
+        { echo "FAIL: the ${job_names[$j]} job ran no task on node$i"; failed=1; }
+    done
+  done
+  ranks=$(/usr/bin/python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['ranks'])" "$run/jobs/srun/out.report.json")
+  [ "$ranks" -eq "$node_count" ] || { echo "FAIL: the srun job's report says $ranks ranks"; failed=1; }
+fi
 if [ $failed -ne 0 ]; then
   echo "---- slurmctld log:"; tail -n 30 "$run/slurmctld.log"
-  echo "---- slurmd log:"; tail -n 30 "$run/slurmd.log"
+  for log in "$run"/slurmd.*.log; do echo "---- $(basename "$log"):"; tail -n 30 "$log"; done
 fi
 exit $failed
