@@ -21,6 +21,30 @@ inline unsigned usable_cpus(unsigned cap = 8) {
   return std::clamp(n, 1u, cap);
 }
 
+// Lends this thread, for its lifetime, the CPUs in `cpus` besides its own (threads it starts
+// meanwhile inherit them): rank 0 borrows the cores of the ranks on its node while they wait for
+// it (the writes), so its writing threads and usable_cpus() are not confined to its one core.
+// The kernel keeps the mask within the CPUs the process may use at all (a Slurm cgroup); when it
+// refuses the loan nothing changes.
+class CpuLoan {
+ public:
+  explicit CpuLoan(const cpu_set_t& cpus) {
+    if (::sched_getaffinity(0, sizeof own_, &own_) != 0) return;
+    cpu_set_t both;
+    CPU_OR(&both, &own_, &cpus);
+    lent_ = !CPU_EQUAL(&both, &own_) && ::sched_setaffinity(0, sizeof both, &both) == 0;
+  }
+  ~CpuLoan() {
+    if (lent_) ::sched_setaffinity(0, sizeof own_, &own_);
+  }
+  CpuLoan(const CpuLoan&) = delete;
+  CpuLoan& operator=(const CpuLoan&) = delete;
+
+ private:
+  cpu_set_t own_;
+  bool lent_ = false;
+};
+
 // Calls work(i) for every i in [0, count), on up to `threads` threads (this one included);
 // rethrows the first exception once all have stopped. The order of the calls is unspecified:
 // work(i) must only touch what belongs to i.

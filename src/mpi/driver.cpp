@@ -19,6 +19,7 @@
 
 #include "common/log.hpp"
 #include "common/memory.hpp"
+#include "common/parallel.hpp"
 #include "common/test_hooks.hpp"
 #include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
@@ -838,6 +839,26 @@ void check_input_on_rank(int rank, int size, RankStats& stats) {
   bounded([&] { return send_bytes(verdict, 0, kTagVerdict, job_comm(), kMaxChunk, kRootSeconds); });
 }
 
+// The CPUs of the ranks on rank 0's node (same processor name), from their affinity masks: rank 0
+// borrows them while those ranks wait for its writes (CpuLoan). Empty on the other ranks.
+cpu_set_t cpus_of_rank0_node(int rank, int size) {
+  struct Where {
+    char host[MPI_MAX_PROCESSOR_NAME];
+    cpu_set_t cpus;
+  };
+  Where mine{};
+  int length = 0;
+  MPI_Get_processor_name(mine.host, &length);
+  if (::sched_getaffinity(0, sizeof mine.cpus, &mine.cpus) != 0) CPU_ZERO(&mine.cpus);
+  std::vector<Where> all(rank == 0 ? static_cast<std::size_t>(size) : 0);
+  bounded([&] { gather_bytes(&mine, sizeof mine, all.data(), 0, job_comm(), collective_limit()); });
+  cpu_set_t cpus;
+  CPU_ZERO(&cpus);
+  for (const Where& where : all)
+    if (std::strncmp(where.host, all[0].host, sizeof where.host) == 0) CPU_OR(&cpus, &cpus, &where.cpus);
+  return cpus;
+}
+
 // What one rank knows about the job as it runs (rank 0's story is in RootRun).
 struct RankState {
   int rank = 0, size = 1;
@@ -1011,6 +1032,7 @@ JobStatus run_mesh_job(const MeshJob& job) {
   const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
   state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, job_comm(), collective_limit()); });
   if (state.status.exit_code != 0) return state.status;
+  const cpu_set_t node_cpus = cpus_of_rank0_node(state.rank, state.size);
   // 2b. The other ranks check the input while rank 0 partitions it (the verdict comes before any piece).
   if (checks == InputChecks::elsewhere) {
     if (root)
@@ -1031,6 +1053,7 @@ JobStatus run_mesh_job(const MeshJob& job) {
       on_root(state, [&] {
         RankWriters writers{write_hdf5_on_every_rank, {}};
         if (state.size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
+        const CpuLoan loan(node_cpus);  // the ranks on this node only format and wait meanwhile
         root->check_and_write(writers);
       });
     end_writes();

@@ -85,4 +85,10 @@ void gather_doubles(const double* mine, int count, double* all, int root, MPI_Co
   wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
 }
 
+void gather_bytes(const void* mine, int bytes, void* all, int root, MPI_Comm comm, double timeout_seconds) {
+  MPI_Request request;
+  MPI_Igather(mine, bytes, MPI_BYTE, all, bytes, MPI_BYTE, root, comm, &request);
+  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
+}
+
 }  // namespace partet::mpi
