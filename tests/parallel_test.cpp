@@ -1,8 +1,12 @@
 // parallel_for: every index once, whatever the number of threads; the first failure comes back.
+// CpuLoan: a thread confined to one CPU gets the lent ones for the loan's lifetime (and so do the
+// threads it starts meanwhile), then its own mask back.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "common/parallel.hpp"
@@ -34,6 +38,44 @@ TEST(ParallelFor, FailureIsRethrownAfterAllThreadsStop) {
 TEST(ParallelFor, UsableCpusIsAtLeastOneAndAtMostTheCap) {
   EXPECT_GE(usable_cpus(), 1u);
   EXPECT_LE(usable_cpus(3), 3u);
+}
+
+cpu_set_t this_threads_cpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  EXPECT_EQ(::sched_getaffinity(0, sizeof set, &set), 0);
+  return set;
+}
+
+TEST(CpuLoan, LendsTheCpusThenGivesThemBack) {
+  const cpu_set_t all = this_threads_cpus();
+  if (CPU_COUNT(&all) < 2) GTEST_SKIP() << "needs a process allowed on 2 CPUs";
+  int first = 0;
+  while (!CPU_ISSET(first, &all)) ++first;
+  // Run the test on a thread confined to one CPU, as mpirun's binding confines a rank.
+  std::thread confined([&] {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    ASSERT_EQ(::sched_setaffinity(0, sizeof one, &one), 0);
+    {
+      const CpuLoan loan(all);
+      cpu_set_t during = this_threads_cpus();
+      EXPECT_TRUE(CPU_EQUAL(&during, &all));
+      EXPECT_EQ(usable_cpus(64), std::min(64u, static_cast<unsigned>(CPU_COUNT(&all))));
+      cpu_set_t started;
+      std::thread([&] { started = this_threads_cpus(); }).join();
+      EXPECT_TRUE(CPU_EQUAL(&started, &all)) << "a thread started during the loan has the lent CPUs";
+    }
+    cpu_set_t after = this_threads_cpus();
+    EXPECT_TRUE(CPU_EQUAL(&after, &one));
+    {
+      const CpuLoan nothing_new(one);  // lending what it has changes nothing
+      cpu_set_t during = this_threads_cpus();
+      EXPECT_TRUE(CPU_EQUAL(&during, &one));
+    }
+  });
+  confined.join();
 }
 
 }  // namespace

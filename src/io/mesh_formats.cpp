@@ -76,29 +76,77 @@ struct VtuCells {
   std::vector<std::int32_t> piece, region;
 };
 
-VtuCells select_cells(const MeshOutput& output, const std::vector<std::int32_t>& region, bool all, int only_piece) {
+void add_cell(const MeshOutput& output, const std::vector<std::int32_t>& region, std::size_t t, VtuCells& cells) {
+  cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));
+  cells.types.push_back(10);  // VTK_TETRA
+  cells.piece.push_back(piece_of(output.mesh, t));
+  cells.region.push_back(region[t]);
+}
+
+// Every tet and point, numbered as they are.
+VtuCells all_cells(const MeshOutput& output, const std::vector<std::int32_t>& region) {
   const TetMesh& mesh = output.mesh;
-  std::vector<std::int64_t> new_id(all ? 0 : mesh.points.size(), -1);
   VtuCells cells;
-  std::int64_t next = 0;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    if (!all && piece_of(mesh, t) != only_piece) continue;
-    for (std::int32_t v : mesh.tets[t]) {
-      if (!all && new_id[v] < 0) {
-        new_id[v] = next++;
-        cells.xyz.insert(cells.xyz.end(), mesh.points[v].begin(), mesh.points[v].end());
-      }
-      cells.connectivity.push_back(all ? v : new_id[v]);
-    }
-    cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));
-    cells.types.push_back(10);  // VTK_TETRA
-    cells.piece.push_back(piece_of(mesh, t));
-    cells.region.push_back(region[t]);
+    for (std::int32_t v : mesh.tets[t]) cells.connectivity.push_back(v);
+    add_cell(output, region, t, cells);
   }
-  if (all)
-    for (const Point3& p : mesh.points) cells.xyz.insert(cells.xyz.end(), p.begin(), p.end());
+  for (const Point3& p : mesh.points) cells.xyz.insert(cells.xyz.end(), p.begin(), p.end());
   return cells;
 }
+
+// The tets of each piece value, for a .pvtu set's files: one pass over the tets for all of them
+// (not one per piece), and one renumbering array for all of them, reset after each piece.
+class PieceCells {
+ public:
+  PieceCells(const MeshOutput& output, const std::vector<std::int32_t>& region)
+      : output_(output), region_(region), new_id_(output.mesh.points.size(), -1) {
+    // Tets in piece order (the seams' -1 first), by a counting sort.
+    const std::vector<std::int32_t>& piece = output.mesh.piece;
+    const int lowest = piece.empty() ? -1 : *std::min_element(piece.begin(), piece.end());
+    const int highest = piece.empty() ? -1 : *std::max_element(piece.begin(), piece.end());
+    lowest_ = lowest;
+    start_.assign(static_cast<std::size_t>(highest - lowest) + 2, 0);
+    for (std::size_t t = 0; t < output.mesh.tets.size(); ++t) ++start_[slot(t) + 1];
+    for (std::size_t s = 1; s < start_.size(); ++s) start_[s] += start_[s - 1];
+    order_.resize(output.mesh.tets.size());
+    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
+    for (std::size_t t = 0; t < output.mesh.tets.size(); ++t) order_[next[slot(t)]++] = static_cast<std::uint32_t>(t);
+  }
+
+  // The tets with this piece value, their points renumbered from 0 in order of first use.
+  VtuCells of(int piece) {
+    const TetMesh& mesh = output_.mesh;
+    VtuCells cells;
+    if (piece < lowest_ || static_cast<std::size_t>(piece - lowest_) + 1 >= start_.size()) return cells;
+    const auto s = static_cast<std::size_t>(piece - lowest_);
+    std::int64_t next = 0;
+    for (std::size_t i = start_[s]; i < start_[s + 1]; ++i) {
+      const std::size_t t = order_[i];
+      for (std::int32_t v : mesh.tets[t]) {
+        if (new_id_[v] < 0) {
+          new_id_[v] = next++;
+          cells.xyz.insert(cells.xyz.end(), mesh.points[v].begin(), mesh.points[v].end());
+        }
+        cells.connectivity.push_back(new_id_[v]);
+      }
+      add_cell(output_, region_, t, cells);
+    }
+    for (std::size_t i = start_[s]; i < start_[s + 1]; ++i)
+      for (std::int32_t v : mesh.tets[order_[i]]) new_id_[v] = -1;
+    return cells;
+  }
+
+ private:
+  std::size_t slot(std::size_t t) const { return static_cast<std::size_t>(piece_of(output_.mesh, t) - lowest_); }
+
+  const MeshOutput& output_;
+  const std::vector<std::int32_t>& region_;
+  std::vector<std::int64_t> new_id_;
+  std::vector<std::size_t> start_;   // order_[start_[s], start_[s + 1]): the tets of piece lowest_ + s
+  std::vector<std::uint32_t> order_;
+  int lowest_ = 0;
+};
 
 void write_vtu_file(const VtuCells& cells, const std::string& path) {
   const std::size_t points = cells.xyz.size() / 3, tets = cells.types.size();
@@ -279,7 +327,9 @@ std::vector<int> pieces_in(const MeshOutput& output) {
 }
 
 void write_vtu(const MeshOutput& output, const std::string& path, int only_piece) {
-  write_vtu_file(select_cells(output, region_of_tets(output.mesh), only_piece == kAllPieces, only_piece), path);
+  const std::vector<std::int32_t> region = region_of_tets(output.mesh);
+  if (only_piece == kAllPieces) return write_vtu_file(all_cells(output, region), path);
+  write_vtu_file(PieceCells(output, region).of(only_piece), path);
 }
 
 void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<std::string>& piece_files) {
@@ -435,9 +485,9 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
       const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
       std::vector<std::string> sources;
       const std::vector<std::int32_t> region = region_of_tets(output.mesh);  // once for all the files
+      PieceCells cells(output, region);
       for (int piece : pieces_in(output)) {
-        set.add(piece_file(prefix, piece),
-                [&](const std::string& tmp) { write_vtu_file(select_cells(output, region, false, piece), tmp); });
+        set.add(piece_file(prefix, piece), [&](const std::string& tmp) { write_vtu_file(cells.of(piece), tmp); });
         sources.push_back(piece_file(base, piece));
       }
       set.add(path, [&](const std::string& tmp) { write_pvtu(output, tmp, sources); });
