@@ -171,6 +171,14 @@ else
   [ "$(cut -d' ' -f1 "$run/where" | sort -u | wc -l)" -eq "$node_count" ] &&
     [ "$(cut -d' ' -f2 "$run/where" | sort -u | wc -l)" -eq "$node_count" ] ||
     { echo "FAIL: the tasks did not run on $node_count hosts with their own addresses"; exit 1; }
+  # A mistyped option under srun: every rank rejects it before MPI starts, and rank 0's message
+  # must still come out (the other ranks wait for it) with the usage exit code.
+  code=0
+  srun -N "$node_count" --ntasks-per-node=1 --mpi=pmix --mem=100M \
+    "$partet" mesh "$input" -o "$run/jobs/bad" --pieces 0 > "$run/usage.log" 2>&1 || code=$?
+  grep -q -- "--pieces: Value 0 not in range" "$run/usage.log" && [ "$code" -ne 0 ] ||
+    { echo "FAIL: a usage error under srun (exit $code) said:"; cat "$run/usage.log"; exit 1; }
+  echo "slurm test: a usage error under srun on $node_count nodes: exit $code, $(grep -m1 -- --pieces "$run/usage.log")"
   spread=(--nodes="$node_count" --ntasks-per-node=1)
   submit srun slurm-srun.log "${spread[@]}" --ntasks="$node_count" \
     -- "$project/cluster/slurm-srun.sbatch" "$input" "$run/jobs/srun/out"
