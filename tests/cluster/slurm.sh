@@ -137,6 +137,16 @@ if [ -z "$input" ]; then
   input=$run/jobs/genus3.off
 fi
 input=$(realpath "$input")
+if [ "$node_count" -gt 1 ]; then
+  # A node's /tmp is its own, and the checkout (so the binary and a shared model) may be under
+  # this machine's /tmp: the nodes get copies in the shared run directory.
+  cp "$partet" "$run/partet"
+  partet=$run/partet
+  if [ "$input" != "$run/jobs/genus3.off" ]; then
+    cp "$input" "$run/jobs/in-${input##*/}"
+    input=$run/jobs/in-${input##*/}
+  fi
+fi
 "$partet" generate torus --faces 6000 -o "$run/jobs/torus.off" > /dev/null
 printf '%s\n' "$input" "$run/jobs/torus.off" > "$run/jobs/inputs.txt"
 over=()
@@ -165,7 +175,7 @@ if [ "$node_count" -eq 1 ]; then
   logs="slurm-srun.log slurm-mpirun.log slurm-multinode.log slurm-array-1.log slurm-array-2.log"
 else
   # Where a job's ranks run: one per node, each with the node's hostname and address.
-  srun -N "$node_count" --ntasks-per-node=1 --mem=100M sh -c \
+  srun -N "$node_count" --ntasks-per-node=1 --mem=100M --chdir="$run/jobs" sh -c \
     'echo "$(hostname) $(ip -4 -o addr show scope global | awk "{print \$4}")"' | sort > "$run/where"
   sed 's/^/slurm test: a task on /' "$run/where"
   [ "$(cut -d' ' -f1 "$run/where" | sort -u | wc -l)" -eq "$node_count" ] &&
@@ -174,7 +184,7 @@ else
   # A mistyped option under srun: every rank rejects it before MPI starts, and rank 0's message
   # must still come out (the other ranks wait for it) with the usage exit code.
   code=0
-  srun -N "$node_count" --ntasks-per-node=1 --mpi=pmix --mem=100M \
+  srun -N "$node_count" --ntasks-per-node=1 --mpi=pmix --mem=100M --chdir="$run/jobs" \
     "$partet" mesh "$input" -o "$run/jobs/bad" --pieces 0 > "$run/usage.log" 2>&1 || code=$?
   grep -q -- "--pieces: Value 0 not in range" "$run/usage.log" && [ "$code" -ne 0 ] ||
     { echo "FAIL: a usage error under srun (exit $code) said:"; cat "$run/usage.log"; exit 1; }
