@@ -103,10 +103,9 @@ class PieceCells {
       : output_(output), region_(region), new_id_(output.mesh.points.size(), -1) {
     // Tets in piece order (the seams' -1 first), by a counting sort.
     const std::vector<std::int32_t>& piece = output.mesh.piece;
-    const int lowest = piece.empty() ? -1 : *std::min_element(piece.begin(), piece.end());
+    lowest_ = piece.empty() ? -1 : *std::min_element(piece.begin(), piece.end());
     const int highest = piece.empty() ? -1 : *std::max_element(piece.begin(), piece.end());
-    lowest_ = lowest;
-    start_.assign(static_cast<std::size_t>(highest - lowest) + 2, 0);
+    start_.assign(static_cast<std::size_t>(highest - lowest_) + 2, 0);
     for (std::size_t t = 0; t < output.mesh.tets.size(); ++t) ++start_[slot(t) + 1];
     for (std::size_t s = 1; s < start_.size(); ++s) start_[s] += start_[s - 1];
     order_.resize(output.mesh.tets.size());
@@ -326,10 +325,8 @@ std::vector<int> pieces_in(const MeshOutput& output) {
   return pieces;
 }
 
-void write_vtu(const MeshOutput& output, const std::string& path, int only_piece) {
-  const std::vector<std::int32_t> region = region_of_tets(output.mesh);
-  if (only_piece == kAllPieces) return write_vtu_file(all_cells(output, region), path);
-  write_vtu_file(PieceCells(output, region).of(only_piece), path);
+void write_vtu(const MeshOutput& output, const std::string& path) {
+  write_vtu_file(all_cells(output, region_of_tets(output.mesh)), path);
 }
 
 void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<std::string>& piece_files) {

@@ -5,7 +5,6 @@
 #pragma once
 #include <cstdint>
 #include <functional>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,13 +45,12 @@ std::vector<std::int32_t> region_of_tets(const TetMesh& mesh);
 
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
 // that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it belongs
-// to, from 1). With only_piece other than kAllPieces, just the tets with that piece value (-1:
-// the re-meshed tets) and the points they use.
-constexpr int kAllPieces = std::numeric_limits<int>::min();
-void write_vtu(const MeshOutput& output, const std::string& path, int only_piece = kAllPieces);
+// to, from 1).
+void write_vtu(const MeshOutput& output, const std::string& path);
 
-// The .pvtu index naming one .vtu per piece (as written by write_vtu(output, ..., piece)); the
-// names are stored as given (relative to the .pvtu's directory).
+// The .pvtu index naming one .vtu per piece value (each as write_vtu writes, with just that
+// piece's tets and the points they use); the names are stored as given (relative to the .pvtu's
+// directory).
 void write_pvtu(const MeshOutput& output, const std::string& path, const std::vector<std::string>& piece_files);
 
 // The piece indices a .pvtu set has files for, in order (the -1 group included when present).

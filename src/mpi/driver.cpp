@@ -950,8 +950,7 @@ std::vector<RankStats> gather_rank_stats(RankState& state) {
   state.stats.tetgen_child_peak_rss_mb = children_peak_rss_mb();
   std::vector<RankStats> all(state.rank == 0 ? state.size : 0);
   bounded([&] {
-    gather_doubles(reinterpret_cast<const double*>(&state.stats), kRankStatsDoubles,
-                   reinterpret_cast<double*>(all.data()), 0, job_comm(), collective_limit());
+    gather_bytes(&state.stats, static_cast<int>(sizeof(RankStats)), all.data(), 0, job_comm(), collective_limit());
     return 0;
   });
   return all;

@@ -79,12 +79,6 @@ bool all_true(bool mine, MPI_Comm comm, double timeout_seconds) {
   return all == 1;
 }
 
-void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm, double timeout_seconds) {
-  MPI_Request request;
-  MPI_Igather(mine, count, MPI_DOUBLE, all, count, MPI_DOUBLE, root, comm, &request);
-  wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds);
-}
-
 void gather_bytes(const void* mine, int bytes, void* all, int root, MPI_Comm comm, double timeout_seconds) {
   MPI_Request request;
   MPI_Igather(mine, bytes, MPI_BYTE, all, bytes, MPI_BYTE, root, comm, &request);

@@ -40,7 +40,6 @@ bool all_true(bool mine, MPI_Comm comm, double timeout_seconds = 0);  // every r
 MPI_Request start_broadcast(void* data, std::size_t bytes, int root, MPI_Comm comm);
 // The same, waiting for it (at most timeout_seconds; 0: no limit).
 void broadcast_bytes(void* data, std::size_t bytes, int root, MPI_Comm comm, double timeout_seconds = 0);
-void gather_doubles(const double* mine, int count, double* all, int root, MPI_Comm comm, double timeout_seconds = 0);
 void gather_bytes(const void* mine, int bytes, void* all, int root, MPI_Comm comm, double timeout_seconds = 0);
 
 }  // namespace partet::mpi

@@ -111,6 +111,7 @@ pids+=("$(cat "$run/slurmctld.pid")")
 # A node of several: its network namespace (nsenter, which keeps this machine's /sys and so its
 # cgroups), its own hostname and /tmp (PMIx keeps per-step directories there).
 if [ "$node_count" -eq 1 ]; then
+  mkdir -p "$run/spool.$host"
   $SUDO env SLURM_CONF="$SLURM_CONF" slurmd -f "$SLURM_CONF"
 else
   for ((i = 0; i < node_count; i++)); do

@@ -19,20 +19,17 @@ partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
 trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 "$partet" generate torus --faces 60000 -o "$work/torus.off" > /dev/null || exit 1
-inject=()
-[ "$mode" = idle ] && inject=(-x PARTET_INJECT_FAILURE) && export PARTET_INJECT_FAILURE=worker:stop-when-idle
-ranks=(-n 2)
+# The fault each mode injects; the input check's modes shorten its waits (rank 1 waits 3 s for
+# the other checking ranks, rank 0 6 s for rank 1's verdict).
+inject=() ranks=(-n 2) fault="" check_waits=0
 case $mode in
-  verdict) export PARTET_INJECT_FAILURE=worker:stop-before-verdict ;;
-  share) export PARTET_INJECT_FAILURE=worker:stop-before-findings ;;
-  share-oom) export PARTET_INJECT_FAILURE=worker:share-out-of-memory ;;
+  idle) fault=worker:stop-when-idle ;;
+  verdict) fault=worker:stop-before-verdict check_waits=1 ;;
+  share) fault=worker:stop-before-findings check_waits=1 ranks=(-n 4 --oversubscribe) ;;
+  share-oom) fault=worker:share-out-of-memory check_waits=1 ranks=(-n 4 --oversubscribe) ;;
 esac
-case $mode in
-  verdict | share | share-oom)
-    inject=(-x PARTET_INJECT_FAILURE -x PARTET_TEST_VERDICT_WAIT_S)
-    export PARTET_TEST_VERDICT_WAIT_S=3 ;;
-esac
-case $mode in share*) ranks=(-n 4 --oversubscribe) ;; esac
+[ -z "$fault" ] || { export PARTET_INJECT_FAILURE=$fault; inject+=(-x PARTET_INJECT_FAILURE); }
+[ "$check_waits" = 0 ] || { export PARTET_TEST_VERDICT_WAIT_S=3; inject+=(-x PARTET_TEST_VERDICT_WAIT_S); }
 start=$(date +%s)
 timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
   --piece-timeout 2 > "$work/log" 2>&1 &
