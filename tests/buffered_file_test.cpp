@@ -2,6 +2,9 @@
 // its writing thread; a failing write is reported with the name the user knows.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 #include <charconv>
 #include <cstdio>
@@ -29,29 +32,72 @@ std::string formatted(double value) {
   return std::string(text, std::to_chars(text, text + sizeof text, value, std::chars_format::general, 17).ptr);
 }
 
+// Whether `dir` is on a local disk's filesystem, where large files are written around the page
+// cache (buffered_file.hpp).
+bool on_local_disk(const fs::path& dir) {
+  struct statfs filesystem {};
+  if (::statfs(dir.c_str(), &filesystem) != 0) return false;
+  const auto type = static_cast<unsigned long>(filesystem.f_type);
+  return type == 0xEF53 || type == 0x58465342 || type == 0x9123683E;  // ext4, XFS, btrfs
+}
+
+// How many of the file's pages are in the page cache.
+std::size_t cached_pages(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  const auto size = static_cast<std::size_t>(fs::file_size(path));
+  void* map = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
+  ::close(fd);
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  std::vector<unsigned char> resident((size + page - 1) / page);
+  EXPECT_EQ(::mincore(map, size, resident.data()), 0);
+  ::munmap(map, size);
+  std::size_t count = 0;
+  for (unsigned char r : resident) count += r & 1;
+  return count;
+}
+
+// The directories a test writes in: the temporary directory (a local disk here and in CI) and,
+// where there is one, a tmpfs (which refuses direct writes).
+std::vector<fs::path> test_directories() {
+  std::vector<fs::path> dirs{fs::temp_directory_path()};
+  if (fs::is_directory("/dev/shm")) dirs.emplace_back("/dev/shm");
+  return dirs;
+}
+
 TEST(BufferedFile, ManyBuffersGiveExactlyTheTextFormatted) {
-  const fs::path path = fs::temp_directory_path() / ("partet_buffered_" + std::to_string(::getpid()));
-  std::string expected;
-  {
-    BufferedFile out(path.string());
-    // About 40 MB: many buffers, so the writing thread and the writeback hints are exercised.
-    for (std::int64_t i = 0; i < 2'000'000; ++i) {
-      const std::int64_t big = i * 4'000'000'007LL - 7;
-      const double x = 1.0 / static_cast<double>(i + 3);
-      out.integer(big), out.space(), out.real(x), out.space(), out.text("ab"), out.newline();
-      expected += std::to_string(big) + ' ' + formatted(x) + " ab\n";
-      if (i % 500'000 == 0) {  // a run longer than a buffer goes through in pieces
-        const std::string run(9'000'000 + static_cast<std::size_t>(i % 7), static_cast<char>('a' + i % 26));
-        out.bytes(run.data(), run.size());
-        expected += run;
+  for (const fs::path& dir : test_directories()) {
+    SCOPED_TRACE(dir.string());
+    const fs::path path = dir / ("partet_buffered_" + std::to_string(::getpid()));
+    std::string expected;
+    {
+      BufferedFile out(path.string());
+      // About 40 MB: many buffers, so the writing thread and the writeback hints are exercised.
+      for (std::int64_t i = 0; i < 2'000'000; ++i) {
+        const std::int64_t big = i * 4'000'000'007LL - 7;
+        const double x = 1.0 / static_cast<double>(i + 3);
+        out.integer(big), out.space(), out.real(x), out.space(), out.text("ab"), out.newline();
+        expected += std::to_string(big) + ' ' + formatted(x) + " ab\n";
+        if (i % 500'000 == 0) {  // a run longer than a buffer goes through in pieces
+          const std::string run(9'000'000 + static_cast<std::size_t>(i % 7), static_cast<char>('a' + i % 26));
+          out.bytes(run.data(), run.size());
+          expected += run;
+        }
       }
+      EXPECT_EQ(out.writes_directly(), on_local_disk(dir));
+      out.close();
     }
-    out.close();
+    // Written directly, the file is not in the page cache (but for its tail, which is not a
+    // whole block); through the cache, it is.
+    const std::size_t pages = fs::file_size(path) / 4096;
+    if (on_local_disk(dir))
+      EXPECT_LE(cached_pages(path), 2u) << "of " << pages;
+    else
+      EXPECT_GT(cached_pages(path), pages / 2);
+    const std::string written = read_all(path);
+    fs::remove(path);
+    ASSERT_EQ(written.size(), expected.size());
+    EXPECT_TRUE(written == expected);
   }
-  const std::string written = read_all(path);
-  fs::remove(path);
-  ASSERT_EQ(written.size(), expected.size());
-  EXPECT_TRUE(written == expected);
 }
 
 TEST(BufferedFile, SmallFileIsWrittenAtClose) {

@@ -1,18 +1,57 @@
 #include "io/buffered_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <condition_variable>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <new>
 #include <thread>
 
 #include "partet/errors.hpp"
 
 namespace partet {
+
+AlignedBytes::AlignedBytes(std::size_t size)
+    : bytes_(size == 0 ? nullptr
+                       : static_cast<char*>(
+                             std::aligned_alloc(kAlignment, (size + kAlignment - 1) / kAlignment * kAlignment))),
+      size_(size) {
+  if (size > 0 && !bytes_) throw std::bad_alloc();
+}
+
+void AlignedBytes::Free::operator()(char* p) const noexcept { std::free(p); }
+
+namespace {
+
+constexpr std::size_t kBlock = AlignedBytes::kAlignment;
+
+// Whether writes to `fd` should go around the page cache: a regular file on a local disk's
+// filesystem (see the header), which accepts O_DIRECT. Network and parallel filesystems differ
+// too much in how they treat direct writes to risk it.
+bool start_direct_writes(int fd) {
+#ifdef __linux__
+  constexpr long kExt4 = 0xEF53, kXfs = 0x58465342, kBtrfs = 0x9123683E;
+  struct stat file {};
+  struct statfs filesystem {};
+  if (::fstat(fd, &file) != 0 || !S_ISREG(file.st_mode) || ::fstatfs(fd, &filesystem) != 0) return false;
+  const long type = static_cast<long>(filesystem.f_type);
+  if (type != kExt4 && type != kXfs && type != kBtrfs) return false;
+  const int flags = ::fcntl(fd, F_GETFL);
+  return flags >= 0 && ::fcntl(fd, F_SETFL, flags | O_DIRECT) == 0;
+#else
+  (void)fd;
+  return false;
+#endif
+}
+
+}  // namespace
 
 // The file and the thread that writes the buffers handed to it, one at a time.
 struct BufferedFile::Writer {
@@ -22,16 +61,52 @@ struct BufferedFile::Writer {
   int fd = -1;
   std::mutex mutex;
   std::condition_variable changed;
-  std::vector<char> pending;  // the buffer being written
+  AlignedBytes pending;  // the buffer being written
   std::size_t pending_size = 0;
   bool busy = false, stopping = false;
-  int error = 0;  // the first write's errno
+  bool direct = false;  // writing around the page cache
+  int error = 0;        // the first write's errno
   std::uint64_t written = 0, written_back = 0;
   std::thread thread;
   std::string shown;  // for the error of a file closed in the background
 
-  // Writes everything or records why not; no more writes after a failure.
+  // Writes everything or records why not; no more writes after a failure. Writing directly,
+  // whole blocks go directly and a shorter tail (the file's end) through the page cache.
   void write_all(const char* p, std::size_t n) {
+    if (direct) {
+      const std::size_t done = write_blocks_directly(p, written % kBlock == 0 ? n - n % kBlock : 0);
+      p += done, n -= done;
+      if (n > 0 && error == 0) stop_direct();
+    }
+    write_through_cache(p, n);
+  }
+
+  // Returns the bytes written; a filesystem that refuses after all (EINVAL) or a short write
+  // ends the direct writes, and the caller writes the rest through the page cache.
+  std::size_t write_blocks_directly(const char* p, std::size_t n) {
+    std::size_t total = 0;
+    while (total < n && error == 0 && direct) {
+      const ssize_t done = ::write(fd, p + total, n - total);
+      if (done < 0) {
+        if (errno == EINVAL)
+          stop_direct();
+        else if (errno != EINTR)
+          error = errno;
+        continue;
+      }
+      total += static_cast<std::size_t>(done), written += static_cast<std::uint64_t>(done);
+      if (written % kBlock != 0) stop_direct();
+    }
+    return total;
+  }
+
+  void stop_direct() {
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_DIRECT) != 0) error = errno;
+    direct = false;
+  }
+
+  void write_through_cache(const char* p, std::size_t n) {
     while (n > 0 && error == 0) {
       const ssize_t done = ::write(fd, p, n);
       if (done < 0) {
@@ -82,7 +157,8 @@ struct BufferedFile::Writer {
 
   // Starts the thread, with a buffer of its own to write from (small files never need one).
   void start(std::size_t buffer_size) {
-    pending.resize(buffer_size);
+    pending = AlignedBytes(buffer_size);
+    direct = start_direct_writes(fd);
     thread = std::thread([this] { run(); });
   }
 
@@ -130,26 +206,31 @@ void BufferedFile::bytes(const void* p, std::size_t n) {
   }
 }
 
-void BufferedFile::flush() {
+void BufferedFile::flush(bool last) {
   if (used_ == 0) return;
   Writer& w = *writer_;
   // Started at the first hand-over: a small file closed with close() is written without one.
   if (!w.thread.joinable()) w.start(buffer_.size());
   if (const int error = w.wait_idle(); error != 0) fail(error);
+  const std::size_t handed = w.direct && !last ? used_ - used_ % kBlock : used_;
+  if (handed == 0) return;
   {
     std::lock_guard<std::mutex> lock(w.mutex);
     buffer_.swap(w.pending);
-    w.pending_size = used_;
+    std::memcpy(buffer_.data(), w.pending.data() + handed, used_ - handed);
+    w.pending_size = handed;
     w.busy = true;
   }
   w.changed.notify_all();
-  used_ = 0;
+  used_ -= handed;
 }
+
+bool BufferedFile::writes_directly() const { return writer_ && writer_->direct; }
 
 void BufferedFile::close() {
   Writer& w = *writer_;
   if (w.thread.joinable()) {
-    flush();
+    flush(true);
   } else {
     w.write_all(data(), used_);  // a small file: never handed over, this thread writes it
     used_ = 0;
@@ -158,7 +239,7 @@ void BufferedFile::close() {
 }
 
 void BufferedFile::close_in_background() {
-  flush();  // starts the thread if anything is left to write
+  flush(true);  // starts the thread if anything is left to write
   writer_->shown = shown_;
   std::lock_guard<std::mutex> lock(background_mutex);
   background_writers().push_back(std::move(writer_));
