@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -374,12 +375,30 @@ TEST_F(SurfaceIoTest, PlainOffFastPathDeclinesAnythingElse) {
       "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\nextra\n",  // trailing content
       "OFF\n4 4 0\n+0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",     // explicit +
       "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n",               // truncated
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n3 0 2 1\n0 0 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",      // a vertex late
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n",      // a vertex too many
   };
   for (std::size_t i = 0; i < not_plain.size(); ++i) {
     SCOPED_TRACE("case " + std::to_string(i));
     write_text(path("odd.off"), not_plain[i]);
     EXPECT_FALSE(read_plain_off(path("odd.off")));
   }
+}
+
+// The fast path reads in blocks of 32 MB that threads parse in runs joined after: a file of
+// several blocks comes back exactly, and a vertex after the last triangle is still refused.
+TEST_F(SurfaceIoTest, PlainOffFastPathReadsAFileOfManyBlocks) {
+  const SurfaceMesh surface = generate_surface("torus", 1'500'000);
+  const std::string file = path("blocks.off");
+  write_off(surface, file);
+  ASSERT_GT(std::filesystem::file_size(file), std::uintmax_t{64} << 20);  // three blocks
+  const auto fast = read_plain_off(file);
+  ASSERT_TRUE(fast);
+  expect_same_surface(*fast, surface);
+  {
+    std::ofstream(file, std::ios::app) << "0 0 0\n";
+  }
+  EXPECT_FALSE(read_plain_off(file));
 }
 
 TEST_F(SurfaceIoTest, PlainOffFastPathMatchesTheGeneralReaderOnSharedModels) {

@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/parallel.hpp"
+
 namespace partet {
 namespace {
 
@@ -40,7 +42,25 @@ class BlockText {
       refill();
     }
   }
-  std::size_t bytes_read() const { return total_; }
+  // The complete lines after those taken so far (the last line without '\n' once the file has
+  // ended), at least `wanted` bytes of them unless the file ends first; false at the end. Valid
+  // until the next call.
+  bool next_lines(std::string_view& lines, std::size_t wanted) {
+    while (!eof_ && end_ - begin_ < wanted) refill();
+    const char* start = buffer_.data() + begin_;
+    std::size_t length = end_ - begin_;
+    if (!eof_) {
+      while (length > 0 && start[length - 1] != '\n') --length;
+      if (length == 0) {  // one line longer than what is buffered: read on
+        refill();
+        return next_lines(lines, wanted);
+      }
+    }
+    if (length == 0) return false;
+    lines = std::string_view(start, length);
+    begin_ += length;
+    return true;
+  }
   bool failed() const { return failed_; }
 
  private:
@@ -48,7 +68,7 @@ class BlockText {
     std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
     end_ -= begin_;
     begin_ = 0;
-    if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);  // a line longer than the buffer
+    if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);  // more than the buffer holds
     for (;;) {
       const ssize_t n = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
       if (n < 0 && errno == EINTR) continue;
@@ -58,14 +78,13 @@ class BlockText {
         return;
       }
       end_ += static_cast<std::size_t>(n);
-      total_ += static_cast<std::size_t>(n);
       return;
     }
   }
 
   int fd_;
   std::vector<char> buffer_;
-  std::size_t begin_ = 0, end_ = 0, total_ = 0;
+  std::size_t begin_ = 0, end_ = 0;
   bool eof_ = false, failed_ = false;
 };
 
@@ -129,19 +148,95 @@ bool read_counts(Scanner& in, std::int64_t& vertices, std::int64_t& faces) {
   return vertices >= 0 && faces > 0 && vertices <= INT32_MAX && faces <= INT32_MAX;
 }
 
-bool read_vertex(Scanner& in, Point3& p) {
-  if (!in.next_line()) return false;
-  for (double& x : p)
-    if (!in.number(x) || !std::isfinite(x)) return false;
-  return in.line_done();
-}
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
-bool read_triangle(Scanner& in, std::int64_t vertex_count, Triangle& t) {
-  int corners = 0;
-  if (!in.next_line() || !in.number(corners) || corners != 3) return false;
-  for (auto& v : t)
-    if (!in.number(v) || v < 0 || v >= vertex_count) return false;
-  return in.line_done();
+// The vertices and triangles of a run of whole lines, in order. A content line is a vertex
+// (three numbers) until the first triangle ("3 i j k"), and a triangle after it, so runs can be
+// read apart and joined after; `ok` is false on anything else.
+struct ParsedLines {
+  std::vector<Point3> points;
+  std::vector<Triangle> triangles;
+  bool ok = true;
+
+  void parse(std::string_view text, std::int64_t vertex_count) {
+    points.clear(), triangles.clear(), ok = true;  // keeps the capacity for the next block
+    const char* p = text.data();
+    const char* const end = p + text.size();
+    while (p < end && ok) {
+      const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      if (!eol) eol = end;
+      parse_line(p, eol, vertex_count);
+      p = eol + 1;
+    }
+  }
+
+ private:
+  // Tried as a vertex while no triangle has come, then as a triangle: one pass over nearly
+  // every line.
+  void parse_line(const char* p, const char* end, std::int64_t vertex_count) {
+    if (at_line_end(p, end)) return;  // blank or comment
+    Point3 point;
+    if (triangles.empty() && vertex(p, end, point)) return points.push_back(point);
+    Triangle t;
+    if (triangle(p, end, vertex_count, t)) return triangles.push_back(t);
+    ok = false;
+  }
+
+  static bool vertex(const char* p, const char* end, Point3& point) {
+    for (double& x : point)
+      if (!number(p, end, x) || !std::isfinite(x)) return false;
+    return at_line_end(p, end);
+  }
+
+  static bool triangle(const char* p, const char* end, std::int64_t vertex_count, Triangle& t) {
+    int corners = 0;
+    if (!number(p, end, corners) || corners != 3) return false;
+    for (auto& v : t)
+      if (!number(p, end, v) || v < 0 || v >= vertex_count) return false;
+    return at_line_end(p, end);
+  }
+
+  // A number ending at a blank, a comment or the line's end.
+  template <class T>
+  static bool number(const char*& p, const char* end, T& value) {
+    while (p < end && is_blank(*p)) ++p;
+    const auto [ptr, ec] = std::from_chars(p, end, value);
+    if (ec != std::errc() || (ptr != end && !is_blank(*ptr) && *ptr != '#')) return false;
+    p = ptr;
+    return true;
+  }
+
+  static bool at_line_end(const char*& p, const char* end) {
+    while (p < end && is_blank(*p)) ++p;
+    return p == end || *p == '#';
+  }
+};
+
+// Reads the lines after the header in blocks, each cut into runs at line ends that threads parse
+// side by side (parsing numbers is most of the reading time), then appends the runs in order.
+bool read_body(BlockText& text, std::int64_t vertex_count, SurfaceMesh& surface) {
+  constexpr std::size_t kBlockBytes = std::size_t{32} << 20;
+  const unsigned threads = usable_cpus();
+  std::vector<ParsedLines> runs(threads);
+  std::string_view block;
+  while (text.next_lines(block, kBlockBytes)) {
+    std::vector<std::string_view> parts;
+    for (unsigned t = 0; t < threads && !block.empty(); ++t) {
+      std::size_t cut = t + 1 == threads ? block.size() : std::max<std::size_t>(1, block.size() / (threads - t));
+      while (cut < block.size() && block[cut - 1] != '\n') ++cut;
+      parts.push_back(block.substr(0, cut));
+      block.remove_prefix(cut);
+    }
+    parallel_for(parts.size(), threads, [&](std::size_t i) { runs[i].parse(parts[i], vertex_count); });
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      const ParsedLines& run = runs[i];
+      if (!run.ok || (!run.points.empty() && !surface.triangles.empty())) return false;
+      if (surface.points.size() + run.points.size() > static_cast<std::size_t>(vertex_count)) return false;
+      surface.points.insert(surface.points.end(), run.points.begin(), run.points.end());
+      surface.triangles.insert(surface.triangles.end(), run.triangles.begin(), run.triangles.end());
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -164,13 +259,13 @@ std::optional<SurfaceMesh> read_plain_off(const std::string& path) {
   if (static_cast<std::uint64_t>(vertex_count) * 6 + static_cast<std::uint64_t>(face_count) * 8 > file_size)
     return std::nullopt;
   SurfaceMesh surface;
-  surface.points.resize(static_cast<std::size_t>(vertex_count));
-  for (Point3& p : surface.points)
-    if (!read_vertex(in, p)) return std::nullopt;
-  surface.triangles.resize(static_cast<std::size_t>(face_count));
-  for (Triangle& t : surface.triangles)
-    if (!read_triangle(in, vertex_count, t)) return std::nullopt;
-  if (in.next_line() || text.failed()) return std::nullopt;  // trailing content, or a read error
+  surface.points.reserve(static_cast<std::size_t>(vertex_count));
+  surface.triangles.reserve(static_cast<std::size_t>(face_count));
+  if (!read_body(text, vertex_count, surface) || text.failed()) return std::nullopt;  // or a read error
+  // Each count exactly: no vertex and no triangle missing, no trailing content.
+  if (surface.points.size() != static_cast<std::size_t>(vertex_count) ||
+      surface.triangles.size() != static_cast<std::size_t>(face_count))
+    return std::nullopt;
   return surface;
 }
 

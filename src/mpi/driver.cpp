@@ -592,7 +592,8 @@ void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out)
     const auto [first, last] = run_of(rows.count, r, size);
     for (std::size_t i = 0; i < row_part_count(first, last); ++i) {
       const std::size_t row = first + i * kRowPart;
-      const std::string_view part(rows.data + row * bytes_per_row, (std::min(last, row + kRowPart) - row) * bytes_per_row);
+      const std::string_view part(rows.data + row * bytes_per_row,
+                                  (std::min(last, row + kRowPart) - row) * bytes_per_row);
       bounded([&] { return send_bytes(part, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
     }
   }
@@ -716,7 +717,8 @@ template <class T>
 void broadcast_values(const std::vector<T>& values) {
   for (std::size_t first = 0; first < values.size(); first += kStreamPartValues) {
     const std::size_t n = std::min(kStreamPartValues, values.size() - first);
-    bounded([&] { broadcast_bytes(const_cast<T*>(values.data() + first), n * sizeof(T), 0, job_comm(), kWorkerSeconds); });
+    bounded(
+        [&] { broadcast_bytes(const_cast<T*>(values.data() + first), n * sizeof(T), 0, job_comm(), kWorkerSeconds); });
   }
 }
 
@@ -1023,15 +1025,18 @@ JobStatus run_mesh_job(const MeshJob& job) {
   // 1-2. Rank 0 checks where the output goes, then reads and validates the input. An interrupted
   // rank removes its temporary files; rank 0 says which files are in place.
   const InputChecks checks = state.size > 1 ? InputChecks::elsewhere : InputChecks::here;
+  const cpu_set_t node_cpus = cpus_of_rank0_node(state.rank, state.size);
   if (root) {
     interrupts::set_messages(interrupted_before(job), interrupted_after(job));
-    on_root(state, [&] { root->prepare(checks); });
+    on_root(state, [&] {
+      const CpuLoan loan(node_cpus);  // the ranks on this node wait for the input meanwhile
+      root->prepare(checks);
+    });
   }
   // Only rank 0 can have failed so far: its exit code goes to every rank (2: a usage error).
   const int start_code = state.status.error.empty() ? 0 : state.status.usage_error ? 2 : 1;
   state.status.exit_code = bounded([&] { return broadcast_int(start_code, 0, job_comm(), collective_limit()); });
   if (state.status.exit_code != 0) return state.status;
-  const cpu_set_t node_cpus = cpus_of_rank0_node(state.rank, state.size);
   // 2b. The other ranks check the input while rank 0 partitions it (the verdict comes before any piece).
   if (checks == InputChecks::elsewhere) {
     if (root)
