@@ -395,8 +395,12 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
     }
     const double partition_start = now_seconds();
     const MeshOptions attempt_options = plan.options();
-    std::vector<CutPlane> planes = choose_cut_planes(input, attempt_options.pieces, attempt_options.axis,
-                                                     attempt_options.plane_shifts, plan.fractions());
+    std::vector<CutPlane> planes;
+    if (attempt_options.pieces != 1) {  // the sorted vertices are freed before the closure
+      const AxisVertices along = sort_vertices_along(input, cut_axis(input, attempt_options.axis));
+      planes =
+          choose_cut_planes(input, along, attempt_options.pieces, attempt_options.plane_shifts, plan.fractions(along));
+    }
     if (plan.fewer_cuts_than_pieces(planes.size())) continue;
     char density[32];
     std::snprintf(density, sizeof density, "%g", attempt_options.density);

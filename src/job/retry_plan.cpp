@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "common/log.hpp"
-#include "stages/piece_cost.hpp"
 #include "runner/piece_runner.hpp"
+#include "stages/piece_cost.hpp"
 
 namespace partet {
 namespace {
@@ -15,7 +15,8 @@ constexpr int kMovesPerCut = 2;  // plane moves along one axis (or piece count) 
 std::string listed(const std::vector<std::int64_t>& faces) {
   std::string text;
   const std::size_t shown = std::min<std::size_t>(faces.size(), 5);
-  for (std::size_t i = 0; i < shown; ++i) text += (i == 0 ? "" : i + 1 == shown && shown == faces.size() ? " and " : ", ") + std::to_string(faces[i]);
+  for (std::size_t i = 0; i < shown; ++i)
+    text += (i == 0 ? "" : i + 1 == shown && shown == faces.size() ? " and " : ", ") + std::to_string(faces[i]);
   if (faces.size() > shown) text += " (and " + std::to_string(faces.size() - shown) + " more)";
   return text;
 }
@@ -40,10 +41,10 @@ RetryPlan::RetryPlan(const SurfaceMesh& input, const MeshOptions& asked, double 
   axis_settled_ = asked.axis != CutAxis::coordinate_near_pca && asked.axis != CutAxis::pca;
 }
 
-const std::vector<double>& RetryPlan::fractions() {
+const std::vector<double>& RetryPlan::fractions(const AxisVertices& along) {
   if (!fractions_known_) {
     fractions_ = current_.balance == Balance::cost && current_.pieces > 1
-                     ? cost_balanced_fractions(input_, cut_axis(input_, current_.axis), current_.pieces, asked_.density)
+                     ? cost_balanced_fractions(input_, along, current_.pieces, asked_.density)
                      : std::vector<double>();
     fractions_known_ = true;
   }
@@ -164,7 +165,8 @@ void RetryPlan::input_trouble(const AttemptFailure& failed) const {
            (failed.input_faces.empty() ? std::string() : " (on input faces " + listed(failed.input_faces) + ")");
   else if (f.kind == FailureKind::self_intersection || f.kind == FailureKind::too_close)
     what = "TetGen alone takes " +
-           (failed.input_faces.empty() ? std::string("parts of this input") : "input faces " + listed(failed.input_faces)) +
+           (failed.input_faces.empty() ? std::string("parts of this input")
+                                       : "input faces " + listed(failed.input_faces)) +
            " for intersecting or too close (within its tolerance)";
   else
     what = "TetGen alone fails on this input too: " + f.message;
@@ -211,7 +213,8 @@ bool RetryPlan::next_axis(std::string& note) {
   ++axis_index_;
   start_fresh(axes_[axis_index_], asked_.pieces);
   note = std::string("; the cuts kept failing: cutting along ") +
-         (axes_[axis_index_] == CutAxis::pca ? "the main (PCA) axis" : std::string("the ") + axis_name(axes_[axis_index_]) + " axis") +
+         (axes_[axis_index_] == CutAxis::pca ? "the main (PCA) axis"
+                                             : std::string("the ") + axis_name(axes_[axis_index_]) + " axis") +
          " instead";
   return true;
 }

@@ -14,16 +14,16 @@
 // rather than a cut), is meshed as one piece at once. When that fails too, the trouble is the
 // input itself: the error says so, naming the input faces TetGen named, without futile retries.
 // When it works, its mesh is kept and is the result at the next failure (a small input), or when
-// the other partitions fail too (a large one). A partition identical to the one that just failed is not meshed again. A quality
-// bound TetGen cannot meet (its refinement runs away or past its time limit) is tried once more
-// with caps without interior points, then reported as what it is: no partition helps.
+// the other partitions fail too (a large one). A partition identical to the one that just failed is not meshed again. A
+// quality bound TetGen cannot meet (its refinement runs away or past its time limit) is tried once more with caps
+// without interior points, then reported as what it is: no partition helps.
 #pragma once
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "partet/errors.hpp"
 #include "job/pipeline.hpp"
+#include "partet/errors.hpp"
 
 namespace partet {
 
@@ -48,8 +48,9 @@ class RetryPlan {
   const MeshOptions& options() const { return current_; }
   int attempt() const { return attempt_; }
   // Where the planes of this attempt aim (fractions of the vertices below each plane), computed
-  // once per axis and piece count with the caps first asked for.
-  const std::vector<double>& fractions();
+  // once per axis and piece count with the caps first asked for, from the vertices sorted along
+  // this attempt's axis.
+  const std::vector<double>& fractions(const AxisVertices& along);
   // Whether this attempt's unchanged pieces may reuse the last attempt's results (same axis and
   // piece count).
   bool same_cuts_as_before() const { return same_cuts_; }
@@ -90,15 +91,15 @@ class RetryPlan {
   double available_mb_;
   std::vector<CutAxis> axes_;  // in the order tried
   std::size_t axis_index_ = 0;
-  int moves_on_axis_ = 0;      // plane moves since this axis (or piece count) started
-  bool halving_ = false;       // step 3 has begun
+  int moves_on_axis_ = 0;  // plane moves since this axis (or piece count) started
+  bool halving_ = false;   // step 3 has begun
   bool one_piece_tried_ = false;
   bool axis_settled_ = false;  // the first partition's direction is chosen
   std::size_t best_planes_ = 0, best_axis_ = 0;
   bool diagnosing_ = false, one_piece_works_ = false, use_one_piece_mesh_ = false;
-  MeshOptions before_diagnosis_;        // the partition the diagnosis interrupted
+  MeshOptions before_diagnosis_;  // the partition the diagnosis interrupted
   int moves_before_diagnosis_ = 0;
-  AttemptFailure diagnosed_failure_;    // and its failure
+  AttemptFailure diagnosed_failure_;  // and its failure
   bool quality_retried_ = false;
   bool same_cuts_ = false;
   int attempt_ = 0;

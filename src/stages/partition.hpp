@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
@@ -39,6 +40,19 @@ Point3 cut_axis(const SurfaceMesh& surface, CutAxis mode);
 // that caused trouble). fractions (k-1 increasing values in (0, 1)), when given, replace the
 // equal split: plane j goes where a fraction fractions[j] of the vertices lies below it.
 std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, int k, CutAxis mode = CutAxis::coordinate_near_pca,
+                                        const std::vector<int>& shifts = {}, const std::vector<double>& fractions = {});
+
+// The used vertices in order along an axis: what balancing the pieces and choosing the planes
+// both read, so one sort of the millions of vertices serves both.
+struct AxisVertices {
+  // Not an aggregate: a braced axis {1, 0, 0} must not read as one.
+  explicit AxisVertices(const Point3& along_axis) : axis(along_axis) {}
+  Point3 axis;
+  std::vector<std::pair<double, std::size_t>> sorted;  // (projection, vertex), by projection then vertex
+};
+AxisVertices sort_vertices_along(const SurfaceMesh& surface, const Point3& axis);
+// choose_cut_planes along `along.axis`.
+std::vector<CutPlane> choose_cut_planes(const SurfaceMesh& surface, const AxisVertices& along, int k,
                                         const std::vector<int>& shifts = {}, const std::vector<double>& fractions = {});
 
 // Piece (slab) of a point: the number of planes it lies above, decided exactly.

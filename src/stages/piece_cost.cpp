@@ -13,7 +13,9 @@
 namespace partet {
 namespace {
 
-double centroid(const std::vector<double>& proj, const Triangle& t) { return (proj[t[0]] + proj[t[1]] + proj[t[2]]) / 3; }
+double centroid(const std::vector<double>& proj, const Triangle& t) {
+  return (proj[t[0]] + proj[t[1]] + proj[t[2]]) / 3;
+}
 
 // Each edge of a closed oriented surface once: where it runs from the lower id to the higher
 // (it runs the other way in its other triangle).
@@ -26,7 +28,8 @@ void for_each_edge(const Triangle& t, F f) {
 // The input along the cut axis: where its triangles, edges and vertices lie.
 class AxisProfile {
  public:
-  AxisProfile(const SurfaceMesh& surface, const Point3& axis) {
+  AxisProfile(const SurfaceMesh& surface, const AxisVertices& along) {
+    const Point3& axis = along.axis;
     std::vector<double> proj(surface.points.size());
     for (std::size_t i = 0; i < surface.points.size(); ++i) proj[i] = dot(axis, surface.points[i]);
     // An edge is counted at its lower and at its upper end, so the edges below a position are
@@ -40,16 +43,11 @@ class AxisProfile {
         ++ends[a_low ? b : a][1];
       });
     }
-    const std::vector<char> used = used_vertices(surface.points.size(), surface.triangles);
-    std::vector<Keyed> sorted;
-    for (std::size_t i = 0; i < proj.size(); ++i)
-      if (used[i]) sorted.push_back(keyed(proj[i], i));
-    sort_keyed(sorted);
     // Radix-like spreadsort: the same order as std::sort, faster on millions of values.
     boost::sort::spreadsort::float_sort(centroids_.begin(), centroids_.end());
-    vertices_.reserve(sorted.size());
+    vertices_.reserve(along.sorted.size());
     starts_below_.assign(1, 0), ends_below_.assign(1, 0);
-    for (const auto& [x, i] : sorted) {
+    for (const auto& [x, i] : along.sorted) {
       vertices_.push_back(x);
       starts_below_.push_back(starts_below_.back() + ends[i][0]);
       ends_below_.push_back(ends_below_.back() + ends[i][1]);
@@ -74,8 +72,8 @@ class AxisProfile {
   }
   double vertex_quantile(double fraction) const {
     const auto n = vertices_.size();
-    const auto r = static_cast<std::size_t>(std::clamp(std::round(fraction * static_cast<double>(n)), 1.0,
-                                                       static_cast<double>(n - 1)));
+    const auto r = static_cast<std::size_t>(
+        std::clamp(std::round(fraction * static_cast<double>(n)), 1.0, static_cast<double>(n - 1)));
     return (vertices_[r - 1] + vertices_[r]) / 2;
   }
   bool usable(int k) const { return vertices_.size() > static_cast<std::size_t>(k) && centroids_.size() > 2; }
@@ -146,8 +144,7 @@ std::vector<double> estimated_piece_costs(const SurfaceMesh& surface, const std:
     cost[std::upper_bound(offsets.begin(), offsets.end(), centroid(proj, t)) - offsets.begin()] += 1;
     for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
       const auto [low, high] = std::minmax(proj[a], proj[b]);
-      for (auto j = std::upper_bound(offsets.begin(), offsets.end(), low);
-           j != offsets.end() && *j <= high; ++j)
+      for (auto j = std::upper_bound(offsets.begin(), offsets.end(), low); j != offsets.end() && *j <= high; ++j)
         crossings[j - offsets.begin()] += 1;
     });
   }
@@ -161,7 +158,13 @@ std::vector<double> estimated_piece_costs(const SurfaceMesh& surface, const std:
 
 std::vector<double> cost_balanced_fractions(const SurfaceMesh& surface, const Point3& axis, int k, double density) {
   if (k < 2) return {};
-  const AxisProfile profile(surface, axis);
+  return cost_balanced_fractions(surface, sort_vertices_along(surface, axis), k, density);
+}
+
+std::vector<double> cost_balanced_fractions(const SurfaceMesh& surface, const AxisVertices& along, int k,
+                                            double density) {
+  if (k < 2) return {};
+  const AxisProfile profile(surface, along);
   if (!profile.usable(k)) return {};
   const double per_crossing = triangles_per_crossing(density);
   auto largest_ratio = [&](const std::vector<double>& positions) {

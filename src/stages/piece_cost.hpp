@@ -27,5 +27,8 @@ std::vector<double> estimated_piece_costs(const SurfaceMesh& surface, const std:
 // every piece the same estimated cost (for choose_cut_planes). Empty when k < 2, or when the
 // caps alone would fill a piece (then an equal split of the vertices is as good as any).
 std::vector<double> cost_balanced_fractions(const SurfaceMesh& surface, const Point3& axis, int k, double density);
+// The same from the vertices already sorted along the axis.
+std::vector<double> cost_balanced_fractions(const SurfaceMesh& surface, const AxisVertices& along, int k,
+                                            double density);
 
 }  // namespace partet
