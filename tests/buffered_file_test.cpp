@@ -4,9 +4,11 @@
 
 #include <fcntl.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <sys/vfs.h>
 #include <unistd.h>
 #include <charconv>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -170,6 +172,41 @@ TEST(BufferedFile, BackgroundFailureIsReportedByFinishAfterTheOthersEnd) {
   EXPECT_TRUE(read_all(path) == expected);  // written to the end before the failure was thrown
   fs::remove(path);
   EXPECT_NO_THROW(finish_background_writes());  // nothing is left pending
+}
+
+// A write that fails part-way through a directly written file (here a file size limit, which
+// cuts a write short at an unaligned size and then refuses the next, as a full disk does) is
+// reported with the name the user knows, and nothing hangs.
+TEST(BufferedFile, FailureWhileWritingDirectlyNamesTheFile) {
+  fs::path dir;
+  for (const fs::path& candidate : {fs::temp_directory_path(), fs::current_path()})  // the build directory
+    if (dir.empty() && on_local_disk(candidate)) dir = candidate;
+  if (dir.empty()) GTEST_SKIP() << "neither the temporary nor the build directory is on a local disk's filesystem";
+  const fs::path path = dir / ("partet_direct_limit_" + std::to_string(::getpid()));
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  rlimit limited = before;
+  limited.rlim_cur = (std::size_t{10} << 20) + 1234;
+  const auto previous_handler = std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG instead
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+  std::string message;
+  bool direct = false;
+  try {
+    BufferedFile out(path.string(), "out/m.ele");
+    for (std::int64_t i = 0; i < 5'000'000; ++i) {
+      out.integer(i), out.newline();
+      direct = direct || out.writes_directly();
+    }
+    out.close();
+  } catch (const OutputError& e) {
+    message = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_TRUE(direct);
+  EXPECT_NE(message.find("cannot write 'out/m.ele': File too large"), std::string::npos) << message;
+  EXPECT_EQ(fs::file_size(path), limited.rlim_cur);  // written up to the limit, none of it lost
+  fs::remove(path);
 }
 
 TEST(BufferedFile, MissingDirectoryIsReportedAtOnce) {
