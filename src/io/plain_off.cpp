@@ -88,6 +88,24 @@ class BlockText {
   bool eof_ = false, failed_ = false;
 };
 
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+// A number at p (after blanks) ending at a blank, a comment or the line's end; p moves past it.
+template <class T>
+bool parse_number(const char*& p, const char* end, T& value) {
+  while (p < end && is_blank(*p)) ++p;
+  const auto [ptr, ec] = std::from_chars(p, end, value);
+  if (ec != std::errc() || (ptr != end && !is_blank(*ptr) && *ptr != '#')) return false;
+  p = ptr;
+  return true;
+}
+
+// Only blanks, then perhaps a comment, are left on the line.
+bool at_line_end(const char*& p, const char* end) {
+  while (p < end && is_blank(*p)) ++p;
+  return p == end || *p == '#';
+}
+
 // Walks the text line by line; a line's tokens are read in order and must all be used.
 class Scanner {
  public:
@@ -116,22 +134,14 @@ class Scanner {
     p_ += expected.size();
     return p_ == line_end_ || is_blank(*p_);
   }
+  // (The line has lost its comment already.)
   template <class T>
   bool number(T& value) {
-    skip_blanks();
-    const auto [ptr, ec] = std::from_chars(p_, line_end_, value);
-    if (ec != std::errc() || (ptr != line_end_ && !is_blank(*ptr))) return false;
-    p_ = ptr;
-    return true;
+    return parse_number(p_, line_end_, value);
   }
-  // Only blanks are left on the line.
-  bool line_done() {
-    skip_blanks();
-    return p_ == line_end_;
-  }
+  bool line_done() { return at_line_end(p_, line_end_); }
 
  private:
-  static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
   void skip_blanks() {
     while (p_ < line_end_ && is_blank(*p_)) ++p_;
   }
@@ -147,8 +157,6 @@ bool read_counts(Scanner& in, std::int64_t& vertices, std::int64_t& faces) {
   if (!in.number(vertices) || !in.number(faces) || !in.number(edges) || !in.line_done()) return false;
   return vertices >= 0 && faces > 0 && vertices <= INT32_MAX && faces <= INT32_MAX;
 }
-
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 // The vertices and triangles of a run of whole lines, in order. A content line is a vertex
 // (three numbers) until the first triangle ("3 i j k"), and a triangle after it, so runs can be
@@ -184,31 +192,16 @@ struct ParsedLines {
 
   static bool vertex(const char* p, const char* end, Point3& point) {
     for (double& x : point)
-      if (!number(p, end, x) || !std::isfinite(x)) return false;
+      if (!parse_number(p, end, x) || !std::isfinite(x)) return false;
     return at_line_end(p, end);
   }
 
   static bool triangle(const char* p, const char* end, std::int64_t vertex_count, Triangle& t) {
     int corners = 0;
-    if (!number(p, end, corners) || corners != 3) return false;
+    if (!parse_number(p, end, corners) || corners != 3) return false;
     for (auto& v : t)
-      if (!number(p, end, v) || v < 0 || v >= vertex_count) return false;
+      if (!parse_number(p, end, v) || v < 0 || v >= vertex_count) return false;
     return at_line_end(p, end);
-  }
-
-  // A number ending at a blank, a comment or the line's end.
-  template <class T>
-  static bool number(const char*& p, const char* end, T& value) {
-    while (p < end && is_blank(*p)) ++p;
-    const auto [ptr, ec] = std::from_chars(p, end, value);
-    if (ec != std::errc() || (ptr != end && !is_blank(*ptr) && *ptr != '#')) return false;
-    p = ptr;
-    return true;
-  }
-
-  static bool at_line_end(const char*& p, const char* end) {
-    while (p < end && is_blank(*p)) ++p;
-    return p == end || *p == '#';
   }
 };
 

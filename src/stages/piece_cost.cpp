@@ -6,9 +6,7 @@
 
 #include <boost/sort/spreadsort/float_sort.hpp>
 
-#include "common/keyed_sort.hpp"
 #include "stages/geometry.hpp"
-#include "stages/topology.hpp"
 
 namespace partet {
 namespace {
