@@ -115,7 +115,8 @@ Command receive_command() {
 }
 
 // How long rank 1 waits for the other checking ranks' findings on an input of `faces` faces:
-// kWorkerSeconds + 1 s per million faces (rank 0 waits twice that for rank 1's verdict).
+// kWorkerSeconds + 1 s per million faces (rank 0 waits as long for rank 1's verdict on 2 ranks,
+// twice as long on more).
 double input_check_limit(std::size_t faces) {
   return test_hooks::verdict_wait_seconds(kWorkerSeconds + 1e-6 * static_cast<double>(faces));
 }
@@ -152,9 +153,10 @@ class RootScheduler : public PieceScheduler {
   // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
   void expect_input_verdict(std::size_t faces) {
     verdict_pending_ = true;
-    // Twice rank 1's own wait for the other ranks (input_verdict): when one of them stalls,
-    // rank 1's verdict naming it comes first, not a timeout here naming rank 1.
-    verdict_limit_ = 2 * input_check_limit(faces);
+    // With other checking ranks, twice rank 1's own wait for them (input_verdict): when one of
+    // them stalls, rank 1's verdict naming it comes first, not a timeout here naming rank 1.
+    // On 2 ranks rank 1 waits for nobody, and neither need rank 0 wait longer.
+    verdict_limit_ = (size_ > 2 ? 2 : 1) * input_check_limit(faces);
   }
 
   bool confirm_input() override {
