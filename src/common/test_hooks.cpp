@@ -99,4 +99,6 @@ void before_publish() { sleep_ms("PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS"); }
 
 double publish_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_PUBLISH_WAIT_S", fallback); }
 
+void buffer_handed() { sleep_ms("PARTET_TEST_WRITE_DELAY_MS"); }
+
 }  // namespace partet::test_hooks

@@ -1,6 +1,7 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
-// does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh, tests/cli/hard_parts.sh,
-// tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh.
+// does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
+// tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh,
+// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh.
 #pragma once
 #include <cstddef>
 
@@ -50,5 +51,9 @@ void publish_step(int step);
 void before_publish();
 // PARTET_TEST_PUBLISH_WAIT_S=S: how long a publish waits for another run's lock (else fallback).
 double publish_wait_seconds(double fallback);
+// Called after a large file's buffer is handed to its writing thread (one per 4 MB).
+// PARTET_TEST_WRITE_DELAY_MS=D sleeps D ms, as a slow disk would, so that a test can interrupt
+// a run in the middle of a file written around the page cache.
+void buffer_handed();
 
 }  // namespace partet::test_hooks

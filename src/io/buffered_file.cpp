@@ -14,6 +14,7 @@
 #include <new>
 #include <thread>
 
+#include "common/test_hooks.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -223,6 +224,7 @@ void BufferedFile::flush(bool last) {
   }
   w.changed.notify_all();
   used_ -= handed;
+  if (!last) test_hooks::buffer_handed();
 }
 
 bool BufferedFile::writes_directly() const { return writer_ && writer_->direct; }

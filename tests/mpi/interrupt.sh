@@ -2,7 +2,8 @@
 # No orphaned processes and a clear message: (1) SIGTERM to a one-rank run ends it at once with
 # exit code 143 and "interrupted", its TetGen child dies with it, and no file (temporary or
 # final) is left; (2) SIGKILL of a rank under the launcher takes its TetGen child with it and
-# ends the job without output.
+# ends the job without output; (3) SIGTERM to a 2-rank job in the middle of a large file's
+# write keeps the previous set and leaves no temporary.
 # Usage: interrupt.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -71,6 +72,37 @@ code=$?
 sleep 1
 [ "$(processes)" -eq 0 ] && ok "SIGKILL: no process left" || bad "SIGKILL: $(processes) processes left"
 ls "$work" | grep -q '^two\.[a-z]*$' && bad "SIGKILL: output files: $(ls "$work")" || ok "SIGKILL: no output file"
+
+# 3. SIGTERM to a 2-rank job in the middle of its write: a file of the TetGen set is being written
+# in 4 MB buffers (around the page cache where the filesystem allows), slowed by
+# PARTET_TEST_WRITE_DELAY_MS so the signal lands inside it, and rank 1 waits to write its .pvtu
+# piece files. The job ends with "interrupted", the previous set at the prefix is kept byte for
+# byte, and no temporary is left.
+"$partet" mesh "$work/big.off" -o "$work/w" --pieces 4 --quiet --format tetgen,pvtu
+mkdir "$work/before" && cp "$work"/w.* "$work"/w_*.vtu "$work/before/"
+PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
+  -o "$work/w" --pieces 4 --format tetgen,pvtu > "$work/log3" 2>&1 &
+launcher=$!
+large=""
+for i in $(seq 1200); do  # up to 60 s for the meshing
+  large=$(find "$work" -maxdepth 1 -name 'w.*.tmp-*' -size +4095k | head -n 1)
+  [ -n "$large" ] && break
+  sleep 0.05
+done
+[ -n "$large" ] && ok "write: interrupted with $(basename "$large" | cut -d. -f1-2)'s first 4 MB written" ||
+  bad "write: no temporary of 4 MB seen"
+kill -TERM "$launcher"
+timeout 30 tail --pid="$launcher" -f /dev/null
+wait "$launcher"
+code=$?
+sleep 1
+[ "$code" -ne 0 ] && ok "write: exit code $code" || bad "write: exit code 0"
+grep -q "interrupted" "$work/log3" && ok "write: says $(grep -m1 interrupted "$work/log3")" || bad "write: no message"
+changed=""
+for f in "$work"/before/*; do cmp -s "$f" "$work/$(basename "$f")" || changed+=" $(basename "$f")"; done
+[ -z "$changed" ] && ok "write: the previous set ($(ls "$work/before" | wc -l) files) kept" || bad "write: changed:$changed"
+ls "$work" | grep -q '\.tmp-' && bad "write: temporaries left: $(ls "$work" | grep '\.tmp-')" || ok "write: no temporary left"
+[ "$(processes)" -eq 0 ] && ok "write: no process left" || bad "write: $(processes) processes left"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
