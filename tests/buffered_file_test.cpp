@@ -213,5 +213,26 @@ TEST(BufferedFile, MissingDirectoryIsReportedAtOnce) {
   EXPECT_THROW(BufferedFile("/nonexistent_partet_dir/m.node", "m.node"), OutputError);
 }
 
+// A rank writing into a temporary rank 0 made must not create it again once a failed run has
+// removed it: that would leave a file nobody removes.
+TEST(BufferedFile, MustExistNeverCreatesTheFile) {
+  const fs::path path = fs::temp_directory_path() / ("partet_buffered_exist_" + std::to_string(::getpid()));
+  try {
+    BufferedFile out(path.string(), "out/m_p0.vtu", /*must_exist=*/true);
+    FAIL() << "a missing file was opened";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'out/m_p0.vtu': No such file or directory"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(path));
+  std::ofstream(path) << "previous text, longer than the new";
+  {
+    BufferedFile out(path.string(), "out/m_p0.vtu", /*must_exist=*/true);
+    out.text("new");
+    out.close();
+  }
+  EXPECT_EQ(read_all(path), "new");  // truncated, as a created file would be
+  fs::remove(path);
+}
+
 }  // namespace
 }  // namespace partet

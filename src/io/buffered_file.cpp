@@ -187,9 +187,9 @@ std::vector<std::unique_ptr<BufferedFile::Writer>>& background_writers() {
 
 }  // namespace
 
-BufferedFile::BufferedFile(std::string path, std::string shown)
+BufferedFile::BufferedFile(std::string path, std::string shown, bool must_exist)
     : shown_(shown.empty() ? path : std::move(shown)), buffer_(kBufferSize), writer_(std::make_unique<Writer>()) {
-  writer_->fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  writer_->fd = ::open(path.c_str(), O_WRONLY | (must_exist ? 0 : O_CREAT) | O_TRUNC | O_CLOEXEC, 0666);
   if (writer_->fd < 0) fail(errno);
 }
 

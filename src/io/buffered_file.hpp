@@ -44,8 +44,10 @@ class AlignedBytes {
 // left to do).
 class BufferedFile {
  public:
-  // Errors name `shown` (the file the user asked for), not the temporary path written.
-  explicit BufferedFile(std::string path, std::string shown = "");
+  // Errors name `shown` (the file the user asked for), not the temporary path written. With
+  // must_exist the file is never created: writing into a temporary another process made (and
+  // may have removed, when the run failed) leaves no file behind.
+  explicit BufferedFile(std::string path, std::string shown = "", bool must_exist = false);
   ~BufferedFile();
   BufferedFile(const BufferedFile&) = delete;
   BufferedFile& operator=(const BufferedFile&) = delete;

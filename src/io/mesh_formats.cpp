@@ -14,10 +14,10 @@
 
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
-#include "partet/errors.hpp"
-#include "stages/info.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/xdmf.hpp"
+#include "partet/errors.hpp"
+#include "stages/info.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
@@ -40,11 +40,11 @@ struct CompressedArray {
 };
 
 template <class T>
-CompressedArray compress(std::string name, std::string type, int components, const std::vector<T>& values,
+CompressedArray compress(std::string name, std::string type, int components, ArrayRun<T> values,
                          const std::string& shown) {
   constexpr std::size_t kBlock = std::size_t(1) << 20;
-  const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
-  const std::size_t size = values.size() * sizeof(T);
+  const auto* raw = reinterpret_cast<const unsigned char*>(values.data);
+  const std::size_t size = values.size * sizeof(T);
   const std::size_t blocks = size == 0 ? 0 : (size + kBlock - 1) / kBlock;
   std::vector<std::uint64_t> header{blocks, kBlock, blocks == 0 ? 0 : size - (blocks - 1) * kBlock};
   // The blocks are independent: compressed on every usable CPU (the other ranks only wait
@@ -68,12 +68,21 @@ CompressedArray compress(std::string name, std::string type, int components, con
   return array;
 }
 
+template <class T>
+ArrayRun<T> run_of(const std::vector<T>& values) {
+  return {values.data(), values.size()};
+}
+
 // The tets of one piece value with their points renumbered, or all tets and points as they are.
 struct VtuCells {
   std::vector<double> xyz;
   std::vector<std::int64_t> connectivity, offsets;
   std::vector<std::uint8_t> types;
   std::vector<std::int32_t> piece, region;
+
+  VtuCellsView view() const {
+    return {run_of(xyz), run_of(connectivity), run_of(offsets), run_of(types), run_of(piece), run_of(region)};
+  }
 };
 
 void add_cell(const MeshOutput& output, const std::vector<std::int32_t>& region, std::size_t t, VtuCells& cells) {
@@ -142,20 +151,22 @@ class PieceCells {
   const MeshOutput& output_;
   const std::vector<std::int32_t>& region_;
   std::vector<std::int64_t> new_id_;
-  std::vector<std::size_t> start_;   // order_[start_[s], start_[s + 1]): the tets of piece lowest_ + s
+  std::vector<std::size_t> start_;  // order_[start_[s], start_[s + 1]): the tets of piece lowest_ + s
   std::vector<std::uint32_t> order_;
   int lowest_ = 0;
 };
 
-void write_vtu_file(const VtuCells& cells, const std::string& path) {
-  const std::size_t points = cells.xyz.size() / 3, tets = cells.types.size();
+}  // namespace
+
+void write_vtu_file(const VtuCellsView& cells, const std::string& path, const std::string& shown) {
+  const std::size_t points = cells.xyz.size / 3, tets = cells.types.size;
   std::vector<CompressedArray> arrays;
-  arrays.push_back(compress("Points", "Float64", 3, cells.xyz, path));
-  arrays.push_back(compress("connectivity", "Int64", 1, cells.connectivity, path));
-  arrays.push_back(compress("offsets", "Int64", 1, cells.offsets, path));
-  arrays.push_back(compress("types", "UInt8", 1, cells.types, path));
-  arrays.push_back(compress("piece", "Int32", 1, cells.piece, path));
-  arrays.push_back(compress("region", "Int32", 1, cells.region, path));
+  arrays.push_back(compress("Points", "Float64", 3, cells.xyz, shown));
+  arrays.push_back(compress("connectivity", "Int64", 1, cells.connectivity, shown));
+  arrays.push_back(compress("offsets", "Int64", 1, cells.offsets, shown));
+  arrays.push_back(compress("types", "UInt8", 1, cells.types, shown));
+  arrays.push_back(compress("piece", "Int32", 1, cells.piece, shown));
+  arrays.push_back(compress("region", "Int32", 1, cells.region, shown));
   std::vector<std::size_t> offset(arrays.size(), 0);
   for (std::size_t i = 1; i < arrays.size(); ++i) offset[i] = offset[i - 1] + arrays[i - 1].bytes.size();
   auto data_array = [&](std::size_t i) {
@@ -171,13 +182,15 @@ void write_vtu_file(const VtuCells& cells, const std::string& path) {
       "</Points>\n<Cells>\n" + data_array(1) + data_array(2) + data_array(3) +
       "</Cells>\n<CellData Scalars=\"piece\">\n" + data_array(4) + data_array(5) +
       "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
-  BufferedFile out(path);
+  BufferedFile out(path, shown, /*must_exist=*/true);  // a temporary OutputSet made, maybe on another rank
   out.bytes(xml.data(), xml.size());
   for (const CompressedArray& a : arrays) out.bytes(a.bytes.data(), a.bytes.size());
   const std::string tail = "\n</AppendedData>\n</VTKFile>\n";
   out.bytes(tail.data(), tail.size());
   out.close();
 }
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // Gmsh MSH 4.1: one volume entity (tag 1, physical 1 "volume") holding every node and tet, one
@@ -210,7 +223,9 @@ class MshWriter {
 
  private:
   // Numbers: size_t (8 bytes) or int (4 bytes) in binary, text separated by spaces otherwise.
-  void size(std::uint64_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space()); }
+  void size(std::uint64_t v) {
+    binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space());
+  }
   void tag(std::int32_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(v), out_.space()); }
   void real(double v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.real(v), out_.space()); }
   void box_reals(const Bounds& b) {
@@ -326,7 +341,7 @@ std::vector<int> pieces_in(const MeshOutput& output) {
 }
 
 void write_vtu(const MeshOutput& output, const std::string& path) {
-  write_vtu_file(all_cells(output, region_of_tets(output.mesh)), path);
+  write_vtu_file(all_cells(output, region_of_tets(output.mesh)).view(), path, path);
 }
 
 void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<std::string>& piece_files) {
@@ -388,7 +403,7 @@ struct FormatInfo {
   const char* name;
   const char* extension;  // of the file -o may name
 };
-constexpr FormatInfo kFormats[] = {{MeshFormat::tetgen, "tetgen", ".node"},   {MeshFormat::vtu, "vtu", ".vtu"},
+constexpr FormatInfo kFormats[] = {{MeshFormat::tetgen, "tetgen", ".node"},    {MeshFormat::vtu, "vtu", ".vtu"},
                                    {MeshFormat::pvtu, "pvtu", ".pvtu"},        {MeshFormat::msh, "msh", ".msh"},
                                    {MeshFormat::msh_binary, "msh-binary", ""}, {MeshFormat::medit, "medit", ".mesh"},
                                    {MeshFormat::xdmf, "xdmf", ".xdmf"}};
@@ -410,6 +425,41 @@ bool is_piece_file_name(const std::string& name, const std::string& base) {
     return false;
   const std::string digits = name.substr(head.size(), name.size() - head.size() - tail.size());
   return digits.find_first_not_of("0123456789") == std::string::npos && (digits == "0" || digits[0] != '0');
+}
+
+// A .pvtu set: one .vtu per piece value, then the index naming them. The piece files' temporaries
+// are made first and written together (by every rank when the driver deals them out), inside the
+// index's add, so that a failure of any removes them all.
+void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string& prefix,
+                    const PieceFilesWrite& write_piece_files) {
+  // The index names its piece files relative to its own directory.
+  const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
+  std::vector<std::string> sources;
+  std::vector<PieceFile> files;
+  for (int piece : pieces_in(output)) {
+    const std::string final_path = piece_file(prefix, piece);
+    set.add(final_path, [&](const std::string& tmp) { files.push_back({piece, tmp, final_path}); });
+    sources.push_back(piece_file(base, piece));
+  }
+  set.add(format_paths(MeshFormat::pvtu, prefix).front(), [&](const std::string& tmp) {
+    const std::vector<std::int32_t> region = region_of_tets(output.mesh);  // once for all the files
+    PieceCells cells(output, region);
+    VtuCells current;  // the last piece's cells, kept until the next is asked for
+    const PieceCellsOf cells_of = [&](int piece) {
+      current = cells.of(piece);
+      return current.view();
+    };
+    if (write_piece_files)
+      write_piece_files(files, cells_of);
+    else
+      for (const PieceFile& file : files) write_vtu_file(cells_of(file.piece), file.temporary, file.shown);
+    write_pvtu(output, tmp, sources);
+  });
+  // Piece files of an earlier .pvtu at this prefix that this one does not name (it had more
+  // pieces) go with the previous set.
+  const std::string directory =
+      prefix.find('/') == std::string::npos ? "." : prefix.substr(0, prefix.find_last_of('/') + 1);
+  set.supersede(directory, [base](const std::string& name) { return is_piece_file_name(name, base); });
 }
 
 }  // namespace
@@ -455,12 +505,18 @@ std::vector<std::string> format_paths(MeshFormat format, const std::string& pref
         paths.push_back(prefix + extension(file));
       return paths;
     }
-    case MeshFormat::vtu: return {prefix + ".vtu"};
-    case MeshFormat::pvtu: return {prefix + ".pvtu"};
-    case MeshFormat::msh: return {prefix + ".msh"};
-    case MeshFormat::msh_binary: return {prefix + ".msh"};
-    case MeshFormat::medit: return {prefix + ".mesh"};
-    case MeshFormat::xdmf: return xdmf_paths(prefix);
+    case MeshFormat::vtu:
+      return {prefix + ".vtu"};
+    case MeshFormat::pvtu:
+      return {prefix + ".pvtu"};
+    case MeshFormat::msh:
+      return {prefix + ".msh"};
+    case MeshFormat::msh_binary:
+      return {prefix + ".msh"};
+    case MeshFormat::medit:
+      return {prefix + ".mesh"};
+    case MeshFormat::xdmf:
+      return xdmf_paths(prefix);
   }
   return {};
 }
@@ -472,28 +528,24 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
     case MeshFormat::tetgen:
       add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from, writers.tetgen_lines);
       return;
-    case MeshFormat::vtu: set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); }); return;
-    case MeshFormat::msh: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); }); return;
-    case MeshFormat::msh_binary: set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); }); return;
-    case MeshFormat::medit: set.add(path, [&](const std::string& tmp) { write_medit(output, tmp); }); return;
-    case MeshFormat::xdmf: add_xdmf_files(set, output, prefix, writers.hdf5); return;
-    case MeshFormat::pvtu: {
-      // The index names its piece files relative to its own directory.
-      const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
-      std::vector<std::string> sources;
-      const std::vector<std::int32_t> region = region_of_tets(output.mesh);  // once for all the files
-      PieceCells cells(output, region);
-      for (int piece : pieces_in(output)) {
-        set.add(piece_file(prefix, piece), [&](const std::string& tmp) { write_vtu_file(cells.of(piece), tmp); });
-        sources.push_back(piece_file(base, piece));
-      }
-      set.add(path, [&](const std::string& tmp) { write_pvtu(output, tmp, sources); });
-      // Piece files of an earlier .pvtu at this prefix that this one does not name (it had more
-      // pieces) go with the previous set.
-      const std::string directory = prefix.find('/') == std::string::npos ? "." : prefix.substr(0, prefix.find_last_of('/') + 1);
-      set.supersede(directory, [base](const std::string& name) { return is_piece_file_name(name, base); });
+    case MeshFormat::vtu:
+      set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); });
       return;
-    }
+    case MeshFormat::msh:
+      set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); });
+      return;
+    case MeshFormat::msh_binary:
+      set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); });
+      return;
+    case MeshFormat::medit:
+      set.add(path, [&](const std::string& tmp) { write_medit(output, tmp); });
+      return;
+    case MeshFormat::xdmf:
+      add_xdmf_files(set, output, prefix, writers.hdf5);
+      return;
+    case MeshFormat::pvtu:
+      add_pvtu_files(set, output, prefix, writers.piece_files);
+      return;
   }
 }
 

@@ -1,6 +1,6 @@
 // Writing the final tet mesh in the formats users open: VTK XML (.vtu, and .pvtu with one .vtu
-// per piece), Gmsh MSH 4.1 (ASCII or binary) and MEDIT (.mesh). TetGen's own files are in
-// tetgen_files.hpp. Every writer writes exactly one file, to the path it is given (the caller
+// per piece, which the MPI driver has every rank write its share of), Gmsh MSH 4.1 (ASCII or binary) and MEDIT (.mesh).
+// TetGen's own files are in tetgen_files.hpp. Every writer writes exactly one file, to the path it is given (the caller
 // publishes a set of files atomically under their final names). Throws OutputError.
 #pragma once
 #include <cstdint>
@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "partet/mesh_types.hpp"
 #include "io/output_set.hpp"
 #include "io/tetgen_files.hpp"
+#include "partet/mesh_types.hpp"
 
 namespace partet {
 
@@ -43,9 +43,30 @@ struct MeshOutput {
 // XDMF cell data). From the neighbours when present, else from the tets.
 std::vector<std::int32_t> region_of_tets(const TetMesh& mesh);
 
+// A run of an array, viewed where it is (its owner keeps it alive).
+template <class T>
+struct ArrayRun {
+  const T* data = nullptr;
+  std::size_t size = 0;
+};
+
+// The cells of one .vtu file, viewed in place: tets with their points numbered from 0 (xyz: 3
+// doubles per point), VTK's connectivity, offsets and cell types, and the cell data write_vtu
+// describes. A rank that receives a piece file's cells writes them from the bytes it received.
+struct VtuCellsView {
+  ArrayRun<double> xyz;
+  ArrayRun<std::int64_t> connectivity, offsets;
+  ArrayRun<std::uint8_t> types;
+  ArrayRun<std::int32_t> piece, region;
+};
+
+// Writes one .vtu file of these cells into `path`, which must exist (an OutputSet's temporary);
+// errors name `shown`.
+void write_vtu_file(const VtuCellsView& cells, const std::string& path, const std::string& shown);
+
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
-// that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it belongs
-// to, from 1).
+// that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it
+// belongs to, from 1).
 void write_vtu(const MeshOutput& output, const std::string& path);
 
 // The .pvtu index naming one .vtu per piece value (each as write_vtu writes, with just that
@@ -77,11 +98,25 @@ struct Hdf5Paths {
 };
 using Hdf5Write = std::function<MeshTotals(const MeshOutput& output, const Hdf5Paths& paths)>;
 
+// One .vtu file of a .pvtu set: its piece value (-1: the seams), its temporary (already
+// created; written in place) and its final name (for messages).
+struct PieceFile {
+  int piece = 0;
+  std::string temporary, shown;
+};
+// A piece value's cells, numbered for its own file; the view is valid until the next call.
+using PieceCellsOf = std::function<VtuCellsView(int piece)>;
+// Writes every piece file of a .pvtu set (write_vtu_file on each file's cells). The MPI driver's
+// deals them out to the ranks, so they write at once.
+using PieceFilesWrite = std::function<void(const std::vector<PieceFile>& files, const PieceCellsOf& cells_of)>;
+
 // How the other ranks take part in writing (the MPI driver's): hdf5 writes an XDMF set's HDF5
-// files (required for xdmf); tetgen_lines formats TetGen files' lines (empty: here, alone).
+// files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes a
+// .pvtu set's piece files (empty: here, alone).
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;
+  PieceFilesWrite piece_files;
 };
 
 // Writes the format's files for PREFIX under temporary names into `set` (published together).

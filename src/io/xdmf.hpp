@@ -46,13 +46,6 @@ struct MeshBlock {
   std::vector<std::int32_t> face_marker;
 };
 
-// A run of an array, viewed where it is (its owner keeps it alive).
-template <class T>
-struct ArrayRun {
-  const T* data = nullptr;
-  std::size_t size = 0;
-};
-
 // One rank's share of a mesh to write: the same runs as a MeshBlock, viewed in place. Its ids are
 // the mesh's 32-bit ones; HDF5 widens them to the files' 64-bit as it writes, so no rank copies
 // its share to widen it (at 33M tets a 64-bit copy of the block, then its bytes for sending, cost

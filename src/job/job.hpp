@@ -8,11 +8,11 @@
 #include <type_traits>
 #include <vector>
 
-#include "stages/check.hpp"
-#include "stages/input_share.hpp"
 #include "io/mesh_formats.hpp"
 #include "io/output_set.hpp"
 #include "job/pipeline.hpp"
+#include "stages/check.hpp"
+#include "stages/input_share.hpp"
 #include "stages/quality.hpp"
 
 namespace partet {
@@ -21,7 +21,7 @@ struct MeshJob {
   std::string input;
   std::string output_prefix;
   std::vector<MeshFormat> formats{MeshFormat::tetgen};  // what to write at output_prefix
-  std::string report_path;  // empty: no JSON report
+  std::string report_path;                              // empty: no JSON report
   MeshOptions options;
   bool check_output = false;    // run check_mesh on the result before writing
   std::string dump_pieces_dir;  // non-empty: write each piece's surface there before meshing it
@@ -40,8 +40,10 @@ struct RankStats {
   // the run is serial: no number of ranks shortens it.
   double meshing_wall_seconds = 0;
   double input_check_seconds = 0;  // with several ranks, each rank but 0: receiving and checking its share of the input
+  double write_seconds = 0;        // in the check-and-write step (rank 0 checks the mesh first; the others wait)
+  double piece_files_written = 0;  // a .pvtu set's piece files this rank wrote
 };
-constexpr int kRankStatsDoubles = 10;
+constexpr int kRankStatsDoubles = 12;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -108,6 +108,8 @@ std::string report_json(const JobSummary& s) {
                               {"send_seconds", stats.send_seconds},
                               {"receive_seconds", stats.receive_seconds},
                               {"input_check_seconds", stats.input_check_seconds},
+                              {"write_seconds", stats.write_seconds},
+                              {"piece_files_written", stats.piece_files_written},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "common/log.hpp"
@@ -468,6 +469,8 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
 //   then an empty chunk), which rank 0 writes in order after its own block. The block comes in
 //   parts of kRowPart rows, so a rank frees each part as it formats it: it holds its text and
 //   one part, not its whole block beside its text.
+// - vtu: the piece files of a .pvtu set, dealt out in turn; each rank writes its own files (see
+//   PieceFileDealer).
 
 constexpr int kTagText = 6;
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
@@ -670,6 +673,182 @@ void format_rows_block(std::istringstream& order) {
   send("");
 }
 
+// A .pvtu set's piece files, written by every rank that sees the output directory, each file by
+// whichever is free: every such rank is sent a file at once, then another each time it answers
+// for the last, while rank 0 writes one itself between looks (so rank 0 never waits for a rank,
+// and a faster node writes more). Rank 0 has made every file's temporary, so a rank that can open
+// one shares rank 0's directory (the names hold rank 0's host and process id); a rank that
+// cannot (a directory local to rank 0's node) is sent none. The exchange:
+//   order (broadcast): "vtu\n", then per file its temporary and final name, each ended by '\0';
+//   rank -> 0: "1" or "0": whether it can open the first file's temporary;
+//   0 -> rank: "B" + the file's index, then the six arrays of VtuCellsView ("N" + index alone
+//              when rank 0 could not make them); "" when there are no more;
+//   rank -> 0: per file, "" once written, or "E" + why not.
+constexpr int kCellArrays = 6;
+constexpr char kVtuOrder[] = "vtu";
+
+template <class T>
+std::string_view bytes_of(ArrayRun<T> run) {
+  return {reinterpret_cast<const char*>(run.data), run.size * sizeof(T)};
+}
+
+std::string piece_files_order(const std::vector<PieceFile>& files) {
+  std::string order = std::string(kVtuOrder) + '\n';
+  for (const PieceFile& file : files) order += absolute_path(file.temporary) + '\0' + file.shown + '\0';
+  return order;
+}
+
+// Rank 0's PieceFilesWrite. After a failure it deals no more files, takes the answers still due,
+// then throws the first failure.
+class PieceFileDealer {
+ public:
+  PieceFileDealer(const std::vector<PieceFile>& files, const PieceCellsOf& cells_of, RankStats& stats)
+      : files_(files), cells_of_(cells_of), stats_(stats) {
+    MPI_Comm_size(job_comm(), &size_);
+    busy_.assign(static_cast<std::size_t>(size_), false);
+  }
+
+  void run() {
+    broadcast_text(piece_files_order(files_));
+    find_writers();
+    for (int rank : writers_) send_next(rank);
+    while (next_ < files_.size()) {
+      for (int rank : writers_)
+        if (busy_[rank] && answered(rank)) take_answer(rank), send_next(rank);
+      if (next_ < files_.size()) write_own(next_++);
+    }
+    for (int rank : writers_)
+      if (busy_[rank]) take_answer(rank);
+    for (int rank = 1; rank < size_; ++rank) send_to(rank, "");  // no more files
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  void find_writers() {
+    for (int rank = 1; rank < size_; ++rank)
+      if (bounded([&] { return recv_bytes(rank, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); }) == "1")
+        writers_.push_back(rank);
+  }
+
+  static void send_to(int rank, std::string_view bytes) {
+    bounded([&] { return send_bytes(bytes, rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  }
+
+  void send_next(int rank) {
+    if (next_ >= files_.size() || failure_) return;
+    const std::size_t i = next_++;
+    std::optional<VtuCellsView> cells;
+    try {
+      cells = cells_of_(files_[i].piece);
+    } catch (const std::bad_alloc&) {
+      failure_ = std::make_exception_ptr(OutputError("rank 0 ran out of memory making '" + files_[i].shown + "'"));
+    }
+    send_to(rank, (cells ? "B" : "N") + std::to_string(i));
+    if (cells) {
+      send_to(rank, bytes_of(cells->xyz)), send_to(rank, bytes_of(cells->connectivity));
+      send_to(rank, bytes_of(cells->offsets)), send_to(rank, bytes_of(cells->types));
+      send_to(rank, bytes_of(cells->piece)), send_to(rank, bytes_of(cells->region));
+    }
+    busy_[rank] = true;
+  }
+
+  static bool answered(int rank) {
+    int arrived = 0;
+    MPI_Iprobe(rank, kTagText, job_comm(), &arrived, MPI_STATUS_IGNORE);
+    return arrived != 0;
+  }
+
+  void take_answer(int rank) {
+    const std::string answer =
+        bounded([&] { return recv_bytes(rank, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); });
+    busy_[rank] = false;
+    if (!answer.empty() && !failure_) failure_ = std::make_exception_ptr(OutputError(answer.substr(1)));
+  }
+
+  void write_own(std::size_t i) {
+    if (failure_) return;
+    try {
+      write_vtu_file(cells_of_(files_[i].piece), files_[i].temporary, files_[i].shown);
+      ++stats_.piece_files_written;
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+  }
+
+  const std::vector<PieceFile>& files_;
+  const PieceCellsOf& cells_of_;
+  RankStats& stats_;
+  int size_ = 1;
+  std::vector<int> writers_;  // the other ranks that see the output directory
+  std::vector<bool> busy_;    // per rank: it was sent a file it has not answered for
+  std::size_t next_ = 0;      // the first file not yet dealt
+  std::exception_ptr failure_;
+};
+
+// A piece file's cells as they came: the six arrays' bytes, viewed in place.
+struct ReceivedCells {
+  std::string arrays[kCellArrays];
+  bool made = false;  // rank 0 could make them
+
+  static ReceivedCells receive() {
+    ReceivedCells cells;
+    for (std::string& bytes : cells.arrays)
+      bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    cells.made = true;
+    return cells;
+  }
+
+  // The view, or nothing when the arrays do not fit together (lost or cut bytes).
+  std::optional<VtuCellsView> view() const {
+    VtuCellsView cells;
+    const bool whole = made && as_run(arrays[0], cells.xyz) && as_run(arrays[1], cells.connectivity) &&
+                       as_run(arrays[2], cells.offsets) && as_run(arrays[3], cells.types) &&
+                       as_run(arrays[4], cells.piece) && as_run(arrays[5], cells.region);
+    const std::size_t tets = cells.types.size;
+    if (!whole || cells.xyz.size % 3 != 0 || cells.connectivity.size != 4 * tets || cells.offsets.size != tets ||
+        cells.piece.size != tets || cells.region.size != tets)
+      return std::nullopt;
+    return cells;
+  }
+
+ private:
+  template <class T>
+  static bool as_run(const std::string& bytes, ArrayRun<T>& run) {
+    run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};  // malloc'd: aligned for T
+    return bytes.size() % sizeof(T) == 0;
+  }
+};
+
+// A worker's side of a vtu order: says whether it sees the output directory, then writes each
+// file it is sent and answers for it, until rank 0 says there are no more.
+void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
+  std::vector<PieceFile> files;
+  std::string temporary, shown;
+  while (std::getline(order, temporary, '\0') && std::getline(order, shown, '\0'))
+    files.push_back({0, temporary, shown});
+  const int fd = files.empty() ? -1 : ::open(files[0].temporary.c_str(), O_WRONLY | O_CLOEXEC);  // never creates it
+  if (fd >= 0) ::close(fd);
+  bounded([&] { return send_bytes(fd >= 0 ? "1" : "0", 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  for (;;) {
+    const std::string header = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    if (header.empty()) return;
+    const std::size_t i = std::stoul(header.substr(1));
+    std::string answer;
+    try {
+      const ReceivedCells cells = header[0] == 'B' ? ReceivedCells::receive() : ReceivedCells();
+      const std::optional<VtuCellsView> view = test_hooks::block_lost(my_rank()) ? std::nullopt : cells.view();
+      if (i >= files.size() || !view)
+        throw OutputError("rank " + std::to_string(my_rank()) + " did not receive the cells of '" +
+                          (i < files.size() ? files[i].shown : header) + "'");
+      write_vtu_file(*view, files[i].temporary, files[i].shown);
+      ++stats.piece_files_written;
+    } catch (const std::exception& e) {
+      answer = std::string("E") + e.what();
+    }
+    bounded([&] { return send_bytes(answer, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  }
+}
+
 void end_writes() { broadcast_text(""); }
 
 // A worker's side of the HDF5 files of an XDMF set.
@@ -689,13 +868,16 @@ void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
 }
 
 // A worker's side: joins each write rank 0 orders until it says there are no more.
-void join_writes(JobStatus& status) {
+void join_writes(JobStatus& status, RankStats& stats) {
+  const AddSeconds timer{stats.write_seconds};
   for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
     std::istringstream lines(order);
     std::string kind;
     std::getline(lines, kind);
     if (kind == "hdf5")
       join_hdf5_write(lines, status);
+    else if (kind == kVtuOrder)
+      write_piece_files_sent(lines, stats);
     else
       format_rows_block(lines);
   }
@@ -1057,15 +1239,20 @@ JobStatus run_mesh_job(const MeshJob& job) {
     // 9. Back to the input's scale, checked and written under temporary names.
     if (state.status.error.empty())
       on_root(state, [&] {
-        RankWriters writers{write_hdf5_on_every_rank, {}};
+        const AddSeconds timer{state.stats.write_seconds};
+        RankWriters writers{write_hdf5_on_every_rank, {}, {}};
         if (state.size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
+        writers.piece_files = [&stats = state.stats](const std::vector<PieceFile>& files,
+                                                     const PieceCellsOf& cells_of) {
+          PieceFileDealer(files, cells_of, stats).run();
+        };
         const CpuLoan loan(node_cpus);  // the ranks on this node only format and wait meanwhile
         root->check_and_write(writers);
       });
     end_writes();
   } else {
     worker_loop(job, state.rank, state.stats);
-    join_writes(state.status);
+    join_writes(state.status, state.stats);
   }
   // 10. Every rank agrees; rank 0 publishes and reports.
   agree_and_publish(state, root);

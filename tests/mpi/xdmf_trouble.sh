@@ -7,10 +7,13 @@
 #   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
 #               the run ends with the disk's error, nothing left behind, no rank left waiting;
 #   full-hdf5:  the same while both ranks write the XDMF set's HDF5 file;
+#   lost-vtu:   the same, writing the piece files of a .pvtu set;
 #   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
 #               silently incomplete. Needs unshare -m (root); exits 77 (skipped) without it.
+#               A .pvtu set works there: rank 0 writes the piece files rank 1 cannot see;
+#   full-pvtu:  the disk fills while both ranks write their piece files of a .pvtu set.
 # Usage: xdmf_trouble.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -47,6 +50,12 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
 fi
 expect_refused lost-rows "rank 1 did not receive its block of the .node file's rows"
 
+if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/m.pvtu --pieces 4 \
+  --quiet 2> log; then
+  echo "FAIL: lost-vtu: a lost block exited 0"; exit 1
+fi
+expect_refused lost-vtu "rank 1 did not receive the cells of 'out/m_[a-z0-9]*.vtu'"
+
 if ! unshare -m true 2> /dev/null; then
   echo "skipped: not-shared needs unshare -m"; exit 77
 fi
@@ -56,6 +65,18 @@ if "$mpiexec" --oversubscribe -n 1 "$partet" mesh other.off -o "$work/out/m.xdmf
   echo "FAIL: not-shared: a rank writing elsewhere exited 0"; exit 1
 fi
 expect_refused not-shared "rank 1 does not see the output directory"
+
+mkdir alone
+"$partet" mesh in.off -o alone/m.pvtu --pieces 4 --quiet
+"$mpiexec" --oversubscribe -n 1 "$partet" mesh in.off -o "$work/out/m.pvtu" --pieces 4 --quiet --report report.json \
+  : -n 1 unshare -m sh -c "mount -t tmpfs tmpfs '$work/out' && exec '$partet' mesh in.off -o '$work/out/m.pvtu' --pieces 4 --quiet"
+for f in alone/*; do cmp "$f" "out/$(basename "$f")" || { echo "FAIL: not-shared-pvtu: $(basename "$f") differs"; exit 1; }; done
+/usr/bin/python3 -c "
+import json
+written = [r['piece_files_written'] for r in json.load(open('report.json'))['rank']]
+assert written == [5, 0], written"
+echo "ok: not-shared-pvtu: rank 0 wrote the 5 piece files rank 1 could not see, the same bytes as 1 rank's"
+rm out/m.pvtu out/m_*.vtu
 
 mkdir full
 mount -t tmpfs -o size=3m tmpfs full
@@ -79,3 +100,14 @@ umount full
 grep -q "m\.h5.*No space left on device" log || { echo "FAIL: full-hdf5: the error:"; cat log; exit 1; }
 [ -z "$left" ] || { echo "FAIL: full-hdf5: files left: $left"; exit 1; }
 echo "ok: full-hdf5: $(grep -o "[^:]*m\.h5[^;]*" log | head -n 1), nothing left"
+
+# full-pvtu: the disk fills while both ranks write their piece files.
+mount -t tmpfs -o size=1m tmpfs full
+if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o full/m.pvtu --pieces 4 --quiet 2> log; then
+  umount full; echo "FAIL: full-pvtu: a full disk exited 0"; exit 1
+fi
+left=$(ls full)
+umount full
+grep -q "cannot write 'full/m_[a-z0-9]*\.vtu': No space left on device" log || { echo "FAIL: full-pvtu: the error:"; cat log; exit 1; }
+[ -z "$left" ] || { echo "FAIL: full-pvtu: files left: $left"; exit 1; }
+echo "ok: full-pvtu: $(grep -o "cannot write[^;]*" log | head -n 1), nothing left"
