@@ -517,6 +517,13 @@ void send_block(const MeshBlockView& block, bool ok, int rank) {
   send(block.faces), send(block.face_marker);
 }
 
+// Received bytes viewed as a run of T; false when they are not a whole number of T.
+template <class T>
+bool as_run(const std::string& bytes, ArrayRun<T>& run) {
+  run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};  // malloc'd: aligned for T
+  return bytes.size() % sizeof(T) == 0;
+}
+
 // A worker's block as it came: the six arrays' bytes, viewed in place.
 struct ReceivedBlock {
   bool made = false;  // rank 0 could make it
@@ -544,13 +551,6 @@ struct ReceivedBlock {
         block.face_marker.size != block.faces.size)
       return std::nullopt;
     return block;
-  }
-
- private:
-  template <class T>
-  static bool as_run(const std::string& bytes, ArrayRun<T>& run) {
-    run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};  // malloc'd: aligned for T
-    return bytes.size() % sizeof(T) == 0;
   }
 };
 
@@ -809,13 +809,6 @@ struct ReceivedCells {
         cells.piece.size != tets || cells.region.size != tets)
       return std::nullopt;
     return cells;
-  }
-
- private:
-  template <class T>
-  static bool as_run(const std::string& bytes, ArrayRun<T>& run) {
-    run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};  // malloc'd: aligned for T
-    return bytes.size() % sizeof(T) == 0;
   }
 };
 

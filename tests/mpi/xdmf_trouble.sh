@@ -78,36 +78,24 @@ assert written == [5, 0], written"
 echo "ok: not-shared-pvtu: rank 0 wrote the 5 piece files rank 1 could not see, the same bytes as 1 rank's"
 rm out/m.pvtu out/m_*.vtu
 
+# The output directory fills up during the write (a small tmpfs): the run must end with the disk's
+# error on every rank and leave nothing there.
+expect_full() {  # NAME TMPFS-SIZE OUTPUT ERROR-PATTERN
+  mount -t tmpfs -o size="$2" tmpfs full
+  if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o "$3" --pieces 4 --quiet 2> log; then
+    umount full; echo "FAIL: $1: a full disk exited 0"; exit 1
+  fi
+  left=$(ls full)
+  umount full
+  grep -q "$4" log || { echo "FAIL: $1: the error:"; cat log; exit 1; }
+  [ -z "$left" ] || { echo "FAIL: $1: files left: $left"; exit 1; }
+  echo "ok: $1: $(grep -o "$4" log | head -n 1), nothing left"
+}
 mkdir full
-mount -t tmpfs -o size=3m tmpfs full
 "$partet" generate genus3 --faces 40000 -o big.off > /dev/null
-if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o full/m --pieces 4 --quiet 2> log; then
-  umount full; echo "FAIL: full: a full disk exited 0"; exit 1
-fi
-left=$(ls full)
-umount full
-grep -q "cannot write 'full/m\.[a-z]*': No space left on device" log || { echo "FAIL: full: the error:"; cat log; exit 1; }
-[ -z "$left" ] || { echo "FAIL: full: files left: $left"; exit 1; }
-echo "ok: full: $(grep -o "cannot write[^;]*" log | head -n 1), nothing left"
-
-# full-hdf5: the disk fills while both ranks write the XDMF set's HDF5 file at once.
-mount -t tmpfs -o size=1m tmpfs full
-if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o full/m.xdmf --pieces 4 --quiet 2> log; then
-  umount full; echo "FAIL: full-hdf5: a full disk exited 0"; exit 1
-fi
-left=$(ls full)
-umount full
-grep -q "m\.h5.*No space left on device" log || { echo "FAIL: full-hdf5: the error:"; cat log; exit 1; }
-[ -z "$left" ] || { echo "FAIL: full-hdf5: files left: $left"; exit 1; }
-echo "ok: full-hdf5: $(grep -o "[^:]*m\.h5[^;]*" log | head -n 1), nothing left"
-
-# full-pvtu: the disk fills while both ranks write their piece files.
-mount -t tmpfs -o size=1m tmpfs full
-if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o full/m.pvtu --pieces 4 --quiet 2> log; then
-  umount full; echo "FAIL: full-pvtu: a full disk exited 0"; exit 1
-fi
-left=$(ls full)
-umount full
-grep -q "cannot write 'full/m_[a-z0-9]*\.vtu': No space left on device" log || { echo "FAIL: full-pvtu: the error:"; cat log; exit 1; }
-[ -z "$left" ] || { echo "FAIL: full-pvtu: files left: $left"; exit 1; }
-echo "ok: full-pvtu: $(grep -o "cannot write[^;]*" log | head -n 1), nothing left"
+# full: while rank 0 writes the lines the ranks formatted.
+expect_full full 3m full/m "cannot write 'full/m\.[a-z]*': No space left on device"
+# full-hdf5: while both ranks write the XDMF set's HDF5 file at once.
+expect_full full-hdf5 1m full/m.xdmf "cannot write 'full/m\.h5'.*No space left on device"
+# full-pvtu: while both ranks write their piece files.
+expect_full full-pvtu 1m full/m.pvtu "cannot write 'full/m_[a-z0-9]*\.vtu': No space left on device"
