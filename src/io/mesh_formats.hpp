@@ -66,7 +66,7 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
 
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
 // that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it
-// belongs to, from 1).
+// belongs to, from 1). Like write_vtu_file, into `path`, which must exist (an OutputSet's temporary).
 void write_vtu(const MeshOutput& output, const std::string& path);
 
 // The .pvtu index naming one .vtu per piece value (each as write_vtu writes, with just that
