@@ -107,7 +107,7 @@ struct PieceFile {
 // A piece value's cells, numbered for its own file; the view is valid until the next call.
 using PieceCellsOf = std::function<VtuCellsView(int piece)>;
 // Writes every piece file of a .pvtu set (write_vtu_file on each file's cells). The MPI driver's
-// deals them out to the ranks, so they write at once.
+// writer deals them out to the ranks, so they write at once.
 using PieceFilesWrite = std::function<void(const std::vector<PieceFile>& files, const PieceCellsOf& cells_of)>;
 
 // How the other ranks take part in writing (the MPI driver's): hdf5 writes an XDMF set's HDF5

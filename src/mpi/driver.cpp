@@ -469,8 +469,8 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
 //   then an empty chunk), which rank 0 writes in order after its own block. The block comes in
 //   parts of kRowPart rows, so a rank frees each part as it formats it: it holds its text and
 //   one part, not its whole block beside its text.
-// - vtu: the piece files of a .pvtu set, dealt out in turn; each rank writes its own files (see
-//   PieceFileDealer).
+// - vtu: the piece files of a .pvtu set; each rank that sees the output directory writes some,
+//   each file going to whichever rank is free (see PieceFileDealer).
 
 constexpr int kTagText = 6;
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
