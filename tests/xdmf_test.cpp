@@ -6,22 +6,12 @@
 
 #include "partet/errors.hpp"
 #include "test_support.hpp"
+#include "two_tets.hpp"
 
 namespace partet {
 namespace {
 
-// Two tets sharing face (1,2,3), with its five outer faces as the boundary (the last one split).
-struct TwoTets {
-  TetMesh mesh;
-  std::vector<Triangle> boundary;
-  TwoTets() {
-    mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
-    mesh.tets = {{0, 1, 2, 3}, {1, 4, 2, 3}};
-    mesh.piece = {0, -1};
-    boundary = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 4}, {1, 4, 3}, {2, 3, 4}};
-  }
-  MeshOutput output() const { return MeshOutput{mesh, boundary, 5}; }
-};
+using test::TwoTets;
 
 template <class T>
 void append(std::vector<T>& all, const ArrayRun<T>& run) {
@@ -74,8 +64,9 @@ TEST(XdmfText, NamesTheCountsAnd64BitDatasetsOfTheHdf5File) {
   const std::string mesh = xdmf_mesh_text(totals, "m.h5");
   EXPECT_TRUE(test::contains(mesh, "<Grid Name=\"mesh\""));
   EXPECT_TRUE(test::contains(mesh, "TopologyType=\"Tetrahedron\" NumberOfElements=\"3000000000\""));
-  EXPECT_TRUE(test::contains(mesh, "Dimensions=\"3000000000 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">"
-                                   "m.h5:/Mesh/mesh/topology<"));
+  EXPECT_TRUE(test::contains(mesh,
+                             "Dimensions=\"3000000000 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">"
+                             "m.h5:/Mesh/mesh/topology<"));
   EXPECT_TRUE(test::contains(mesh, "Dimensions=\"5000000000 3\" NumberType=\"Float\" Precision=\"8\""));
   EXPECT_TRUE(test::contains(mesh, "<Attribute Name=\"region\""));
   const std::string boundary = xdmf_boundary_text(totals, "m.h5", "m_boundary.h5");

@@ -339,7 +339,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->required();
   mesh->add_option("--format", c.formats,
                    "formats to write, comma-separated: tetgen (default), vtu, pvtu (one .vtu per piece), msh "
-                   "(Gmsh 4.1), msh-binary, medit (.mesh), xdmf (XDMF + one HDF5 file all ranks write at once)")
+                   "(Gmsh 4.1), msh-binary, msh-parts (PREFIX_1.msh ...: one Gmsh 4.1 file per partition, as gmsh "
+                   "splits them), msh-parts-binary, medit (.mesh), xdmf (XDMF + one HDF5 file all ranks write at "
+                   "once)")
       ->delimiter(',')
       ->check(CLI::IsMember(partet::mesh_format_names()));
   mesh->add_option("-k,--pieces", job.options.pieces, "number of pieces (cut planes + 1)")

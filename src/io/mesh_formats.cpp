@@ -1,4 +1,5 @@
-// Writers for the formats users open the mesh in: VTK XML (.vtu/.pvtu), Gmsh MSH 4.1, MEDIT.
+// Writers for the formats users open the mesh in: VTK XML (.vtu/.pvtu), MEDIT; Gmsh MSH 4.1 is in
+// msh.cpp.
 // Each is checked in the tests by an independent reader (meshio, gmsh).
 #include "io/mesh_formats.hpp"
 
@@ -8,12 +9,15 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
+#include "io/msh.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/xdmf.hpp"
 #include "partet/errors.hpp"
@@ -66,11 +70,6 @@ CompressedArray compress(std::string name, std::string type, int components, Arr
   unsigned char* at = array.bytes.data() + header.size() * sizeof(std::uint64_t);
   for (const auto& p : packed) at = std::copy(p.begin(), p.end(), at);
   return array;
-}
-
-template <class T>
-ArrayRun<T> run_of(const std::vector<T>& values) {
-  return {values.data(), values.size()};
 }
 
 // The tets of one piece value with their points renumbered, or all tets and points as they are.
@@ -192,120 +191,38 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
 
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Gmsh MSH 4.1: one volume entity (tag 1, physical 1 "volume") holding every node and tet, one
-// surface entity (tag 1, physical 2 "boundary") holding the boundary triangles.
+PieceArrays arrays_of(const VtuCellsView& cells) {
+  return {bytes_of(cells.xyz),   bytes_of(cells.connectivity), bytes_of(cells.offsets),
+          bytes_of(cells.types), bytes_of(cells.piece),        bytes_of(cells.region)};
+}
 
-class MshWriter {
- public:
-  MshWriter(const MeshOutput& output, const std::string& path, bool binary)
-      : mesh_(output.mesh),
-        boundary_(output.boundary),
-        whole_(std::min(output.split_from, output.boundary.size())),
-        binary_(binary),
-        out_(path) {}
-
-  void write() {
-    out_.text(binary_ ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
-    if (binary_) {
-      const int one = 1;  // lets readers detect the byte order
-      out_.bytes(&one, sizeof one);
-      out_.newline();
-    }
-    out_.text(split() ? "$EndMeshFormat\n$PhysicalNames\n3\n2 2 \"boundary\"\n2 3 \"split boundary\"\n"
-                        "3 1 \"volume\"\n$EndPhysicalNames\n"
-                      : "$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"boundary\"\n3 1 \"volume\"\n$EndPhysicalNames\n");
-    entities();
-    nodes();
-    elements();
-    out_.close();
-  }
-
- private:
-  // Numbers: size_t (8 bytes) or int (4 bytes) in binary, text separated by spaces otherwise.
-  void size(std::uint64_t v) {
-    binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space());
-  }
-  void tag(std::int32_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(v), out_.space()); }
-  void real(double v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.real(v), out_.space()); }
-  void box_reals(const Bounds& b) {
-    for (double v : b.min) real(v);
-    for (double v : b.max) real(v);
-  }
-  void end_line() {
-    if (!binary_) out_.newline();
-  }
-  void end_section(const char* name) {
-    if (binary_) out_.newline();
-    out_.text(name);
-  }
-
-  void entities() {
-    out_.text("$Entities\n");
-    const Bounds box = bounds_of(mesh_.points);
-    size(0), size(0), size(split() ? 2 : 1), size(1), end_line();
-    tag(1);  // the boundary surface
-    box_reals(box);
-    size(1), tag(2), size(0), end_line();
-    if (split()) {
-      tag(2);  // the parts of split input triangles
-      box_reals(box);
-      size(1), tag(3), size(0), end_line();
-    }
-    tag(1);  // the volume, bounded by them
-    box_reals(box);
-    size(1), tag(1), size(split() ? 2 : 1), tag(1);
-    if (split()) tag(2);
-    end_line();
-    end_section("$EndEntities\n");
-  }
-
-  void nodes() {
-    const std::uint64_t n = mesh_.points.size();
-    out_.text("$Nodes\n");
-    size(1), size(n), size(n == 0 ? 0 : 1), size(n), end_line();
-    tag(3), tag(1), tag(0), size(n), end_line();
-    for (std::uint64_t i = 1; i <= n; ++i) size(i), end_line();
-    for (const Point3& p : mesh_.points) real(p[0]), real(p[1]), real(p[2]), end_line();
-    end_section("$EndNodes\n");
-  }
-
-  void elements() {
-    const std::uint64_t tets = mesh_.tets.size(), triangles = boundary_.size();
-    out_.text("$Elements\n");
-    // Empty blocks are left out (meshio cannot read them).
-    const std::uint64_t blocks = 1 + (whole_ > 0 ? 1 : 0) + (split() ? 1 : 0);
-    size(blocks), size(tets + triangles), size(1), size(tets + triangles), end_line();
-    std::uint64_t id = 1;
-    auto surface = [&](std::int32_t entity, std::size_t begin, std::size_t end) {
-      tag(2), tag(entity), tag(2), size(end - begin), end_line();  // 2: 3-node triangle
-      for (std::size_t i = begin; i < end; ++i) {
-        size(id++);
-        for (std::int32_t v : boundary_[i]) size(static_cast<std::uint64_t>(v) + 1);
-        end_line();
-      }
-    };
-    if (whole_ > 0) surface(1, 0, whole_);
-    if (split()) surface(2, whole_, boundary_.size());
-    tag(3), tag(1), tag(4), size(tets), end_line();  // 4: 4-node tetrahedron
-    for (const Tet& t : mesh_.tets) {
-      size(id++);
-      for (std::int32_t v : t) size(static_cast<std::uint64_t>(v) + 1);
-      end_line();
-    }
-    end_section("$EndElements\n");
-  }
-
-  bool split() const { return whole_ < boundary_.size(); }
-
-  const TetMesh& mesh_;
-  const std::vector<Triangle>& boundary_;
-  std::size_t whole_;  // boundary faces before the parts of split input triangles
-  bool binary_;
-  BufferedFile out_;
-};
+// The cells, or nothing when the arrays do not fit together (lost or cut bytes).
+std::optional<VtuCellsView> vtu_cells_from(const PieceArrays& arrays) {
+  VtuCellsView cells;
+  if (!as_runs(arrays, cells.xyz, cells.connectivity, cells.offsets, cells.types, cells.piece, cells.region))
+    return std::nullopt;
+  const std::size_t tets = cells.types.size;
+  if (cells.xyz.size % 3 != 0 || cells.connectivity.size != 4 * tets || cells.offsets.size != tets ||
+      cells.piece.size != tets || cells.region.size != tets)
+    return std::nullopt;
+  return cells;
+}
 
 }  // namespace
+
+void write_piece_file(MeshFormat format, const PieceArrays& arrays, const std::string& path, const std::string& shown) {
+  if (format == MeshFormat::pvtu) {
+    const std::optional<VtuCellsView> cells = vtu_cells_from(arrays);
+    if (!cells) throw OutputError("the cells of '" + shown + "' came incomplete");
+    write_vtu_file(*cells, path, shown);
+  } else if (format == MeshFormat::msh_parts || format == MeshFormat::msh_parts_binary) {
+    const std::optional<MshPartView> part = msh_part_from(arrays);
+    if (!part) throw OutputError("the partition of '" + shown + "' came incomplete");
+    write_msh_part(*part, path, shown);
+  } else {
+    throw InternalError("format " + mesh_format_name(format) + " has no piece files");
+  }
+}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -359,10 +276,6 @@ void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<st
   out.close();
 }
 
-void write_msh(const MeshOutput& output, const std::string& path, bool binary) {
-  MshWriter(output, path, binary).write();
-}
-
 void write_medit(const MeshOutput& output, const std::string& path) {
   const TetMesh& mesh = output.mesh;
   const std::vector<std::int32_t> region = region_of_tets(mesh);
@@ -403,9 +316,14 @@ struct FormatInfo {
   const char* name;
   const char* extension;  // of the file -o may name
 };
-constexpr FormatInfo kFormats[] = {{MeshFormat::tetgen, "tetgen", ".node"},    {MeshFormat::vtu, "vtu", ".vtu"},
-                                   {MeshFormat::pvtu, "pvtu", ".pvtu"},        {MeshFormat::msh, "msh", ".msh"},
-                                   {MeshFormat::msh_binary, "msh-binary", ""}, {MeshFormat::medit, "medit", ".mesh"},
+constexpr FormatInfo kFormats[] = {{MeshFormat::tetgen, "tetgen", ".node"},
+                                   {MeshFormat::vtu, "vtu", ".vtu"},
+                                   {MeshFormat::pvtu, "pvtu", ".pvtu"},
+                                   {MeshFormat::msh, "msh", ".msh"},
+                                   {MeshFormat::msh_binary, "msh-binary", ""},
+                                   {MeshFormat::msh_parts, "msh-parts", ""},
+                                   {MeshFormat::msh_parts_binary, "msh-parts-binary", ""},
+                                   {MeshFormat::medit, "medit", ".mesh"},
                                    {MeshFormat::xdmf, "xdmf", ".xdmf"}};
 
 bool ends_with(const std::string& s, const std::string& tail) {
@@ -416,10 +334,12 @@ std::string piece_file(const std::string& prefix, int piece) {
   return prefix + (piece < 0 ? std::string("_seams.vtu") : "_p" + std::to_string(piece) + ".vtu");
 }
 
-// Whether a file name is one of piece_file(base, i)'s.
-bool is_piece_file_name(const std::string& name, const std::string& base) {
-  if (name == base + "_seams.vtu") return true;
-  const std::string head = base + "_p", tail = ".vtu";
+std::string partition_file(const std::string& prefix, std::size_t partition) {
+  return prefix + "_" + std::to_string(partition) + ".msh";
+}
+
+// Whether a file name is head + a number (no leading zero) + tail.
+bool is_numbered_name(const std::string& name, const std::string& head, const std::string& tail) {
   if (name.size() <= head.size() + tail.size() || name.compare(0, head.size(), head) != 0 ||
       name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
     return false;
@@ -427,11 +347,38 @@ bool is_piece_file_name(const std::string& name, const std::string& base) {
   return digits.find_first_not_of("0123456789") == std::string::npos && (digits == "0" || digits[0] != '0');
 }
 
+// Whether a file name is one of piece_file(base, i)'s.
+bool is_piece_file_name(const std::string& name, const std::string& base) {
+  return name == base + "_seams.vtu" || is_numbered_name(name, base + "_p", ".vtu");
+}
+
+// Whether a file is one of partition_file(base, i)'s: by its name, and by its head, so that a
+// single .msh another run wrote at BASE_2 is never taken for a partition.
+bool is_partition_file(const std::string& directory, const std::string& name, const std::string& base) {
+  if (!is_numbered_name(name, base + "_", ".msh")) return false;
+  std::ifstream in(directory + "/" + name, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head.find("\n$PartitionedEntities\n") != std::string::npos;
+}
+
+std::string directory_of(const std::string& prefix) {
+  return prefix.find('/') == std::string::npos ? "." : prefix.substr(0, prefix.find_last_of('/') + 1);
+}
+
+void write_piece_files(MeshFormat format, const std::vector<PieceFile>& files, const PieceArraysOf& arrays_of,
+                       const PieceFilesWrite& write) {
+  if (write)
+    write(format, files, arrays_of);
+  else
+    for (const PieceFile& file : files) write_piece_file(format, arrays_of(file.piece), file.temporary, file.shown);
+}
+
 // A .pvtu set: one .vtu per piece value, then the index naming them. The piece files' temporaries
 // are made first and written together (by every rank when the driver deals them out), inside the
 // index's add, so that a failure of any removes them all.
-void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string& prefix,
-                    const PieceFilesWrite& write_piece_files) {
+void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string& prefix, const PieceFilesWrite& write) {
   // The index names its piece files relative to its own directory.
   const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
   std::vector<std::string> sources;
@@ -445,21 +392,40 @@ void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string&
     const std::vector<std::int32_t> region = region_of_tets(output.mesh);  // once for all the files
     PieceCells cells(output, region);
     VtuCells current;  // the last piece's cells, kept until the next is asked for
-    const PieceCellsOf cells_of = [&](int piece) {
-      current = cells.of(piece);
-      return current.view();
-    };
-    if (write_piece_files)
-      write_piece_files(files, cells_of);
-    else
-      for (const PieceFile& file : files) write_vtu_file(cells_of(file.piece), file.temporary, file.shown);
+    write_piece_files(
+        MeshFormat::pvtu, files,
+        [&](int piece) {
+          current = cells.of(piece);
+          return arrays_of(current.view());
+        },
+        write);
     write_pvtu(output, tmp, sources);
   });
   // Piece files of an earlier .pvtu at this prefix that this one does not name (it had more
   // pieces) go with the previous set.
-  const std::string directory =
-      prefix.find('/') == std::string::npos ? "." : prefix.substr(0, prefix.find_last_of('/') + 1);
-  set.supersede(directory, [base](const std::string& name) { return is_piece_file_name(name, base); });
+  set.supersede(directory_of(prefix), [base](const std::string& name) { return is_piece_file_name(name, base); });
+}
+
+// An MSH set: one file per partition (msh.hpp). As for a .pvtu set, every temporary is made
+// first and the files are written together inside the last file's add.
+void add_msh_partition_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix,
+                             const PieceFilesWrite& write) {
+  const std::vector<int> pieces = msh_partition_pieces(output);
+  std::vector<PieceFile> files;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const std::string final_path = partition_file(prefix, i + 1);
+    set.add(final_path, [&](const std::string& tmp) {
+      files.push_back({pieces[i], tmp, final_path});
+      if (files.size() < pieces.size()) return;
+      MshPartitions partitions(output, format == MeshFormat::msh_parts_binary);
+      write_piece_files(
+          format, files, [&](int piece) { return arrays_of(partitions.of(piece)); }, write);
+    });
+  }
+  // Partition files of an earlier set at this prefix that had more partitions go with it.
+  const std::string directory = directory_of(prefix), base = prefix.substr(prefix.find_last_of('/') + 1);
+  set.supersede(directory,
+                [directory, base](const std::string& name) { return is_partition_file(directory, name, base); });
 }
 
 }  // namespace
@@ -513,6 +479,9 @@ std::vector<std::string> format_paths(MeshFormat format, const std::string& pref
       return {prefix + ".msh"};
     case MeshFormat::msh_binary:
       return {prefix + ".msh"};
+    case MeshFormat::msh_parts:
+    case MeshFormat::msh_parts_binary:
+      return {partition_file(prefix, 1)};
     case MeshFormat::medit:
       return {prefix + ".mesh"};
     case MeshFormat::xdmf:
@@ -545,6 +514,10 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
       return;
     case MeshFormat::pvtu:
       add_pvtu_files(set, output, prefix, writers.piece_files);
+      return;
+    case MeshFormat::msh_parts:
+    case MeshFormat::msh_parts_binary:
+      add_msh_partition_files(set, format, output, prefix, writers.piece_files);
       return;
   }
 }

@@ -1,11 +1,13 @@
 // Writing the final tet mesh in the formats users open: VTK XML (.vtu, and .pvtu with one .vtu
-// per piece, which the MPI driver has every rank write its share of), Gmsh MSH 4.1 (ASCII or binary) and MEDIT (.mesh).
+// per piece), Gmsh MSH 4.1 (ASCII or binary; one file, or one per partition: msh.hpp) and MEDIT
+// (.mesh). The MPI driver has every rank write its share of the sets with one file per piece.
 // TetGen's own files are in tetgen_files.hpp. Every writer writes exactly one file, to the path it is given (the caller
 // publishes a set of files atomically under their final names). Throws OutputError.
 #pragma once
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "io/output_set.hpp"
@@ -14,9 +16,10 @@
 
 namespace partet {
 
-enum class MeshFormat { tetgen, vtu, pvtu, msh, msh_binary, medit, xdmf };
+enum class MeshFormat { tetgen, vtu, pvtu, msh, msh_binary, msh_parts, msh_parts_binary, medit, xdmf };
 
-// Names on the command line ("tetgen", "vtu", "pvtu", "msh", "msh-binary", "medit", "xdmf"), in order.
+// Names on the command line ("tetgen", "vtu", "pvtu", "msh", "msh-binary", "msh-parts",
+// "msh-parts-binary", "medit", "xdmf"), in order.
 const std::vector<std::string>& mesh_format_names();
 // Throws OptionError naming the valid names.
 MeshFormat mesh_format(const std::string& name);
@@ -27,7 +30,8 @@ bool split_format_extension(const std::string& path, MeshFormat& format, std::st
 
 // The files a format writes for PREFIX, as far as they are known before the run: TetGen's four;
 // for pvtu the index, whose piece files PREFIX_p<i>.vtu and PREFIX_seams.vtu follow the mesh; for
-// xdmf PREFIX.xdmf, PREFIX_boundary.xdmf and PREFIX.h5 (see xdmf.hpp).
+// the MSH partitions the first, PREFIX_1.msh (PREFIX_2.msh ... follow the mesh); for xdmf
+// PREFIX.xdmf, PREFIX_boundary.xdmf and PREFIX.h5 (see xdmf.hpp).
 std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix);
 
 // What the writers write.
@@ -49,6 +53,32 @@ struct ArrayRun {
   const T* data = nullptr;
   std::size_t size = 0;
 };
+
+template <class T>
+ArrayRun<T> run_of(const std::vector<T>& values) {
+  return {values.data(), values.size()};
+}
+
+template <class T>
+std::string_view bytes_of(ArrayRun<T> run) {
+  return {reinterpret_cast<const char*>(run.data), run.size * sizeof(T)};
+}
+
+// Bytes viewed as a run of T (they must be aligned for T, as received or allocated bytes are);
+// false when they are not a whole number of T.
+template <class T>
+bool as_run(std::string_view bytes, ArrayRun<T>& run) {
+  run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};
+  return bytes.size() % sizeof(T) == 0;
+}
+
+// Byte arrays viewed as runs, in order; false when their number or a size does not fit.
+template <class... T>
+bool as_runs(const std::vector<std::string_view>& arrays, ArrayRun<T>&... runs) {
+  if (arrays.size() != sizeof...(T)) return false;
+  std::size_t i = 0;
+  return (as_run(arrays[i++], runs) && ...);
+}
 
 // The cells of one .vtu file, viewed in place: tets with their points numbered from 0 (xyz: 3
 // doubles per point), VTK's connectivity, offsets and cell types, and the cell data write_vtu
@@ -98,21 +128,30 @@ struct Hdf5Paths {
 };
 using Hdf5Write = std::function<MeshTotals(const MeshOutput& output, const Hdf5Paths& paths)>;
 
-// One .vtu file of a .pvtu set: its piece value (-1: the seams), its temporary (already
-// created; written in place) and its final name (for messages).
+// One file of a set with a file per piece (a .pvtu set's .vtu files, the MSH partitions): its
+// piece value (-1: the seams), its temporary (already created; written in place) and its final
+// name (for messages).
 struct PieceFile {
   int piece = 0;
   std::string temporary, shown;
 };
-// A piece value's cells, numbered for its own file; the view is valid until the next call.
-using PieceCellsOf = std::function<VtuCellsView(int piece)>;
-// Writes every piece file of a .pvtu set (write_vtu_file on each file's cells). The MPI driver's
+// A piece file's content as its arrays' bytes, viewed in place: what rank 0 makes and sends the
+// rank that writes the file.
+using PieceArrays = std::vector<std::string_view>;
+// A piece value's arrays, made for its own file; valid until the next call.
+using PieceArraysOf = std::function<PieceArrays(int piece)>;
+// Writes one piece file of a set in `format` (pvtu, msh-parts, msh-parts-binary) from its arrays
+// into `path`, which must exist; errors name `shown`. Throws OutputError when the arrays do not
+// fit together (lost or cut bytes).
+void write_piece_file(MeshFormat format, const PieceArrays& arrays, const std::string& path, const std::string& shown);
+// Writes every piece file of a set (write_piece_file on each file's arrays). The MPI driver's
 // writer deals them out to the ranks, so they write at once.
-using PieceFilesWrite = std::function<void(const std::vector<PieceFile>& files, const PieceCellsOf& cells_of)>;
+using PieceFilesWrite =
+    std::function<void(MeshFormat format, const std::vector<PieceFile>& files, const PieceArraysOf& arrays_of)>;
 
 // How the other ranks take part in writing (the MPI driver's): hdf5 writes an XDMF set's HDF5
-// files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes a
-// .pvtu set's piece files (empty: here, alone).
+// files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes the
+// piece files of a .pvtu set or the MSH partitions (empty: here, alone).
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;

@@ -182,6 +182,8 @@ void print_summary(const JobSummary& s) {
     written += f == MeshFormat::tetgen ? s.job.output_prefix + ".node/.ele/.face/.neigh"
                                        : format_paths(f, s.job.output_prefix).front();
     if (f == MeshFormat::pvtu) written += " (with one .vtu per piece)";
+    if (f == MeshFormat::msh_parts || f == MeshFormat::msh_parts_binary)
+      written += " ... (one .msh per partition" + std::string(f == MeshFormat::msh_parts_binary ? ", binary)" : ")");
     if (f == MeshFormat::xdmf) {
       const std::vector<std::string> paths = format_paths(f, s.job.output_prefix);
       written += " (with " + paths[1] + ", " + paths[2] + " and " + paths[3] + ")";

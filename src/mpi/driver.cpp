@@ -469,8 +469,9 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
 //   then an empty chunk), which rank 0 writes in order after its own block. The block comes in
 //   parts of kRowPart rows, so a rank frees each part as it formats it: it holds its text and
 //   one part, not its whole block beside its text.
-// - vtu: the piece files of a .pvtu set; each rank that sees the output directory writes some,
-//   each file going to whichever rank is free (see PieceFileDealer).
+// - pieces: the files of a set with one file per piece (a .pvtu set's, the MSH partitions); each
+//   rank that sees the output directory writes some, each file going to whichever rank is free
+//   (see PieceFileDealer).
 
 constexpr int kTagText = 6;
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
@@ -515,13 +516,6 @@ void send_block(const MeshBlockView& block, bool ok, int rank) {
   if (!ok) return;
   send(block.points), send(block.tets), send(block.tet_region), send(block.tet_piece);
   send(block.faces), send(block.face_marker);
-}
-
-// Received bytes viewed as a run of T; false when they are not a whole number of T.
-template <class T>
-bool as_run(const std::string& bytes, ArrayRun<T>& run) {
-  run = {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};  // malloc'd: aligned for T
-  return bytes.size() % sizeof(T) == 0;
 }
 
 // A worker's block as it came: the six arrays' bytes, viewed in place.
@@ -673,27 +667,23 @@ void format_rows_block(std::istringstream& order) {
   send("");
 }
 
-// A .pvtu set's piece files, written by every rank that sees the output directory, each file by
-// whichever is free: every such rank is sent a file at once, then another each time it answers
-// for the last, while rank 0 writes one itself between looks (so rank 0 never waits for a rank,
-// and a faster node writes more). Rank 0 has made every file's temporary, so a rank that can open
-// one shares rank 0's directory (the names hold rank 0's host and process id); a rank that
-// cannot (a directory local to rank 0's node) is sent none. The exchange:
-//   order (broadcast): "vtu\n", then per file its temporary and final name, each ended by '\0';
+// The files of a set with one file per piece (a .pvtu set's, the MSH partitions), written by
+// every rank that sees the output directory, each file by whichever is free: every such rank is sent a file at once,
+// then another each time it answers for the last, while rank 0 writes one itself between looks (so rank 0 never waits
+// for a rank, and a faster node writes more). Rank 0 has made every file's temporary, so a rank that can open one
+// shares rank 0's directory (the names hold rank 0's host and process id); a rank that cannot (a directory local to
+// rank 0's node) is sent none. The exchange:
+//   order (broadcast): "pieces\n", the format's name and '\n', then per file its temporary and
+//                      final name, each ended by '\0';
 //   rank -> 0: "1" or "0": whether it can open the first file's temporary;
-//   0 -> rank: "B" + the file's index, then the six arrays of VtuCellsView ("N" + index alone
-//              when rank 0 could not make them); "" when there are no more;
+//   0 -> rank: "B" + the file's index + "/" + the number of arrays, then the arrays of the
+//              file's PieceArrays ("N" + index alone when rank 0 could not make them); "" when
+//              there are no more;
 //   rank -> 0: per file, "" once written, or "E" + why not.
-constexpr int kCellArrays = 6;
-constexpr char kVtuOrder[] = "vtu";
+constexpr char kPiecesOrder[] = "pieces";
 
-template <class T>
-std::string_view bytes_of(ArrayRun<T> run) {
-  return {reinterpret_cast<const char*>(run.data), run.size * sizeof(T)};
-}
-
-std::string piece_files_order(const std::vector<PieceFile>& files) {
-  std::string order = std::string(kVtuOrder) + '\n';
+std::string piece_files_order(MeshFormat format, const std::vector<PieceFile>& files) {
+  std::string order = std::string(kPiecesOrder) + '\n' + mesh_format_name(format) + '\n';
   for (const PieceFile& file : files) order += absolute_path(file.temporary) + '\0' + file.shown + '\0';
   return order;
 }
@@ -702,14 +692,15 @@ std::string piece_files_order(const std::vector<PieceFile>& files) {
 // then throws the first failure.
 class PieceFileDealer {
  public:
-  PieceFileDealer(const std::vector<PieceFile>& files, const PieceCellsOf& cells_of, RankStats& stats)
-      : files_(files), cells_of_(cells_of), stats_(stats) {
+  PieceFileDealer(MeshFormat format, const std::vector<PieceFile>& files, const PieceArraysOf& arrays_of,
+                  RankStats& stats)
+      : format_(format), files_(files), arrays_of_(arrays_of), stats_(stats) {
     MPI_Comm_size(job_comm(), &size_);
     busy_.assign(static_cast<std::size_t>(size_), false);
   }
 
   void run() {
-    broadcast_text(piece_files_order(files_));
+    broadcast_text(piece_files_order(format_, files_));
     find_writers();
     for (int rank : writers_) send_next(rank);
     while (next_ < files_.size()) {
@@ -737,18 +728,15 @@ class PieceFileDealer {
   void send_next(int rank) {
     if (next_ >= files_.size() || failure_) return;
     const std::size_t i = next_++;
-    std::optional<VtuCellsView> cells;
+    std::optional<PieceArrays> arrays;
     try {
-      cells = cells_of_(files_[i].piece);
+      arrays = arrays_of_(files_[i].piece);
     } catch (const std::bad_alloc&) {
       failure_ = std::make_exception_ptr(OutputError("rank 0 ran out of memory making '" + files_[i].shown + "'"));
     }
-    send_to(rank, (cells ? "B" : "N") + std::to_string(i));
-    if (cells) {
-      send_to(rank, bytes_of(cells->xyz)), send_to(rank, bytes_of(cells->connectivity));
-      send_to(rank, bytes_of(cells->offsets)), send_to(rank, bytes_of(cells->types));
-      send_to(rank, bytes_of(cells->piece)), send_to(rank, bytes_of(cells->region));
-    }
+    send_to(rank, arrays ? "B" + std::to_string(i) + "/" + std::to_string(arrays->size()) : "N" + std::to_string(i));
+    if (arrays)
+      for (std::string_view bytes : *arrays) send_to(rank, bytes);
     busy_[rank] = true;
   }
 
@@ -768,15 +756,16 @@ class PieceFileDealer {
   void write_own(std::size_t i) {
     if (failure_) return;
     try {
-      write_vtu_file(cells_of_(files_[i].piece), files_[i].temporary, files_[i].shown);
+      write_piece_file(format_, arrays_of_(files_[i].piece), files_[i].temporary, files_[i].shown);
       ++stats_.piece_files_written;
     } catch (...) {
       failure_ = std::current_exception();
     }
   }
 
+  MeshFormat format_;
   const std::vector<PieceFile>& files_;
-  const PieceCellsOf& cells_of_;
+  const PieceArraysOf& arrays_of_;
   RankStats& stats_;
   int size_ = 1;
   std::vector<int> writers_;  // the other ranks that see the output directory
@@ -785,36 +774,22 @@ class PieceFileDealer {
   std::exception_ptr failure_;
 };
 
-// A piece file's cells as they came: the six arrays' bytes, viewed in place.
-struct ReceivedCells {
-  std::string arrays[kCellArrays];
-  bool made = false;  // rank 0 could make them
+// A piece file's arrays as they came ("B" + index + "/" + count: that many arrays follow).
+std::vector<std::string> receive_piece_arrays(const std::string& header) {
+  std::vector<std::string> arrays;
+  if (header[0] != 'B' || header.find('/') == std::string::npos) return arrays;
+  arrays.resize(std::stoul(header.substr(header.find('/') + 1)));
+  for (std::string& bytes : arrays)
+    bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  return arrays;
+}
 
-  static ReceivedCells receive() {
-    ReceivedCells cells;
-    for (std::string& bytes : cells.arrays)
-      bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
-    cells.made = true;
-    return cells;
-  }
-
-  // The view, or nothing when the arrays do not fit together (lost or cut bytes).
-  std::optional<VtuCellsView> view() const {
-    VtuCellsView cells;
-    const bool whole = made && as_run(arrays[0], cells.xyz) && as_run(arrays[1], cells.connectivity) &&
-                       as_run(arrays[2], cells.offsets) && as_run(arrays[3], cells.types) &&
-                       as_run(arrays[4], cells.piece) && as_run(arrays[5], cells.region);
-    const std::size_t tets = cells.types.size;
-    if (!whole || cells.xyz.size % 3 != 0 || cells.connectivity.size != 4 * tets || cells.offsets.size != tets ||
-        cells.piece.size != tets || cells.region.size != tets)
-      return std::nullopt;
-    return cells;
-  }
-};
-
-// A worker's side of a vtu order: says whether it sees the output directory, then writes each
+// A worker's side of a pieces order: says whether it sees the output directory, then writes each
 // file it is sent and answers for it, until rank 0 says there are no more.
 void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
+  std::string format_name;
+  std::getline(order, format_name);
+  const MeshFormat format = mesh_format(format_name);
   std::vector<PieceFile> files;
   std::string temporary, shown;
   while (std::getline(order, temporary, '\0') && std::getline(order, shown, '\0'))
@@ -828,12 +803,12 @@ void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
     const std::size_t i = std::stoul(header.substr(1));
     std::string answer;
     try {
-      const ReceivedCells cells = header[0] == 'B' ? ReceivedCells::receive() : ReceivedCells();
-      const std::optional<VtuCellsView> view = test_hooks::block_lost(my_rank()) ? std::nullopt : cells.view();
-      if (i >= files.size() || !view)
-        throw OutputError("rank " + std::to_string(my_rank()) + " did not receive the cells of '" +
+      std::vector<std::string> received = receive_piece_arrays(header);
+      if (test_hooks::block_lost(my_rank())) received.clear();
+      if (i >= files.size() || received.empty())
+        throw OutputError("rank " + std::to_string(my_rank()) + " did not receive the content of '" +
                           (i < files.size() ? files[i].shown : header) + "'");
-      write_vtu_file(*view, files[i].temporary, files[i].shown);
+      write_piece_file(format, PieceArrays(received.begin(), received.end()), files[i].temporary, files[i].shown);
       ++stats.piece_files_written;
     } catch (const std::exception& e) {
       answer = std::string("E") + e.what();
@@ -869,7 +844,7 @@ void join_writes(JobStatus& status, RankStats& stats) {
     std::getline(lines, kind);
     if (kind == "hdf5")
       join_hdf5_write(lines, status);
-    else if (kind == kVtuOrder)
+    else if (kind == kPiecesOrder)
       write_piece_files_sent(lines, stats);
     else
       format_rows_block(lines);
@@ -1235,9 +1210,9 @@ JobStatus run_mesh_job(const MeshJob& job) {
         const AddSeconds timer{state.stats.write_seconds};
         RankWriters writers{write_hdf5_on_every_rank, {}, {}};
         if (state.size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
-        writers.piece_files = [&stats = state.stats](const std::vector<PieceFile>& files,
-                                                     const PieceCellsOf& cells_of) {
-          PieceFileDealer(files, cells_of, stats).run();
+        writers.piece_files = [&stats = state.stats](MeshFormat format, const std::vector<PieceFile>& files,
+                                                     const PieceArraysOf& arrays_of) {
+          PieceFileDealer(format, files, arrays_of, stats).run();
         };
         const CpuLoan loan(node_cpus);  // the ranks on this node only format and wait meanwhile
         root->check_and_write(writers);

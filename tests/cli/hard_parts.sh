@@ -12,6 +12,7 @@
 # Usage: hard_parts.sh PARTET [LAUNCH...]   (LAUNCH, e.g. "mpiexec -n 2", runs partet mesh under MPI)
 set -uo pipefail
 partet=$(realpath "$1")
+formats=$(realpath "$(dirname "$0")/../formats")
 shift
 launch=("$@")
 work=$(mktemp -d)
@@ -76,7 +77,7 @@ grep -q "without putting points on its surface (on input faces" log || fail "inp
 grep -q -- "--allow-split-faces accepts" log || fail "input needing surface points: the opt-in is not named"
 ls whole.* > /dev/null 2>&1 && fail "input needing surface points: output files written"
 if ! PARTET_INJECT_FAILURE=surface mesh coarse.off -o split --pieces 4 -q 1.2 --allow-split-faces --check \
-    --format tetgen,msh,medit --report split.json > log 2>&1; then
+    --format tetgen,msh,msh-parts,medit --report split.json > log 2>&1; then
   fail "--allow-split-faces: no mesh: $(grep -m1 error log)"
 else
   split=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["counts"]["split_input_faces"])' split.json)
@@ -100,6 +101,9 @@ medit = open(prefix + ".mesh").read().split("Triangles")[1].split("Tetrahedra")[
 refs = sum(1 for line in medit if line.split() and line.split()[-1] == "2")
 assert split == parts == refs, (split, parts, refs)
 PY
+  # The MSH partitions put each part in the single file's "split boundary" group too.
+  /usr/bin/python3 "$formats/msh_parts.py" split.msh "$(ls split_[0-9]*.msh | wc -l)" split \
+    > parts.log 2>&1 || fail "--allow-split-faces: the MSH partitions differ from the .msh: $(grep FAIL parts.log)"
   "$partet" check --allow-split-faces coarse.off split > check.log 2>&1 ||
     fail "--allow-split-faces: partet check --allow-split-faces fails: $(grep -m1 VIOLATION check.log)"
   grep -q "split input triangles: $split" check.log || fail "--allow-split-faces: partet check does not count $split split triangles"

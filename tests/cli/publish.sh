@@ -3,7 +3,8 @@
 # set or the complete new set, never a mix and never nothing, and the message and exit code say
 # which (0 and "complete": the new set; 128+signal and "as they were": the previous one). A
 # SIGKILL at any step leaves a journal that the next partet command completes. The previous set
-# has more .pvtu piece files than the new one (K=4 then K=2): they belong to it and go with it.
+# has more .pvtu piece files and MSH partitions than the new one (K=4 then K=2): they belong to
+# it and go with it; a single .msh another run wrote under a partition's name stays.
 # Also: an interrupt before the publish removes every temporary, however many (K=80 .pvtu); a
 # slow publish interrupted for real at random moments; a run waiting for another's lock says so
 # and gives up in bounded time.
@@ -17,8 +18,8 @@ pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok   $*"; }
 bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 "$partet" generate torus --faces 3000 -o torus.off > /dev/null
-old=(mesh torus.off -o m -k 4 --format tetgen,pvtu --report m.json --quiet)
-new=(mesh torus.off -o m -k 2 --format tetgen,pvtu --report m.json --quiet)
+old=(mesh torus.off -o m -k 4 --format tetgen,pvtu,msh-parts --report m.json --quiet)
+new=(mesh torus.off -o m -k 2 --format tetgen,pvtu,msh-parts --report m.json --quiet)
 
 # The two sets, once: the previous one as published, the new one as written under another name.
 mkdir old_set new_set
@@ -37,9 +38,9 @@ same_files() {  # DIR: the files here are exactly DIR's (the report's timings ma
 is_old() { same_files old_set && cmp -s m.json old_set/m.json; }
 is_new() { same_files new_set && "$partet" check torus.off m > /dev/null 2>&1; }
 
-# The publish has 22 steps here: the journal, 9 previous files kept aside, 2 previous piece files
-# the new set does not have, 9 moves, the cleanup.
-steps=22
+# The publish has 30 steps here: the journal, 12 previous files kept aside, 4 previous piece
+# files and partitions the new set does not have, 12 moves, the cleanup.
+steps=30
 # 1. SIGTERM at each step and one past the end (nothing happens); SIGINT and SIGHUP at every
 #    third.
 for sig in TERM INT HUP; do
@@ -74,7 +75,7 @@ for step in $(seq 1 $steps); do
     1) "$partet" info m > log 2>&1 ;;
     2) "$partet" mesh torus.off -o other --quiet > /dev/null 2>&1 && rm -f other.* && "$partet" info m.node > log 2>&1 ;;
   esac
-  if is_new && grep -q "completed the publish of 9 file(s)" log; then outcomes+="n"
+  if is_new && grep -q "completed the publish of 12 file(s)" log; then outcomes+="n"
   else bad "SIGKILL at publish step $step: files after the next command: $(listing); it said: $(cat log)"; outcomes+="!"; fi
 done
 [[ "$outcomes" != *"!"* ]] && ok "SIGKILL at each of $steps publish steps, then check/info/mesh completes the new set: $outcomes"
@@ -131,6 +132,17 @@ wait "$holder"
 code=$?
 [ "$code" -eq 0 ] && rm -f log.holder && is_new && ok "the stopped run, continued, published its set" ||
   bad "the continued run: exit $code, files $(listing)"
+
+# 6. A single .msh at m_7 (another run's, named like a partition) is not the set's: it stays,
+#    while the previous set's partitions 4 and 5 go.
+restore_old
+"$partet" mesh torus.off -o m_7 --format msh --quiet && cp m_7.msh other.msh
+"$partet" "${new[@]}" > log 2>&1
+code=$?
+[ "$code" -eq 0 ] && cmp -s m_7.msh other.msh && [ ! -e m_4.msh ] && [ ! -e m_5.msh ] && [ -e m_3.msh ] &&
+  ok "a single .msh named like a partition stays; the previous set's extra partitions go" ||
+  bad "a single .msh named like a partition: exit $code, files: $(listing)"
+rm -f m_7.msh other.msh
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -7,8 +7,9 @@
 # would use ssh, and the ranks talk over TCP between the nodes' addresses only.
 #
 # On these nodes partet meshes a generated surface into TetGen files, the XDMF set (whose HDF5
-# files all three ranks write at once into the shared directory) and a .pvtu set (whose piece files
-# the three ranks write, whichever is free); the files must be byte-identical to a 1-process run's, pass `partet check`, and DOLFINx, run on the three nodes, must read the
+# files all three ranks write at once into the shared directory), a .pvtu set and the MSH
+# partitions (whose files the three ranks write, whichever is free); the files must be
+# byte-identical to a 1-process run's, pass `partet check`, and DOLFINx, run on the three nodes, must read the
 # XDMF set back with the same tets, boundary facets and volume; `partet check` on the three nodes,
 # each rank checking its part of the XDMF set, must pass.
 # Needs root (ip netns, unshare, mount); exits 77 (skipped) without them.
@@ -52,20 +53,20 @@ done < "$work/where"
 
 cd "$work/shared"
 "$partet" generate genus3 --faces 6000 -o in.off > /dev/null
-"$partet" mesh in.off -o one --pieces 6 --format tetgen,xdmf,pvtu --quiet
-"${mpirun_nodes[@]}" "$partet" mesh "$work/shared/in.off" -o "$work/shared/nodes" --pieces 6 --format tetgen,xdmf,pvtu \
+"$partet" mesh in.off -o one --pieces 6 --format tetgen,xdmf,pvtu,msh-parts --quiet
+"${mpirun_nodes[@]}" "$partet" mesh "$work/shared/in.off" -o "$work/shared/nodes" --pieces 6 --format tetgen,xdmf,pvtu,msh-parts \
   --report "$work/shared/nodes.json" --quiet
 ranks=$(/usr/bin/python3 -c "import json; print(json.load(open('nodes.json'))['ranks'])")
 [ "$ranks" -eq 3 ] || { echo "FAIL: the report says $ranks ranks"; exit 1; }
-for file in .node .ele .face .neigh .h5 _boundary.h5 _seams.vtu _p{0..5}.vtu; do
+for file in .node .ele .face .neigh .h5 _boundary.h5 _seams.vtu _p{0..5}.vtu _{1..7}.msh; do
   cmp "one$file" "nodes$file" || { echo "FAIL: nodes$file differs from the 1-process run's"; exit 1; }
 done
 written=$(/usr/bin/python3 -c "import json; print(' '.join(str(int(r['piece_files_written'])) for r in json.load(open('nodes.json'))['rank']))")
 read -r on1 on2 on3 <<< "$written"
-[ $((on1 + on2 + on3)) -eq 7 ] && [ "$on2" -ge 1 ] && [ "$on3" -ge 1 ] ||
+[ $((on1 + on2 + on3)) -eq 14 ] && [ "$on2" -ge 1 ] && [ "$on3" -ge 1 ] ||
   { echo "FAIL: piece files written per node: $written"; exit 1; }
 "$partet" check in.off nodes | tail -n 1
 # The XDMF set checked on the three nodes, each rank its part.
 "${mpirun_nodes[@]}" "$partet" check "$work/shared/in.off" "$work/shared/nodes.xdmf" | tail -n 2
 "${mpirun_nodes[@]}" /usr/bin/python3 "$here/../formats/dolfinx_read.py" "$work/shared/nodes" 2>&1 | grep -v "^INFO:"
-echo "ok: 3 ranks on 3 namespace nodes wrote the same files as 1 process (the .pvtu set's 7 piece files: $written per node); DOLFINx read them on the 3 nodes"
+echo "ok: 3 ranks on 3 namespace nodes wrote the same files as 1 process (the 14 files of the .pvtu set and the MSH partitions: $written per node); DOLFINx read them on the 3 nodes"

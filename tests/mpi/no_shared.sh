@@ -6,7 +6,7 @@
 #         paths that exist only in rank 0's. The workers' directories must stay empty, and the
 #         output must again be byte-identical.
 # Both write the XDMF set too, whose HDF5 files every rank writes into (at rank 0's path), and a
-# .pvtu set, whose piece files the ranks write (at rank 0's paths).
+# .pvtu set and the MSH partitions, whose files the ranks write (at rank 0's paths).
 # Usage: no_shared.sh PARTET MPIEXEC tcp|dirs
 set -euo pipefail
 partet=$1 mpiexec=$2 mode=$3
@@ -14,14 +14,14 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/rank0/out" "$work/rank1" "$work/rank2"
 "$partet" generate genus3 --faces 4000 -o "$work/rank0/input.off" > /dev/null
-"$partet" mesh "$work/rank0/input.off" -o "$work/serial" --pieces 4 --quiet --format tetgen,xdmf,pvtu
+"$partet" mesh "$work/rank0/input.off" -o "$work/serial" --pieces 4 --quiet --format tetgen,xdmf,pvtu,msh-parts-binary
 case $mode in
   tcp)
     "$mpiexec" -n 2 --mca btl self,tcp "$partet" mesh "$work/rank0/input.off" -o "$work/rank0/out/m" \
-      --pieces 4 --quiet --format tetgen,xdmf,pvtu ;;
+      --pieces 4 --quiet --format tetgen,xdmf,pvtu,msh-parts-binary ;;
   dirs)
     # MPMD: one launch line per rank, each with its own working directory.
-    args=(mesh input.off -o out/m --pieces 4 --quiet --format tetgen,xdmf,pvtu)
+    args=(mesh input.off -o out/m --pieces 4 --quiet --format tetgen,xdmf,pvtu,msh-parts-binary)
     "$mpiexec" --oversubscribe -n 1 --wdir "$work/rank0" "$partet" "${args[@]}" \
       : -n 1 --wdir "$work/rank1" "$partet" "${args[@]}" \
       : -n 1 --wdir "$work/rank2" "$partet" "${args[@]}"
@@ -31,7 +31,7 @@ case $mode in
     done ;;
   *) echo "unknown mode $mode"; exit 2 ;;
 esac
-for ext in node ele face neigh h5 _boundary.h5 _seams.vtu _p0.vtu _p1.vtu _p2.vtu _p3.vtu; do
+for ext in node ele face neigh h5 _boundary.h5 _seams.vtu _p0.vtu _p1.vtu _p2.vtu _p3.vtu _{1..5}.msh; do
   [[ $ext == _* ]] && file=$ext || file=.$ext
   cmp "$work/serial$file" "$work/rank0/out/m$file" || { echo "FAIL: $file differs from the 1-rank output"; exit 1; }
 done

@@ -54,7 +54,7 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
   --quiet 2> log; then
   echo "FAIL: lost-vtu: a lost block exited 0"; exit 1
 fi
-expect_refused lost-vtu "rank 1 did not receive the cells of 'out/m_[a-z0-9]*.vtu'"
+expect_refused lost-vtu "rank 1 did not receive the content of 'out/m_[a-z0-9]*.vtu'"
 
 if ! unshare -m true 2> /dev/null; then
   echo "skipped: not-shared needs unshare -m"; exit 77

@@ -1,0 +1,392 @@
+// Gmsh MSH 4.1, one file or one per partition. Checked in the tests by gmsh itself (and meshio
+// for the single file).
+#include "io/msh.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/buffered_file.hpp"
+#include "partet/errors.hpp"
+#include "stages/info.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+// The model, in every file: one volume (tag 1, physical 1 "volume") bounded by the boundary
+// surface (tag 1, physical 2 "boundary") and, when TetGen split input triangles, the split
+// boundary surface (tag 2, physical 3 "split boundary").
+constexpr std::int32_t kVolumePhysical = 1;
+std::int32_t surface_physical(std::int32_t surface) { return surface + 1; }
+
+// MSH 4.1's numbers: size_t (8 bytes), int (4 bytes) and double in binary, text separated by
+// spaces otherwise; and the sections every file has.
+class MshStream {
+ public:
+  MshStream(const std::string& path, const std::string& shown, bool must_exist, bool binary)
+      : out_(path, shown, must_exist), binary_(binary) {}
+
+  void size(std::uint64_t v) {
+    binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space());
+  }
+  void tag(std::int32_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(v), out_.space()); }
+  void real(double v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.real(v), out_.space()); }
+  void box(const Bounds& b) {
+    for (double v : b.min) real(v);
+    for (double v : b.max) real(v);
+  }
+  void end_line() {
+    if (!binary_) out_.newline();
+  }
+  void begin_section(const char* name) { out_.text(name); }
+  void end_section(const char* name) {
+    if (binary_) out_.newline();
+    out_.text(name);
+  }
+  void close() { out_.close(); }
+
+  // $MeshFormat, $PhysicalNames and $Entities (the model).
+  void model(const Bounds& box, bool split) {
+    out_.text(binary_ ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
+    if (binary_) {
+      const int one = 1;  // lets readers detect the byte order
+      out_.bytes(&one, sizeof one);
+      out_.newline();
+    }
+    out_.text(split ? "$EndMeshFormat\n$PhysicalNames\n3\n2 2 \"boundary\"\n2 3 \"split boundary\"\n"
+                      "3 1 \"volume\"\n$EndPhysicalNames\n"
+                    : "$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"boundary\"\n3 1 \"volume\"\n$EndPhysicalNames\n");
+    begin_section("$Entities\n");
+    const std::int32_t surfaces = split ? 2 : 1;
+    size(0), size(0), size(surfaces), size(1), end_line();
+    for (std::int32_t s = 1; s <= surfaces; ++s) {
+      tag(s), this->box(box);
+      size(1), tag(surface_physical(s)), size(0), end_line();
+    }
+    tag(1), this->box(box);
+    size(1), tag(kVolumePhysical), size(surfaces);
+    for (std::int32_t s = 1; s <= surfaces; ++s) tag(s);
+    end_line();
+    end_section("$EndEntities\n");
+  }
+
+ private:
+  BufferedFile out_;
+  bool binary_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// The single file: every node on the volume, the boundary triangles, then the tets.
+
+class MshWriter {
+ public:
+  MshWriter(const MeshOutput& output, const std::string& path, bool binary)
+      : mesh_(output.mesh),
+        boundary_(output.boundary),
+        whole_(std::min(output.split_from, output.boundary.size())),
+        out_(path, path, false, binary) {}
+
+  void write() {
+    out_.model(bounds_of(mesh_.points), split());
+    nodes();
+    elements();
+    out_.close();
+  }
+
+ private:
+  void nodes() {
+    const std::uint64_t n = mesh_.points.size();
+    out_.begin_section("$Nodes\n");
+    out_.size(1), out_.size(n), out_.size(n == 0 ? 0 : 1), out_.size(n), out_.end_line();
+    out_.tag(3), out_.tag(1), out_.tag(0), out_.size(n), out_.end_line();
+    for (std::uint64_t i = 1; i <= n; ++i) out_.size(i), out_.end_line();
+    for (const Point3& p : mesh_.points) out_.real(p[0]), out_.real(p[1]), out_.real(p[2]), out_.end_line();
+    out_.end_section("$EndNodes\n");
+  }
+
+  void elements() {
+    const std::uint64_t tets = mesh_.tets.size(), triangles = boundary_.size();
+    out_.begin_section("$Elements\n");
+    // Empty blocks are left out (meshio cannot read them).
+    const std::uint64_t blocks = 1 + (whole_ > 0 ? 1 : 0) + (split() ? 1 : 0);
+    out_.size(blocks), out_.size(tets + triangles), out_.size(1), out_.size(tets + triangles), out_.end_line();
+    std::uint64_t id = 1;
+    auto surface = [&](std::int32_t entity, std::size_t begin, std::size_t end) {
+      out_.tag(2), out_.tag(entity), out_.tag(2), out_.size(end - begin), out_.end_line();  // 2: 3-node triangle
+      for (std::size_t i = begin; i < end; ++i) {
+        out_.size(id++);
+        for (std::int32_t v : boundary_[i]) out_.size(static_cast<std::uint64_t>(v) + 1);
+        out_.end_line();
+      }
+    };
+    if (whole_ > 0) surface(1, 0, whole_);
+    if (split()) surface(2, whole_, boundary_.size());
+    out_.tag(3), out_.tag(1), out_.tag(4), out_.size(tets), out_.end_line();  // 4: 4-node tetrahedron
+    for (const Tet& t : mesh_.tets) {
+      out_.size(id++);
+      for (std::int32_t v : t) out_.size(static_cast<std::uint64_t>(v) + 1);
+      out_.end_line();
+    }
+    out_.end_section("$EndElements\n");
+  }
+
+  bool split() const { return whole_ < boundary_.size(); }
+
+  const TetMesh& mesh_;
+  const std::vector<Triangle>& boundary_;
+  std::size_t whole_;  // boundary faces before the parts of split input triangles
+  MshStream out_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// One partition's file. Partition p's entities: its volume (tag p + 1, parent volume 1) and its
+// part of each boundary surface s (tag p * surfaces + s, parent surface s), so that no partition
+// entity shares a tag with a model entity or another partition's.
+
+struct Partition {
+  std::uint64_t index = 0, count = 0, whole = 0;  // whole: triangles on the boundary surface
+  bool split = false, binary = false;
+  std::int32_t surfaces() const { return split ? 2 : 1; }
+  std::int32_t volume_tag() const { return static_cast<std::int32_t>(index) + 1; }
+  std::int32_t surface_tag(std::int32_t s) const { return static_cast<std::int32_t>(index) * surfaces() + s; }
+};
+
+Bounds box_at(const double* v) { return {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}}; }
+
+class MshPartWriter {
+ public:
+  MshPartWriter(const MshPartView& part, const std::string& path, const std::string& shown)
+      : part_(part),
+        p_{part.about.data[0], part.about.data[1], part.about.data[2], part.about.data[3] != 0,
+           part.about.data[4] != 0},
+        out_(path, shown, /*must_exist=*/true, p_.binary) {}
+
+  void write() {
+    out_.model(box_at(part_.box.data), p_.split);
+    partitioned_entities();
+    nodes();
+    elements();
+    out_.close();
+  }
+
+ private:
+  void partitioned_entities() {
+    const Bounds box = box_at(part_.box.data + 6);
+    out_.begin_section("$PartitionedEntities\n");
+    out_.size(p_.count), out_.end_line();
+    out_.size(0), out_.end_line();  // no ghost entities
+    out_.size(0), out_.size(0), out_.size(static_cast<std::uint64_t>(p_.surfaces())), out_.size(1), out_.end_line();
+    for (std::int32_t s = 1; s <= p_.surfaces(); ++s) {
+      out_.tag(p_.surface_tag(s)), out_.tag(2), out_.tag(s), out_.size(1),
+          out_.tag(static_cast<std::int32_t>(p_.index));
+      out_.box(box), out_.size(1), out_.tag(surface_physical(s)), out_.size(0), out_.end_line();
+    }
+    out_.tag(p_.volume_tag()), out_.tag(3), out_.tag(1), out_.size(1), out_.tag(static_cast<std::int32_t>(p_.index));
+    out_.box(box), out_.size(1), out_.tag(kVolumePhysical), out_.size(static_cast<std::uint64_t>(p_.surfaces()));
+    for (std::int32_t s = 1; s <= p_.surfaces(); ++s) out_.tag(p_.surface_tag(s));
+    out_.end_line();
+    out_.end_section("$EndPartitionedEntities\n");
+  }
+
+  void nodes() {
+    const std::size_t n = part_.node_tags.size;
+    const std::uint64_t* tags = part_.node_tags.data;
+    out_.begin_section("$Nodes\n");
+    out_.size(n == 0 ? 0 : 1), out_.size(n), out_.size(n == 0 ? 0 : tags[0]), out_.size(n == 0 ? 0 : tags[n - 1]);
+    out_.end_line();
+    if (n > 0) {
+      out_.tag(3), out_.tag(p_.volume_tag()), out_.tag(0), out_.size(n), out_.end_line();
+      for (std::size_t i = 0; i < n; ++i) out_.size(tags[i]), out_.end_line();
+      for (std::size_t i = 0; i < 3 * n; i += 3)
+        out_.real(part_.xyz.data[i]), out_.real(part_.xyz.data[i + 1]), out_.real(part_.xyz.data[i + 2]),
+            out_.end_line();
+    }
+    out_.end_section("$EndNodes\n");
+  }
+
+  void elements() {
+    const std::size_t triangles = part_.triangles.size / 4, tets = part_.tets.size / 5;
+    const std::size_t blocks = (p_.whole > 0) + (triangles > p_.whole) + (tets > 0);
+    std::uint64_t lowest = UINT64_MAX, highest = 0;
+    for (std::size_t i = 0; i < part_.triangles.size; i += 4)
+      lowest = std::min(lowest, part_.triangles.data[i]), highest = std::max(highest, part_.triangles.data[i]);
+    for (std::size_t i = 0; i < part_.tets.size; i += 5)
+      lowest = std::min(lowest, part_.tets.data[i]), highest = std::max(highest, part_.tets.data[i]);
+    out_.begin_section("$Elements\n");
+    out_.size(blocks), out_.size(triangles + tets), out_.size(blocks == 0 ? 0 : lowest), out_.size(highest);
+    out_.end_line();
+    // Empty blocks are left out, as in the single file.
+    block(2, p_.surface_tag(1), 2, part_.triangles.data, p_.whole, 4);
+    block(2, p_.surface_tag(2), 2, part_.triangles.data + 4 * p_.whole, triangles - p_.whole, 4);
+    block(3, p_.volume_tag(), 4, part_.tets.data, tets, 5);
+    out_.end_section("$EndElements\n");
+  }
+
+  // A block of `count` rows of `width` numbers (the element tag, then its node tags).
+  void block(std::int32_t dim, std::int32_t entity, std::int32_t type, const std::uint64_t* rows, std::size_t count,
+             std::size_t width) {
+    if (count == 0) return;
+    out_.tag(dim), out_.tag(entity), out_.tag(type), out_.size(count), out_.end_line();
+    for (std::size_t i = 0; i < count * width; i += width) {
+      for (std::size_t j = 0; j < width; ++j) out_.size(rows[i + j]);
+      out_.end_line();
+    }
+  }
+
+  const MshPartView& part_;
+  Partition p_;
+  MshStream out_;
+};
+
+// Counting sort of n items by group (each below `groups`).
+template <class GroupOf>
+void group_items(std::size_t n, std::size_t groups, GroupOf group_of, std::vector<std::uint32_t>& order,
+                 std::vector<std::size_t>& start) {
+  start.assign(groups + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++start[group_of(i) + 1];
+  for (std::size_t g = 1; g <= groups; ++g) start[g] += start[g - 1];
+  order.resize(n);
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order[next[group_of(i)]++] = static_cast<std::uint32_t>(i);
+}
+
+// The tet each boundary triangle is a face of: the triangles bucketed by their smallest vertex,
+// then every open face of the tets (every face when the mesh has no neighbours) looked up in its
+// bucket. Linear, and the buckets are small.
+std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
+  const TetMesh& mesh = output.mesh;
+  const std::vector<Triangle>& boundary = output.boundary;
+  std::vector<std::uint32_t> order;
+  std::vector<std::size_t> start;
+  std::vector<FaceKey> keys;
+  keys.reserve(boundary.size());
+  for (const Triangle& t : boundary) keys.emplace_back(t);
+  group_items(
+      boundary.size(), mesh.points.size(), [&](std::size_t i) { return static_cast<std::size_t>(keys[i].v[0]); }, order,
+      start);
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  std::vector<std::uint32_t> tet_of(boundary.size(), kNone);
+  const bool open_faces_known = mesh.neighbours.size() == mesh.tets.size();
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j) {
+      if (open_faces_known && mesh.neighbours[t][j] >= 0) continue;
+      const FaceKey face(outward_face(mesh.tets[t], j));
+      for (std::size_t i = start[face.v[0]]; i < start[face.v[0] + 1]; ++i)
+        if (keys[order[i]] == face) tet_of[order[i]] = static_cast<std::uint32_t>(t);
+    }
+  const auto lost = std::find(tet_of.begin(), tet_of.end(), kNone);
+  if (lost != tet_of.end())
+    throw InternalError("boundary triangle " + std::to_string(lost - tet_of.begin()) +
+                        " is not a face of any tet: the mesh cannot be split into MSH partitions");
+  return tet_of;
+}
+
+}  // namespace
+
+std::vector<int> msh_partition_pieces(const MeshOutput& output) {
+  std::vector<int> pieces = pieces_in(output);  // the seams' -1 first
+  if (!pieces.empty() && pieces.front() < 0) std::rotate(pieces.begin(), pieces.begin() + 1, pieces.end());
+  return pieces;
+}
+
+void write_msh(const MeshOutput& output, const std::string& path, bool binary) {
+  MshWriter(output, path, binary).write();
+}
+
+PieceArrays arrays_of(const MshPartView& part) {
+  return {bytes_of(part.about), bytes_of(part.box),       bytes_of(part.node_tags),
+          bytes_of(part.xyz),   bytes_of(part.triangles), bytes_of(part.tets)};
+}
+
+std::optional<MshPartView> msh_part_from(const PieceArrays& arrays) {
+  MshPartView part;
+  const bool whole = as_runs(arrays, part.about, part.box, part.node_tags, part.xyz, part.triangles, part.tets) &&
+                     part.about.size == 5 && part.box.size == 12 && part.xyz.size == 3 * part.node_tags.size &&
+                     part.triangles.size % 4 == 0 && part.tets.size % 5 == 0 &&
+                     part.about.data[2] <= part.triangles.size / 4 && part.about.data[0] >= 1 &&
+                     part.about.data[0] <= part.about.data[1] && part.about.data[1] < (1u << 30);
+  if (!whole) return std::nullopt;
+  return part;
+}
+
+void write_msh_part(const MshPartView& part, const std::string& path, const std::string& shown) {
+  MshPartWriter(part, path, shown).write();
+}
+
+MshPartitions::MshPartitions(const MeshOutput& output, bool binary)
+    : output_(output), binary_(binary), taken_by_(output.mesh.points.size(), 0) {
+  const Bounds all = bounds_of(output.mesh.points);
+  model_box_.assign(all.min.begin(), all.min.end());
+  model_box_.insert(model_box_.end(), all.max.begin(), all.max.end());
+  pieces_ = msh_partition_pieces(output);
+  const TetMesh& mesh = output.mesh;
+  const int highest = pieces_.empty() ? 0 : *std::max_element(pieces_.begin(), pieces_.end());
+  std::vector<std::uint32_t> partition_of_piece(static_cast<std::size_t>(highest) + 2, 0);  // slot piece + 1
+  for (std::size_t p = 0; p < pieces_.size(); ++p) partition_of_piece[pieces_[p] + 1] = static_cast<std::uint32_t>(p);
+  const auto partition_of_tet = [&](std::size_t t) -> std::size_t {
+    return partition_of_piece[(mesh.piece.empty() ? -1 : mesh.piece[t]) + 1];
+  };
+  group_items(mesh.tets.size(), pieces_.size(), partition_of_tet, tets_.order, tets_.start);
+  const std::vector<std::uint32_t> tet_of = tet_of_boundary(output);
+  group_items(
+      output.boundary.size(), pieces_.size(), [&](std::size_t i) { return partition_of_tet(tet_of[i]); },
+      triangles_.order, triangles_.start);
+}
+
+MshPartView MshPartitions::of(int piece) {
+  const auto found = std::find(pieces_.begin(), pieces_.end(), piece);
+  if (found == pieces_.end()) throw InternalError("no MSH partition holds piece " + std::to_string(piece));
+  const auto partition = static_cast<std::size_t>(found - pieces_.begin());
+  add_nodes(partition);
+  add_elements(partition);
+  return {run_of(about_), run_of(box_), run_of(node_tags_), run_of(xyz_), run_of(triangle_rows_), run_of(tet_rows_)};
+}
+
+void MshPartitions::add_nodes(std::size_t partition) {
+  const TetMesh& mesh = output_.mesh;
+  node_tags_.clear(), xyz_.clear();
+  const auto stamp = static_cast<std::uint32_t>(partition + 1);
+  for (std::size_t i = tets_.start[partition]; i < tets_.start[partition + 1]; ++i)
+    for (std::int32_t v : mesh.tets[tets_.order[i]])
+      if (taken_by_[v] != stamp) taken_by_[v] = stamp, node_tags_.push_back(static_cast<std::uint64_t>(v) + 1);
+  std::sort(node_tags_.begin(), node_tags_.end());
+  xyz_.reserve(3 * node_tags_.size());
+  for (std::uint64_t tag : node_tags_)
+    xyz_.insert(xyz_.end(), mesh.points[tag - 1].begin(), mesh.points[tag - 1].end());
+  Bounds own{{0, 0, 0}, {0, 0, 0}};
+  for (std::size_t i = 0; i < xyz_.size(); i += 3)
+    for (int c = 0; c < 3; ++c) {
+      own.min[c] = i == 0 ? xyz_[c] : std::min(own.min[c], xyz_[i + c]);
+      own.max[c] = i == 0 ? xyz_[c] : std::max(own.max[c], xyz_[i + c]);
+    }
+  box_ = model_box_;
+  box_.insert(box_.end(), own.min.begin(), own.min.end());
+  box_.insert(box_.end(), own.max.begin(), own.max.end());
+}
+
+void MshPartitions::add_elements(std::size_t partition) {
+  const TetMesh& mesh = output_.mesh;
+  const std::vector<Triangle>& boundary = output_.boundary;
+  const std::size_t whole_end = std::min(output_.split_from, boundary.size());
+  // Element tags as in the single file: the boundary triangles from 1, then the tets.
+  triangle_rows_.clear(), tet_rows_.clear();
+  // Ascending (the grouping is stable), so the whole input triangles come first.
+  const auto first = triangles_.order.begin() + static_cast<std::ptrdiff_t>(triangles_.start[partition]);
+  const auto last = triangles_.order.begin() + static_cast<std::ptrdiff_t>(triangles_.start[partition + 1]);
+  const auto whole = static_cast<std::uint64_t>(std::lower_bound(first, last, whole_end) - first);
+  for (auto it = first; it != last; ++it) {
+    const std::uint32_t i = *it;
+    triangle_rows_.push_back(std::uint64_t{i} + 1);
+    for (std::int32_t v : boundary[i]) triangle_rows_.push_back(static_cast<std::uint64_t>(v) + 1);
+  }
+  for (std::size_t k = tets_.start[partition]; k < tets_.start[partition + 1]; ++k) {
+    const std::uint32_t t = tets_.order[k];
+    tet_rows_.push_back(boundary.size() + t + 1);
+    for (std::int32_t v : mesh.tets[t]) tet_rows_.push_back(static_cast<std::uint64_t>(v) + 1);
+  }
+  about_ = {partition + 1, pieces_.size(), whole, whole_end < boundary.size() ? 1u : 0u, binary_ ? 1u : 0u};
+}
+
+}  // namespace partet

@@ -1,0 +1,89 @@
+// The MSH partitions' arrays, which any rank writes a partition's file from. (gmsh reads the
+// files in tests/formats/msh_parts.py.)
+#include "io/msh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+
+#include "partet/errors.hpp"
+#include "test_support.hpp"
+#include "two_tets.hpp"
+
+namespace partet {
+namespace {
+
+using test::TwoTets;
+
+std::vector<std::uint64_t> values(const ArrayRun<std::uint64_t>& run) { return {run.data, run.data + run.size}; }
+
+TEST(MshPartitions, PiecesInOrderThenTheSeams) {
+  const TwoTets m;
+  EXPECT_EQ(msh_partition_pieces(m.output()), (std::vector<int>{0, -1}));
+}
+
+// Each partition holds its tets and the boundary triangles they bound, under the single file's
+// tags (triangles from 1, then the tets), with the nodes they use, ascending.
+TEST(MshPartitions, EachPartitionHasItsTetsAndTheirBoundaryUnderTheSingleFilesTags) {
+  const TwoTets m;
+  MshPartitions partitions(m.output(), /*binary=*/true);
+  const MshPartView first = partitions.of(0);
+  EXPECT_EQ(values(first.about), (std::vector<std::uint64_t>{1, 2, 3, 1, 1}));
+  EXPECT_EQ(values(first.node_tags), (std::vector<std::uint64_t>{1, 2, 3, 4}));
+  EXPECT_EQ(values(first.tets), (std::vector<std::uint64_t>{7, 1, 2, 3, 4}));
+  EXPECT_EQ(values(first.triangles), (std::vector<std::uint64_t>{1, 1, 3, 2, 2, 1, 2, 4, 3, 1, 4, 3}));
+  EXPECT_EQ(first.xyz.size, 12u);
+  EXPECT_EQ(first.xyz.data[3], 1.0);  // node 2 = point 1 = (1, 0, 0)
+  const MshPartView seams = partitions.of(-1);
+  // Two whole input triangles (tags 4 and 5), then the split part (tag 6).
+  EXPECT_EQ(values(seams.about), (std::vector<std::uint64_t>{2, 2, 2, 1, 1}));
+  EXPECT_EQ(values(seams.node_tags), (std::vector<std::uint64_t>{2, 3, 4, 5}));
+  EXPECT_EQ(values(seams.tets), (std::vector<std::uint64_t>{8, 2, 5, 3, 4}));
+  EXPECT_EQ(values(seams.triangles), (std::vector<std::uint64_t>{4, 2, 3, 5, 5, 2, 5, 4, 6, 3, 4, 5}));
+  // Bounds: the whole mesh's, then the partition's.
+  EXPECT_EQ(std::vector<double>(seams.box.data, seams.box.data + 12),
+            (std::vector<double>{0, 0, 0, 1, 1, 1, 0, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(std::vector<double>(first.box.data + 6, first.box.data + 12), (std::vector<double>{0, 0, 0, 1, 1, 1}));
+}
+
+// A boundary triangle that is no tet's face cannot be given a partition: an error, not a file
+// that silently leaves it out.
+TEST(MshPartitions, RefusesABoundaryTriangleThatIsNoTetsFace) {
+  TwoTets m;
+  m.boundary[1] = {0, 1, 4};
+  EXPECT_THROW(MshPartitions(m.output(), false), InternalError);
+}
+
+// The arrays as bytes and back; cut or missing arrays are refused, never written.
+TEST(WritePieceFile, RefusesArraysThatDoNotFitTogether) {
+  const TwoTets m;
+  MshPartitions partitions(m.output(), false);
+  const MshPartView part = partitions.of(0);
+  PieceArrays arrays = arrays_of(part);
+  ASSERT_TRUE(msh_part_from(arrays).has_value());
+  EXPECT_EQ(values(msh_part_from(arrays)->tets), values(part.tets));
+  const std::string dir = test::temp_dir("msh_test");
+  const std::string path = dir + "/m_1.msh";
+  PieceArrays cut = arrays;
+  cut[5] = cut[5].substr(0, cut[5].size() - 1);
+  EXPECT_FALSE(msh_part_from(cut).has_value());
+  EXPECT_THROW(write_piece_file(MeshFormat::msh_parts, cut, path, "m_1.msh"), OutputError);
+  cut = arrays;
+  cut.pop_back();
+  EXPECT_THROW(write_piece_file(MeshFormat::msh_parts, cut, path, "m_1.msh"), OutputError);
+  // .vtu cells whose arrays disagree on the number of tets.
+  const std::vector<double> xyz(12, 0.0);
+  const std::vector<std::int64_t> connectivity{0, 1, 2, 3}, offsets{4, 8};
+  const std::vector<std::uint8_t> types{10};
+  const std::vector<std::int32_t> piece{0}, region{1};
+  const auto bytes = [](const auto& v) {
+    return std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+  };
+  const PieceArrays cells{bytes(xyz), bytes(connectivity), bytes(offsets), bytes(types), bytes(piece), bytes(region)};
+  EXPECT_THROW(write_piece_file(MeshFormat::pvtu, cells, path, "m_p0.vtu"), OutputError);
+  EXPECT_THROW(write_piece_file(MeshFormat::vtu, arrays, path, "m.vtu"), InternalError);
+}
+
+}  // namespace
+}  // namespace partet
