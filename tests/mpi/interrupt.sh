@@ -3,7 +3,8 @@
 # exit code 143 and "interrupted", its TetGen child dies with it, and no file (temporary or
 # final) is left; (2) SIGKILL of a rank under the launcher takes its TetGen child with it and
 # ends the job without output; (3) SIGTERM to a 2-rank job in the middle of a large file's
-# write keeps the previous set and leaves no temporary.
+# write keeps the previous set and leaves no temporary; (4) so does SIGTERM while rank 1 writes
+# an MSH partition file.
 # Usage: interrupt.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -91,18 +92,47 @@ for i in $(seq 1200); do  # up to 60 s for the meshing
 done
 [ -n "$large" ] && ok "write: interrupted with $(basename "$large" | cut -d. -f1-2)'s first 4 MB written" ||
   bad "write: no temporary of 4 MB seen"
-kill -TERM "$launcher"
-timeout 30 tail --pid="$launcher" -f /dev/null
-wait "$launcher"
-code=$?
-sleep 1
-[ "$code" -ne 0 ] && ok "write: exit code $code" || bad "write: exit code 0"
-grep -q "interrupted" "$work/log3" && ok "write: says $(grep -m1 interrupted "$work/log3")" || bad "write: no message"
-changed=""
-for f in "$work"/before/*; do cmp -s "$f" "$work/$(basename "$f")" || changed+=" $(basename "$f")"; done
-[ -z "$changed" ] && ok "write: the previous set ($(ls "$work/before" | wc -l) files) kept" || bad "write: changed:$changed"
-ls "$work" | grep -q '\.tmp-' && bad "write: temporaries left: $(ls "$work" | grep '\.tmp-')" || ok "write: no temporary left"
-[ "$(processes)" -eq 0 ] && ok "write: no process left" || bad "write: $(processes) processes left"
+# After SIGTERM to the launcher: "interrupted", the previous set (a copy in BEFORE) kept byte for
+# byte, no temporary and no process left.
+after_interrupt() {  # NAME LOG BEFORE
+  kill -TERM "$launcher"
+  timeout 30 tail --pid="$launcher" -f /dev/null
+  wait "$launcher"
+  local code=$? changed=""
+  sleep 1
+  [ "$code" -ne 0 ] && ok "$1: exit code $code" || bad "$1: exit code 0"
+  grep -q "interrupted" "$2" && ok "$1: says $(grep -m1 interrupted "$2")" || bad "$1: no message"
+  for f in "$3"/*; do cmp -s "$f" "$work/$(basename "$f")" || changed+=" $(basename "$f")"; done
+  [ -z "$changed" ] && ok "$1: the previous set ($(ls "$3" | wc -l) files) kept" || bad "$1: changed:$changed"
+  ls "$work" | grep -q '\.tmp-' && bad "$1: temporaries left: $(ls "$work" | grep '\.tmp-')" || ok "$1: no temporary left"
+  [ "$(processes)" -eq 0 ] && ok "$1: no process left" || bad "$1: $(processes) processes left"
+}
+after_interrupt write "$work/log3" "$work/before"
+
+# 4. SIGTERM while rank 1 writes an MSH partition file: the ranks write the partitions at once,
+# each slowed as above; the signal comes once a temporary rank 1 holds open has 4 MB.
+rm -f "$work"/w.* "$work"/w_*.vtu
+"$partet" mesh "$work/big.off" -o "$work/p" --pieces 2 --quiet --format msh-parts
+mkdir "$work/before4" && cp "$work"/p_*.msh "$work/before4/"
+PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
+  -o "$work/p" --pieces 2 --format msh-parts > "$work/log4" 2>&1 &
+launcher=$!
+held=""
+for i in $(seq 1200); do
+  for pid in $(pgrep -f "mesh $work/big.off"); do
+    tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 || continue
+    for fd in /proc/"$pid"/fd/*; do
+      target=$(readlink "$fd" 2> /dev/null) || continue
+      [[ "$target" == "$work"/p_*.msh.tmp-* ]] && [ "$(stat -c %s "$target" 2> /dev/null || echo 0)" -ge 4194304 ] &&
+        held=$target
+    done
+  done
+  [ -n "$held" ] && break
+  sleep 0.05
+done
+[ -n "$held" ] && ok "partition write: interrupted while rank 1 writes $(basename "$held" | cut -d. -f1-2)" ||
+  bad "partition write: rank 1 was not seen writing a partition"
+after_interrupt "partition write" "$work/log4" "$work/before4"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
