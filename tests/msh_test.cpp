@@ -47,6 +47,35 @@ TEST(MshPartitions, EachPartitionHasItsTetsAndTheirBoundaryUnderTheSingleFilesTa
   EXPECT_EQ(std::vector<double>(first.box.data + 6, first.box.data + 12), (std::vector<double>{0, 0, 0, 1, 1, 1}));
 }
 
+// With many partitions each uses few of the nodes (listed by a sort, not a scan of all nodes):
+// still its own, ascending, and its tets and boundary triangles.
+TEST(MshPartitions, ManySmallPartitionsListTheirOwnNodesAscending) {
+  TetMesh mesh;
+  std::vector<Triangle> boundary;
+  constexpr int kTets = 70;
+  for (int i = 0; i < kTets; ++i) {
+    const auto d = static_cast<double>(2 * i);
+    mesh.points.insert(mesh.points.end(), {{d, 0, 0}, {d + 1, 0, 0}, {d, 1, 0}, {d, 0, 1}});
+    const Tet t{4 * i + 3, 4 * i + 1, 4 * i + 2, 4 * i};
+    mesh.tets.push_back(t);
+    mesh.piece.push_back(kTets - 1 - i);  // pieces in the reverse order of the tets
+    for (int j = 0; j < 4; ++j) boundary.push_back(outward_face(t, j));
+  }
+  const MeshOutput output{mesh, boundary};
+  MshPartitions partitions(output, false);
+  for (int piece = 0; piece < kTets; ++piece) {
+    const int tet = kTets - 1 - piece;
+    const MshPartView part = partitions.of(piece);
+    const auto first = static_cast<std::uint64_t>(4 * tet + 1);
+    EXPECT_EQ(values(part.node_tags), (std::vector<std::uint64_t>{first, first + 1, first + 2, first + 3}));
+    EXPECT_EQ(part.tets.size, 5u);
+    EXPECT_EQ(part.tets.data[0], boundary.size() + static_cast<std::uint64_t>(tet) + 1);
+    ASSERT_EQ(part.triangles.size, 16u);
+    for (std::size_t k = 0; k < 4; ++k)
+      EXPECT_EQ(part.triangles.data[4 * k], static_cast<std::uint64_t>(4 * tet) + k + 1);
+  }
+}
+
 // A boundary triangle that is no tet's face cannot be given a partition: an error, not a file
 // that silently leaves it out.
 TEST(MshPartitions, RefusesABoundaryTriangleThatIsNoTetsFace) {

@@ -252,20 +252,28 @@ void group_items(std::size_t n, std::size_t groups, GroupOf group_of, std::vecto
   for (std::size_t i = 0; i < n; ++i) order[next[group_of(i)]++] = static_cast<std::uint32_t>(i);
 }
 
-// The tet each boundary triangle is a face of: the triangles bucketed by their smallest vertex,
-// then every open face of the tets (every face when the mesh has no neighbours) looked up in its
-// bucket. Linear, and the buckets are small.
+// The tet each boundary triangle is a face of: the triangles bucketed by their smallest vertex
+// (each entry holding the other two, so a lookup reads one place), then every open face of the
+// tets (every face when the mesh has no neighbours) looked up in its bucket. Linear, and the
+// buckets are small.
 std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
   const TetMesh& mesh = output.mesh;
   const std::vector<Triangle>& boundary = output.boundary;
-  std::vector<std::uint32_t> order;
-  std::vector<std::size_t> start;
-  std::vector<FaceKey> keys;
-  keys.reserve(boundary.size());
-  for (const Triangle& t : boundary) keys.emplace_back(t);
-  group_items(
-      boundary.size(), mesh.points.size(), [&](std::size_t i) { return static_cast<std::size_t>(keys[i].v[0]); }, order,
-      start);
+  struct Entry {
+    std::int32_t mid, high;
+    std::uint32_t triangle;
+  };
+  // start[v]: the first entry of vertex v's bucket, by a counting sort that leaves it there.
+  std::vector<std::uint32_t> start(mesh.points.size() + 1, 0);
+  for (const Triangle& t : boundary) ++start[FaceKey(t).v[0] + 1];
+  for (std::size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+  std::vector<Entry> entries(boundary.size());
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    const FaceKey key(boundary[i]);
+    entries[start[key.v[0]]++] = {key.v[1], key.v[2], static_cast<std::uint32_t>(i)};
+  }
+  for (std::size_t v = start.size() - 1; v > 0; --v) start[v] = start[v - 1];
+  start[0] = 0;
   constexpr std::uint32_t kNone = UINT32_MAX;
   std::vector<std::uint32_t> tet_of(boundary.size(), kNone);
   const bool open_faces_known = mesh.neighbours.size() == mesh.tets.size();
@@ -274,7 +282,8 @@ std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
       if (open_faces_known && mesh.neighbours[t][j] >= 0) continue;
       const FaceKey face(outward_face(mesh.tets[t], j));
       for (std::size_t i = start[face.v[0]]; i < start[face.v[0] + 1]; ++i)
-        if (keys[order[i]] == face) tet_of[order[i]] = static_cast<std::uint32_t>(t);
+        if (entries[i].mid == face.v[1] && entries[i].high == face.v[2])
+          tet_of[entries[i].triangle] = static_cast<std::uint32_t>(t);
     }
   const auto lost = std::find(tet_of.begin(), tet_of.end(), kNone);
   if (lost != tet_of.end())
@@ -351,7 +360,15 @@ void MshPartitions::add_nodes(std::size_t partition) {
   for (std::size_t i = tets_.start[partition]; i < tets_.start[partition + 1]; ++i)
     for (std::int32_t v : mesh.tets[tets_.order[i]])
       if (taken_by_[v] != stamp) taken_by_[v] = stamp, node_tags_.push_back(static_cast<std::uint64_t>(v) + 1);
-  std::sort(node_tags_.begin(), node_tags_.end());
+  // Ascending: by a scan of the stamps when the partition uses many of the nodes (cheaper than
+  // sorting them), else by a sort.
+  if (node_tags_.size() * 64 >= taken_by_.size()) {
+    node_tags_.clear();
+    for (std::size_t v = 0; v < taken_by_.size(); ++v)
+      if (taken_by_[v] == stamp) node_tags_.push_back(static_cast<std::uint64_t>(v) + 1);
+  } else {
+    std::sort(node_tags_.begin(), node_tags_.end());
+  }
   xyz_.reserve(3 * node_tags_.size());
   for (std::uint64_t tag : node_tags_)
     xyz_.insert(xyz_.end(), mesh.points[tag - 1].begin(), mesh.points[tag - 1].end());
