@@ -733,6 +733,8 @@ class PieceFileDealer {
       arrays = arrays_of_(files_[i].piece);
     } catch (const std::bad_alloc&) {
       failure_ = std::make_exception_ptr(OutputError("rank 0 ran out of memory making '" + files_[i].shown + "'"));
+    } catch (...) {
+      failure_ = std::current_exception();  // the rank is still told, so it does not wait for the file
     }
     send_to(rank, arrays ? "B" + std::to_string(i) + "/" + std::to_string(arrays->size()) : "N" + std::to_string(i));
     if (arrays)
