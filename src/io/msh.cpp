@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
 #include "stages/info.hpp"
@@ -277,14 +278,21 @@ std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
   constexpr std::uint32_t kNone = UINT32_MAX;
   std::vector<std::uint32_t> tet_of(boundary.size(), kNone);
   const bool open_faces_known = mesh.neighbours.size() == mesh.tets.size();
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (int j = 0; j < 4; ++j) {
-      if (open_faces_known && mesh.neighbours[t][j] >= 0) continue;
-      const FaceKey face(outward_face(mesh.tets[t], j));
-      for (std::size_t i = start[face.v[0]]; i < start[face.v[0] + 1]; ++i)
-        if (entries[i].mid == face.v[1] && entries[i].high == face.v[2])
-          tet_of[entries[i].triangle] = static_cast<std::uint32_t>(t);
-    }
+  // Bound by memory latency: on every usable CPU (each triangle is one tet's face, so no two
+  // threads write the same entry).
+  constexpr std::size_t kTetsPerTask = std::size_t{1} << 16;
+  const std::size_t tasks = (mesh.tets.size() + kTetsPerTask - 1) / kTetsPerTask;
+  parallel_for(tasks, usable_cpus(), [&](std::size_t task) {
+    const std::size_t end = std::min(mesh.tets.size(), (task + 1) * kTetsPerTask);
+    for (std::size_t t = task * kTetsPerTask; t < end; ++t)
+      for (int j = 0; j < 4; ++j) {
+        if (open_faces_known && mesh.neighbours[t][j] >= 0) continue;
+        const FaceKey face(outward_face(mesh.tets[t], j));
+        for (std::size_t i = start[face.v[0]]; i < start[face.v[0] + 1]; ++i)
+          if (entries[i].mid == face.v[1] && entries[i].high == face.v[2])
+            tet_of[entries[i].triangle] = static_cast<std::uint32_t>(t);
+      }
+  });
   const auto lost = std::find(tet_of.begin(), tet_of.end(), kNone);
   if (lost != tet_of.end())
     throw InternalError("boundary triangle " + std::to_string(lost - tet_of.begin()) +
