@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/group_items.hpp"
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
 #include "io/msh.hpp"
@@ -113,12 +114,9 @@ class PieceCells {
     const std::vector<std::int32_t>& piece = output.mesh.piece;
     lowest_ = piece.empty() ? -1 : *std::min_element(piece.begin(), piece.end());
     const int highest = piece.empty() ? -1 : *std::max_element(piece.begin(), piece.end());
-    start_.assign(static_cast<std::size_t>(highest - lowest_) + 2, 0);
-    for (std::size_t t = 0; t < output.mesh.tets.size(); ++t) ++start_[slot(t) + 1];
-    for (std::size_t s = 1; s < start_.size(); ++s) start_[s] += start_[s - 1];
-    order_.resize(output.mesh.tets.size());
-    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
-    for (std::size_t t = 0; t < output.mesh.tets.size(); ++t) order_[next[slot(t)]++] = static_cast<std::uint32_t>(t);
+    group_items(
+        output.mesh.tets.size(), static_cast<std::size_t>(highest - lowest_) + 1,
+        [&](std::size_t t) { return slot(t); }, order_, start_);
   }
 
   // The tets with this piece value, their points renumbered from 0 in order of first use.

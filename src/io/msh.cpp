@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/group_items.hpp"
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
@@ -240,18 +241,6 @@ class MshPartWriter {
   Partition p_;
   MshStream out_;
 };
-
-// Counting sort of n items by group (each below `groups`).
-template <class GroupOf>
-void group_items(std::size_t n, std::size_t groups, GroupOf group_of, std::vector<std::uint32_t>& order,
-                 std::vector<std::size_t>& start) {
-  start.assign(groups + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++start[group_of(i) + 1];
-  for (std::size_t g = 1; g <= groups; ++g) start[g] += start[g - 1];
-  order.resize(n);
-  std::vector<std::size_t> next(start.begin(), start.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) order[next[group_of(i)]++] = static_cast<std::uint32_t>(i);
-}
 
 // The tet each boundary triangle is a face of: the triangles bucketed by their smallest vertex
 // (each entry holding the other two, so a lookup reads one place), then every open face of the
