@@ -25,23 +25,41 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using namespace partet::test;
 
-// The vertex order along the axis: the same as std::sort's on (key, index), with repeated keys,
-// negative keys, -0.0 beside 0.0, and millions of pairs (the radix passes).
-TEST(SortKeyed, SameOrderAsStdSort) {
+// Keys with repeats, negative values, -0.0 beside 0.0, tiny and huge magnitudes.
+std::vector<double> awkward_keys(std::size_t n) {
   std::mt19937_64 random(7);
   std::uniform_real_distribution<double> spread(-1e3, 1e3);
   const double specials[] = {0.0, -0.0, 1e-300, -1e-300, 1e300, -1e300, 3.5, -3.5};
+  std::vector<double> keys;
+  for (std::size_t i = 0; i < n; ++i)
+    keys.push_back(i % 5 == 0 ? specials[i % 8] : i % 7 == 0 ? std::round(spread(random)) : spread(random));
+  return keys;
+}
+
+// The vertex order along the axis: the same as std::sort's on (key, index), for millions of pairs
+// made in index order, on one thread or several (the runs of a radix pass).
+TEST(SortKeyed, SameOrderAsStdSort) {
+  const std::vector<double> keys = awkward_keys(2'000'000);
   std::vector<Keyed> pairs;
-  for (std::size_t i = 0; i < 2'000'000; ++i) {
-    const double key = i % 5 == 0 ? specials[i % 8] : i % 7 == 0 ? std::round(spread(random)) : spread(random);
-    pairs.push_back(keyed(key, i));
-  }
-  std::shuffle(pairs.begin(), pairs.end(), random);
+  for (std::size_t i = 0; i < keys.size(); ++i) pairs.push_back(keyed(keys[i], i));
   std::vector<Keyed> expected = pairs;
   std::sort(expected.begin(), expected.end());
-  sort_keyed(pairs);
-  EXPECT_TRUE(pairs == expected);
-  for (const Keyed& p : pairs) ASSERT_FALSE(std::signbit(p.first) && p.first == 0.0);
+  for (unsigned threads : {1u, 3u}) {
+    std::vector<Keyed> sorted = pairs;
+    sort_keyed(sorted, threads);
+    EXPECT_TRUE(sorted == expected) << threads << " threads";
+    for (const Keyed& p : sorted) ASSERT_FALSE(std::signbit(p.first) && p.first == 0.0);
+  }
+}
+
+// Plain doubles (the triangles' centroids along the axis): the values std::sort gives.
+TEST(RadixSort, DoublesAsStdSort) {
+  std::vector<double> keys = awkward_keys(1'000'000);
+  std::vector<double> expected = keys;
+  std::sort(expected.begin(), expected.end());
+  radix_sort(keys, ordered_bits, 2);
+  ASSERT_EQ(keys.size(), expected.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) ASSERT_EQ(keys[i], expected[i]) << i;  // -0.0 == 0.0
 }
 
 // Exact side of p relative to the plane: +1 above (dot(n, p) > offset), -1 below, 0 on it.

@@ -3,9 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
+#include <random>
 #include <vector>
 
+#include "common/ranked_values.hpp"
 #include "stages/generate.hpp"
 #include "stages/piece_cost.hpp"
 #include "job/pipeline.hpp"
@@ -20,6 +24,39 @@ PreparedPieces prepared(const SurfaceMesh& input, int k, double density, Balance
   options.density = density;
   options.balance = balance;
   return prepare_pieces(input, options);
+}
+
+// RankedValues answers as a sorted copy does: the values below any x (between values, on them,
+// outside their range) and every r-th smallest, for spread, clustered, repeated and equal
+// values, and for values spanning a range too small or too large for the bucket width.
+TEST(RankedValues, AnswersAsASortedCopy) {
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::vector<std::vector<double>> sets(6);
+  for (int i = 0; i < 200000; ++i) {
+    const double u = unit(random);
+    sets[0].push_back(u);
+    sets[1].push_back(i % 3 == 0 ? 1e-6 * u : u * u * u * 100);  // most values in a few buckets
+    sets[2].push_back(std::round(u * 20) / 20);                     // 41 distinct values
+    sets[3].push_back(0.5);
+    sets[4].push_back(1 + std::numeric_limits<double>::epsilon() * (i % 7));
+    sets[5].push_back(i % 2 ? 1e300 * u : -0.0);
+  }
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const RankedValues ranked(sets[s]);
+    std::vector<double> sorted = sets[s];
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_EQ(ranked.size(), sorted.size());
+    std::vector<double> probes = {-2e300, -1, -1e-7, 0, 0.5, 1, 1.5, 2e300};
+    for (int i = 0; i < 300; ++i) probes.push_back(sorted[random() % sorted.size()]);
+    for (int i = 0; i < 300; ++i) probes.push_back(unit(random));
+    for (double x : probes) {
+      const auto expected = static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), x) - sorted.begin());
+      ASSERT_EQ(ranked.count_below(x), expected) << "set " << s << " x " << x;
+    }
+    for (std::size_t r = 0; r < sorted.size(); r += 97) ASSERT_EQ(ranked.at(r), sorted[r]) << "set " << s << " r " << r;
+    ASSERT_EQ(ranked.at(sorted.size() - 1), sorted.back());
+  }
 }
 
 // The estimate follows the real pieces (input share, split fragments and caps), which the

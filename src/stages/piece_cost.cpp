@@ -4,8 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include <boost/sort/spreadsort/float_sort.hpp>
-
+#include "common/ranked_values.hpp"
 #include "stages/geometry.hpp"
 
 namespace partet {
@@ -23,64 +22,81 @@ void for_each_edge(const Triangle& t, F f) {
     if (t[e] < t[(e + 1) % 3]) f(t[e], t[(e + 1) % 3]);
 }
 
+// The triangles' centroids along the axis.
+std::vector<double> centroids_along(const SurfaceMesh& surface, const std::vector<double>& proj) {
+  std::vector<double> centroids;
+  centroids.reserve(surface.triangles.size());
+  for (const Triangle& t : surface.triangles) centroids.push_back(centroid(proj, t));
+  return centroids;
+}
+
 // The input along the cut axis: where its triangles, edges and vertices lie.
 class AxisProfile {
  public:
-  AxisProfile(const SurfaceMesh& surface, const AxisVertices& along) {
-    const Point3& axis = along.axis;
-    std::vector<double> proj(surface.points.size());
-    for (std::size_t i = 0; i < surface.points.size(); ++i) proj[i] = dot(axis, surface.points[i]);
-    // An edge is counted at its lower and at its upper end, so the edges below a position are
-    // found from the vertices below it: no sort of the edges (twice as many values).
-    std::vector<std::array<std::int32_t, 2>> ends(surface.points.size(), {0, 0});  // edges starting, ending here
-    for (const Triangle& t : surface.triangles) {
-      centroids_.push_back(centroid(proj, t));
-      for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
-        const bool a_low = proj[a] < proj[b] || (proj[a] == proj[b] && a < b);
-        ++ends[a_low ? a : b][0];
-        ++ends[a_low ? b : a][1];
-      });
-    }
-    // Radix-like spreadsort: the same order as std::sort, faster on millions of values.
-    boost::sort::spreadsort::float_sort(centroids_.begin(), centroids_.end());
-    vertices_.reserve(along.sorted.size());
-    starts_below_.assign(1, 0), ends_below_.assign(1, 0);
-    for (const auto& [x, i] : along.sorted) {
-      vertices_.push_back(x);
-      starts_below_.push_back(starts_below_.back() + ends[i][0]);
-      ends_below_.push_back(ends_below_.back() + ends[i][1]);
-    }
-  }
+  AxisProfile(const SurfaceMesh& surface, const AxisVertices& along)
+      : AxisProfile(surface, along, projections(surface, along.axis)) {}
 
   double triangles() const { return static_cast<double>(centroids_.size()); }
-  double triangles_below(double x) const { return count_below(centroids_, x); }
+  double triangles_below(double x) const { return static_cast<double>(centroids_.count_below(x)); }
   // Input edges a plane at x crosses (low < x <= high).
   double crossings(double x) const {
-    const auto below = static_cast<std::size_t>(count_below(vertices_, x));
+    const auto below = vertices_below(x);
     return static_cast<double>(starts_below_[below] - ends_below_[below]);
   }
   // The position with `count` triangle centroids below it (between two centroids).
   double position_of(double count) const {
     const auto m = centroids_.size();
     const auto r = static_cast<std::size_t>(std::clamp(std::round(count), 1.0, static_cast<double>(m - 1)));
-    return (centroids_[r - 1] + centroids_[r]) / 2;
+    return (centroids_.at(r - 1) + centroids_.at(r)) / 2;
   }
   double vertex_fraction_below(double x) const {
-    return count_below(vertices_, x) / static_cast<double>(vertices_.size());
+    return static_cast<double>(vertices_below(x)) / static_cast<double>(along_.sorted.size());
   }
   double vertex_quantile(double fraction) const {
-    const auto n = vertices_.size();
+    const auto n = along_.sorted.size();
     const auto r = static_cast<std::size_t>(
         std::clamp(std::round(fraction * static_cast<double>(n)), 1.0, static_cast<double>(n - 1)));
-    return (vertices_[r - 1] + vertices_[r]) / 2;
+    return (along_.sorted[r - 1].first + along_.sorted[r].first) / 2;
   }
-  bool usable(int k) const { return vertices_.size() > static_cast<std::size_t>(k) && centroids_.size() > 2; }
+  bool usable(int k) const { return along_.sorted.size() > static_cast<std::size_t>(k) && centroids_.size() > 2; }
 
  private:
-  static double count_below(const std::vector<double>& sorted, double x) {
-    return static_cast<double>(std::lower_bound(sorted.begin(), sorted.end(), x) - sorted.begin());
+  AxisProfile(const SurfaceMesh& surface, const AxisVertices& along, const std::vector<double>& proj)
+      : along_(along), centroids_(centroids_along(surface, proj)) {
+    // An edge is counted at its lower and at its upper end, so the edges below a position are
+    // found from the vertices below it: no sort of the edges (twice as many values).
+    std::vector<std::array<std::int32_t, 2>> ends(surface.points.size(), {0, 0});  // edges starting, ending here
+    for (const Triangle& t : surface.triangles)
+      for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
+        const bool a_low = proj[a] < proj[b] || (proj[a] == proj[b] && a < b);
+        ++ends[a_low ? a : b][0];
+        ++ends[a_low ? b : a][1];
+      });
+    const std::size_t n = along.sorted.size();
+    starts_below_.resize(n + 1), ends_below_.resize(n + 1);
+    starts_below_[0] = ends_below_[0] = 0;
+    for (std::size_t r = 0; r < n; ++r) {
+      // The vertices come in axis order, their counts in id order: fetch ahead (memory latency).
+      if (r + 16 < n) __builtin_prefetch(&ends[along.sorted[r + 16].second]);
+      const auto& counted = ends[along.sorted[r].second];
+      starts_below_[r + 1] = starts_below_[r] + counted[0];
+      ends_below_[r + 1] = ends_below_[r] + counted[1];
+    }
   }
-  std::vector<double> vertices_, centroids_;  // sorted
+
+  static std::vector<double> projections(const SurfaceMesh& surface, const Point3& axis) {
+    std::vector<double> proj(surface.points.size());
+    for (std::size_t i = 0; i < surface.points.size(); ++i) proj[i] = dot(axis, surface.points[i]);
+    return proj;
+  }
+  std::size_t vertices_below(double x) const {
+    return static_cast<std::size_t>(
+        std::lower_bound(along_.sorted.begin(), along_.sorted.end(), x,
+                         [](const std::pair<double, std::size_t>& v, double y) { return v.first < y; }) -
+        along_.sorted.begin());
+  }
+  const AxisVertices& along_;  // the vertices in axis order
+  RankedValues centroids_;
   // Edges whose lower (upper) end is among the first i sorted vertices.
   std::vector<std::int64_t> starts_below_, ends_below_;
 };
