@@ -148,6 +148,20 @@ TEST(InputShare, SharesGiveTheWholeInputsVerdict) {
   }
 }
 
+// One process checking the input in shares on threads finds what the whole check finds.
+TEST(InputShare, SharesOnThreadsGiveTheWholeInputsFindings) {
+  for (const auto& [name, surface] : cases()) {
+    const InputFindings whole = check_whole(surface);
+    for (int shares : {2, 3}) {
+      SCOPED_TRACE(name + ", " + std::to_string(shares) + " shares on threads");
+      const InputFindings threaded = check_whole(surface, shares);
+      EXPECT_EQ(verdict(threaded), verdict(whole));
+      expect_same(threaded.duplicate, whole.duplicate, "duplicate");
+      if (whole.repeated.count == 0) expect_same(threaded.border, whole.border, "border");
+    }
+  }
+}
+
 TEST(InputShare, TheVerdictNamesTheProblemAsTheWholeCheckDoes) {
   for (const auto& [name, surface] : cases()) {
     const std::string message = verdict(merged_findings(shares_of(surface, 3, 1000)));

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "common/log.hpp"
+#include "common/parallel.hpp"
 #include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
 #include "partet/errors.hpp"
@@ -39,7 +40,10 @@ void scale_points(std::vector<Point3>& points, int exponent) {
 
 void check_input(const SurfaceMesh& input) {
   validate_indices(input);
-  judge_input(check_whole(input));
+  // A large input is checked in shares, one per usable CPU, as other ranks check it with MPI.
+  constexpr std::size_t kFacesPerShare = std::size_t(1) << 18;
+  const auto shares = static_cast<int>(std::min<std::size_t>(usable_cpus(), input.triangles.size() / kFacesPerShare));
+  judge_input(check_whole(input, shares));
 }
 
 void judge_input(const InputFindings& findings) {
@@ -96,7 +100,8 @@ CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const Mes
   CheckReport check;
   if (!job.check_output) return check;
   StageTimer timer(&times);
-  check = check_mesh(input, result.mesh, result.split_input_faces > 0 ? BoundaryRule::split_allowed : BoundaryRule::exact);
+  check =
+      check_mesh(input, result.mesh, result.split_input_faces > 0 ? BoundaryRule::split_allowed : BoundaryRule::exact);
   timer.lap("check");
   if (!check.ok()) throw Error("the result failed its own check: " + check.violations.front());
   return check;

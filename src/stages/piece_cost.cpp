@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "common/parallel.hpp"
 #include "common/ranked_values.hpp"
 #include "stages/geometry.hpp"
 
@@ -153,14 +154,28 @@ std::vector<double> estimated_piece_costs(const SurfaceMesh& surface, const std:
   const Point3 axis = planes.empty() ? Point3{1, 0, 0} : planes.front().normal;
   std::vector<double> proj(surface.points.size());
   for (std::size_t i = 0; i < proj.size(); ++i) proj[i] = dot(axis, surface.points[i]);
+  // Whole counts per run of the triangles, on every usable CPU (the end of a run waits for this):
+  // their sums do not depend on how the triangles were divided.
+  const std::size_t runs = std::max<std::size_t>(1, std::min<std::size_t>(64, surface.triangles.size() >> 16));
+  std::vector<std::vector<std::int64_t>> counted(runs, std::vector<std::int64_t>(2 * planes.size() + 1, 0));
+  parallel_for(runs, usable_cpus(), [&](std::size_t r) {
+    std::int64_t* in_piece = counted[r].data();
+    std::int64_t* crossing = in_piece + planes.size() + 1;
+    const std::size_t n = surface.triangles.size();
+    for (std::size_t f = n * r / runs; f < n * (r + 1) / runs; ++f) {
+      const Triangle& t = surface.triangles[f];
+      ++in_piece[std::upper_bound(offsets.begin(), offsets.end(), centroid(proj, t)) - offsets.begin()];
+      for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
+        const auto [low, high] = std::minmax(proj[a], proj[b]);
+        for (auto j = std::upper_bound(offsets.begin(), offsets.end(), low); j != offsets.end() && *j <= high; ++j)
+          ++crossing[j - offsets.begin()];
+      });
+    }
+  });
   std::vector<double> cost(planes.size() + 1, 0), crossings(planes.size(), 0);
-  for (const Triangle& t : surface.triangles) {
-    cost[std::upper_bound(offsets.begin(), offsets.end(), centroid(proj, t)) - offsets.begin()] += 1;
-    for_each_edge(t, [&](std::int32_t a, std::int32_t b) {
-      const auto [low, high] = std::minmax(proj[a], proj[b]);
-      for (auto j = std::upper_bound(offsets.begin(), offsets.end(), low); j != offsets.end() && *j <= high; ++j)
-        crossings[j - offsets.begin()] += 1;
-    });
+  for (const auto& run : counted) {
+    for (std::size_t j = 0; j <= planes.size(); ++j) cost[j] += static_cast<double>(run[j]);
+    for (std::size_t j = 0; j < planes.size(); ++j) crossings[j] += static_cast<double>(run[planes.size() + 1 + j]);
   }
   const double per_crossing = triangles_per_crossing(density);
   for (std::size_t j = 0; j < planes.size(); ++j) {

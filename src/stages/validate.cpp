@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/parallel.hpp"
 #include "partet/errors.hpp"
 #include "stages/geometry.hpp"
 #include "stages/validate.hpp"
@@ -323,6 +324,22 @@ InputFindings check_whole(const SurfaceMesh& surface) {
   ShareNumbering whole;
   used_box(surface, whole.box_low, whole.box_high);
   return check_share(surface.points, surface.triangles, whole);
+}
+
+InputFindings check_whole(const SurfaceMesh& surface, int shares) {
+  if (shares <= 1) return check_whole(surface);
+  const std::vector<std::uint16_t> owner = vertex_shares(surface.points, shares);
+  std::vector<InputFindings> found(static_cast<std::size_t>(shares));
+  parallel_for(found.size(), static_cast<unsigned>(shares), [&](std::size_t s) {
+    InputShareBuilder builder(static_cast<int>(s), shares, surface.points.size(), surface.triangles.size());
+    builder.add_vertex_shares(owner.data(), owner.size());
+    builder.add_faces(surface.triangles.data(), surface.triangles.size());
+    builder.add_points(surface.points.data(), surface.points.size());
+    found[s] = check_share(builder.finish());
+  });
+  InputFindings merged;
+  for (const InputFindings& share : found) merged.merge(share);
+  return merged;
 }
 
 std::vector<std::int32_t> faces_across_edges(const SurfaceMesh& surface, const std::string& subject,

@@ -27,6 +27,9 @@ InputFindings check_share(const InputShare& share);
 InputFindings check_share(const std::vector<Point3>& points, const std::vector<Triangle>& faces,
                           const ShareNumbering& numbering, std::size_t corners_per_range = std::size_t(8) << 20);
 InputFindings check_whole(const SurfaceMesh& surface);
+// The same findings from `shares` shares of the input checked at once, a thread each (the
+// volume up to rounding). Each share holds a copy of its part of the input meanwhile.
+InputFindings check_whole(const SurfaceMesh& surface, int shares);
 
 // Every undirected edge is used by exactly two faces traversing it in opposite directions, else
 // InputError naming the first that is not ("subject is not closed: ..."). Returns, for each
