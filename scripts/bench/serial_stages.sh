@@ -5,20 +5,21 @@
 # the files' md5 (the binaries must write the same bytes). Figures, not a test: time it on a
 # quiet machine.
 #
-# Usage: serial_stages.sh [-r RUNS] [-n RANKS] [-k K] [-o DIR] INPUT BINARY [BINARY ...]
+# Usage: serial_stages.sh [-r RUNS] [-n RANKS | -d] [-k K] [-o DIR] INPUT BINARY [BINARY ...]
 #   -r  repetitions (default 3)   -n  MPI ranks (default 2)   -k  pieces (default 16)
+#   -d  one process without mpirun (as `partet mesh` on a laptop: not bound to one core)
 #   -o  keep the reports there (rB-R.json: binary B, run R), e.g. for scripts/bench/amdahl.py
 set -euo pipefail
 source "$(dirname "$0")/../common.sh"
-runs=3 ranks=2 k=16 keep=""
-while getopts "r:n:k:o:" opt; do
+runs=3 ranks=2 k=16 keep="" direct=""
+while getopts "r:n:k:o:d" opt; do
   case $opt in
-    r) runs=$OPTARG ;; n) ranks=$OPTARG ;; k) k=$OPTARG ;; o) keep=$OPTARG ;;
-    *) sed -n '2,10p' "$0"; exit 2 ;;
+    r) runs=$OPTARG ;; n) ranks=$OPTARG ;; k) k=$OPTARG ;; o) keep=$OPTARG ;; d) direct=1 ;;
+    *) sed -n '2,11p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -ge 2 ] || { sed -n '2,10p' "$0"; exit 2; }
+[ $# -ge 2 ] || { sed -n '2,11p' "$0"; exit 2; }
 input=$1
 shift
 make_work_dir
@@ -28,7 +29,9 @@ for ((run = 1; run <= runs; run++)); do
   for ((b = 1; b <= $#; b++)); do
     binary=${!b}
     mkdir -p "$work/out$b"
-    mpirun -np "$ranks" "$binary" mesh "$input" -k "$k" -o "$work/out$b/m" --quiet --report "$work/r$b-$run.json"
+    launch=(mpirun -np "$ranks")
+    [ -z "$direct" ] || launch=()
+    "${launch[@]}" "$binary" mesh "$input" -k "$k" -o "$work/out$b/m" --quiet --report "$work/r$b-$run.json"
     (cd "$work/out$b" && md5sum m.node m.ele m.face m.neigh | md5sum | cut -c1-12) > "$work/md5-$b-$run"
   done
 done
