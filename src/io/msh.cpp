@@ -249,15 +249,11 @@ class MshPartWriter {
 std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
   const TetMesh& mesh = output.mesh;
   const std::vector<Triangle>& boundary = output.boundary;
-  struct Entry {
-    std::int32_t mid, high;
-    std::uint32_t triangle;
-  };
   // start[v]: the first entry of vertex v's bucket, by a counting sort that leaves it there.
   std::vector<std::uint32_t> start(mesh.points.size() + 1, 0);
   for (const Triangle& t : boundary) ++start[FaceKey(t).v[0] + 1];
   for (std::size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
-  std::vector<Entry> entries(boundary.size());
+  std::vector<FaceSlot> entries(boundary.size());  // slot: the boundary triangle
   for (std::size_t i = 0; i < boundary.size(); ++i) {
     const FaceKey key(boundary[i]);
     entries[start[key.v[0]]++] = {key.v[1], key.v[2], static_cast<std::uint32_t>(i)};
@@ -279,7 +275,7 @@ std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
         const FaceKey face(outward_face(mesh.tets[t], j));
         for (std::size_t i = start[face.v[0]]; i < start[face.v[0] + 1]; ++i)
           if (entries[i].mid == face.v[1] && entries[i].high == face.v[2])
-            tet_of[entries[i].triangle] = static_cast<std::uint32_t>(t);
+            tet_of[entries[i].slot] = static_cast<std::uint32_t>(t);
       }
   });
   const auto lost = std::find(tet_of.begin(), tet_of.end(), kNone);

@@ -538,9 +538,8 @@ struct ReceivedBlock {
   std::optional<MeshBlockView> view() const {
     if (!made) return std::nullopt;
     MeshBlockView block;
-    const bool whole = as_run(arrays[0], block.points) && as_run(arrays[1], block.tets) &&
-                       as_run(arrays[2], block.tet_region) && as_run(arrays[3], block.tet_piece) &&
-                       as_run(arrays[4], block.faces) && as_run(arrays[5], block.face_marker);
+    const bool whole = as_runs(std::vector<std::string_view>(std::begin(arrays), std::end(arrays)), block.points,
+                               block.tets, block.tet_region, block.tet_piece, block.faces, block.face_marker);
     if (!whole || block.tet_region.size != block.tets.size || block.tet_piece.size != block.tets.size ||
         block.face_marker.size != block.faces.size)
       return std::nullopt;
