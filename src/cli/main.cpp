@@ -27,6 +27,7 @@
 #include "io/read_surface.hpp"
 #include "io/write_surface.hpp"
 #include "io/tetgen_files.hpp"
+#include "io/msh_read.hpp"
 #include "mesher/tetgen_mesher.hpp"
 #include "common/version.hpp"
 #include "common/memory.hpp"
@@ -126,12 +127,31 @@ void settle(const std::string& prefix) {
   if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
 }
 
+bool ends_with(const std::string& s, const std::string& end) {
+  return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
+}
+
+// The set to check: TetGen files at a prefix, or an MSH file or partition set (PATH.msh).
+partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
+  if (!ends_with(prefix, ".msh")) {
+    settle(prefix);
+    return partet::read_tetgen_set(prefix);
+  }
+  // Its run's prefix: PREFIX.msh, or PREFIX_i.msh for a partition.
+  std::string run = prefix.substr(0, prefix.size() - 4);
+  const std::size_t underscore = run.find_last_of('_');
+  settle(run);
+  if (underscore != std::string::npos && underscore + 1 < run.size() &&
+      run.find_first_not_of("0123456789", underscore + 1) == std::string::npos)
+    settle(run.substr(0, underscore));
+  return partet::read_msh_set(prefix);
+}
+
 int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json,
               partet::BoundaryRule rule) {
-  settle(prefix);
   std::optional<std::vector<partet::CutPlane>> planes;  // read first: a bad report fails before the work
   if (!report_path.empty()) planes = report_cut_planes(report_path);
-  const partet::TetgenFileSet files = partet::read_tetgen_set(prefix);
+  const partet::TetgenFileSet files = read_set_to_check(prefix);
   const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files, rule);
   const KnownZones zones = zone_quality(files.mesh, planes);
   json ? print_check_json(report, zones) : print_check(report, zones);
@@ -409,8 +429,9 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   auto* check = app.add_subcommand("check", "verify a tet mesh against its input surface and print its quality");
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
   check->add_option("prefix", c.check_prefix,
-                    "prefix of the .node/.ele files, or PREFIX.xdmf: the XDMF set, checked on every rank of an "
-                    "mpirun job, each rank its part")
+                    "prefix of the .node/.ele files; PREFIX.msh, or one file of an MSH partition set "
+                    "(PREFIX_1.msh: the whole set is read); or PREFIX.xdmf: the XDMF set, checked on every rank of "
+                    "an mpirun job, each rank its part")
       ->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
   check->add_flag("--allow-split-faces", c.check_split,

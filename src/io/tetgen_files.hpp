@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "partet/mesh_types.hpp"
 #include "io/output_set.hpp"
+#include "partet/mesh_types.hpp"
 
 namespace partet {
 
@@ -59,11 +59,13 @@ void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Tri
 
 // Everything a set of TetGen files holds. Accepts 0- or 1-based numbering as TetGen does.
 struct TetgenFileSet {
-  TetMesh mesh;                  // .node and .ele; neighbours computed from the tets
-  std::vector<Triangle> faces;   // .face, when present
-  std::vector<Tet> neighbours;   // .neigh as written, when present
+  TetMesh mesh;                 // .node and .ele; neighbours computed from the tets
+  std::vector<Triangle> faces;  // .face, when present
+  std::vector<Tet> neighbours;  // .neigh as written, when present
   bool has_faces = false, has_neighbours = false;
   std::vector<std::pair<std::string, std::string>> ids;  // (file, its set ID or "") of each file read
+  bool faces_outward = false;                            // the faces are promised outward (besides by a set ID)
+  std::string faces_named = "the .face file does";       // in messages (sets are also read from MSH files)
 };
 // Throws InputError on a missing .node/.ele or malformed content.
 TetgenFileSet read_tetgen_set(const std::string& prefix);

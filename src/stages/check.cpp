@@ -6,18 +6,18 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <limits>
-#include <unordered_map>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "stages/geometry.hpp"
-#include "stages/validate.hpp"
 #include "stages/topology.hpp"
+#include "stages/validate.hpp"
 
 namespace partet {
 namespace {
@@ -368,7 +368,8 @@ class SplitTriangles {
     Box b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, 0};
     for (std::int32_t v : input_.triangles[t])
       for (int k = 0; k < 3; ++k)
-        b.lo[k] = std::min(b.lo[k], input_.points[v][k] - grow), b.hi[k] = std::max(b.hi[k], input_.points[v][k] + grow);
+        b.lo[k] = std::min(b.lo[k], input_.points[v][k] - grow),
+        b.hi[k] = std::max(b.hi[k], input_.points[v][k] + grow);
     b.extent = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
     return b;
   }
@@ -402,7 +403,8 @@ void check_split_faces(const SurfaceMesh& input, const TetMesh& mesh, std::vecto
   if (stray > 0)
     report.violations.push_back(std::to_string(stray) +
                                 " boundary faces of the mesh are neither input triangles nor parts of one (facing the "
-                                "same way), first: " + format_triangle(first_stray));
+                                "same way), first: " +
+                                format_triangle(first_stray));
   else if (const std::int64_t t = triangles.first_uncovered(); t >= 0)
     report.violations.push_back("input triangle " + std::to_string(t) +
                                 " is neither a boundary face of the mesh nor covered by its parts");
@@ -411,8 +413,7 @@ void check_split_faces(const SurfaceMesh& input, const TetMesh& mesh, std::vecto
 // Boundary faces must be exactly the input triangles, with the same orientation (or, with split
 // faces allowed, tile the others: check_split_faces).
 void check_boundary_is_input(const std::vector<Triangle>& boundary, const SurfaceMesh& input, const TetMesh& mesh,
-                             const std::vector<std::int32_t>& mesh_vertex_of, BoundaryRule rule,
-                             CheckReport& report) {
+                             const std::vector<std::int32_t>& mesh_vertex_of, BoundaryRule rule, CheckReport& report) {
   Violations& violations = report.violations;
   std::vector<std::int64_t> missing_triangles;
   std::vector<Triangle> extra_faces;
@@ -496,7 +497,7 @@ void check_set_ids(const TetgenFileSet& files, Violations& violations) {
 // otherwise (TetGen's own .face does not promise one).
 void check_face_file(const TetgenFileSet& files, Violations& violations) {
   if (!files.has_faces) return;
-  const bool oriented = !files.ids.empty() && !files.ids.front().second.empty();
+  const bool oriented = files.faces_outward || (!files.ids.empty() && !files.ids.front().second.empty());
   std::vector<Triangle> boundary;
   for (std::size_t t = 0; t < files.mesh.tets.size(); ++t)
     for (int j = 0; j < 4; ++j)
@@ -515,7 +516,7 @@ void check_face_file(const TetgenFileSet& files, Violations& violations) {
   std::vector<Triangle> extra, missing;
   std::set_difference(found.begin(), found.end(), expected.begin(), expected.end(), std::back_inserter(extra));
   std::set_difference(expected.begin(), expected.end(), found.begin(), found.end(), std::back_inserter(missing));
-  violations.push_back("the .face file does not list exactly the " + std::string(oriented ? "outward " : "") +
+  violations.push_back(files.faces_named + " not list exactly the " + std::string(oriented ? "outward " : "") +
                        "boundary faces: " + std::to_string(extra.size()) + " listed faces are not boundary faces" +
                        (extra.empty() ? "" : " (first " + format_triangle(extra.front()) + ")") + ", " +
                        std::to_string(missing.size()) + " boundary faces are missing" +

@@ -1,0 +1,215 @@
+#include "io/msh_read.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "partet/errors.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+// One MSH file's bytes and a cursor over its numbers: text separated by white space, or binary
+// (size_t 8 bytes, int 4 bytes, double 8 bytes, this machine's byte order as partet writes it).
+class MshCursor {
+ public:
+  explicit MshCursor(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot open '" + path + "'");
+    std::ostringstream all;
+    all << in.rdbuf();
+    text_ = all.str();
+    const std::string head = "$MeshFormat\n";
+    if (text_.compare(0, head.size(), head) != 0) fail("does not start with $MeshFormat");
+    at_ = head.size();
+    if (word() != "4.1") fail("is not MSH version 4.1");
+    binary_ = integer_word() == 1;
+    if (integer_word() != 8) fail("does not use 8-byte sizes");
+    if (binary_) {
+      skip_line();
+      at_ += sizeof(int);  // the byte-order marker
+    }
+  }
+
+  // Moves to just after the line "$NAME"; false (cursor unchanged) when there is none.
+  bool section(const std::string& name) {
+    const std::string line = "\n$" + name + "\n";
+    const std::size_t found = text_.find(line, at_ == 0 ? 0 : at_ - 1);
+    if (found == std::string::npos) return false;
+    at_ = found + line.size();
+    return true;
+  }
+  void expect_section(const std::string& name) {
+    if (!section(name)) fail("has no $" + name + " section");
+  }
+
+  std::uint64_t size() {
+    if (!binary_) return static_cast<std::uint64_t>(integer_word());
+    return raw<std::uint64_t>();
+  }
+  std::int64_t tag() {
+    if (!binary_) return integer_word();
+    return raw<std::int32_t>();
+  }
+  double real() {
+    if (!binary_) {
+      const std::string_view w = word();
+      double v = 0;
+      if (std::from_chars(w.data(), w.data() + w.size(), v).ec != std::errc()) fail("has a malformed number");
+      return v;
+    }
+    return raw<double>();
+  }
+  [[noreturn]] void fail(const std::string& what) const { throw InputError("'" + path_ + "' " + what); }
+
+ private:
+  template <class T>
+  T raw() {
+    if (at_ + sizeof(T) > text_.size()) fail("ends early");
+    T v;
+    std::memcpy(&v, text_.data() + at_, sizeof v);
+    at_ += sizeof v;
+    return v;
+  }
+  std::string_view word() {
+    while (at_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[at_]))) ++at_;
+    const std::size_t begin = at_;
+    while (at_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[at_]))) ++at_;
+    if (begin == at_) fail("ends early");
+    return std::string_view(text_).substr(begin, at_ - begin);
+  }
+  std::int64_t integer_word() {
+    const std::string_view w = word();
+    std::int64_t v = 0;
+    if (std::from_chars(w.data(), w.data() + w.size(), v).ec != std::errc()) fail("has a malformed number");
+    return v;
+  }
+  void skip_line() {
+    while (at_ < text_.size() && text_[at_] != '\n') ++at_;
+    ++at_;
+  }
+
+  std::string path_, text_;
+  std::size_t at_ = 0;
+  bool binary_ = false;
+};
+
+// The set's points and cells, gathered from its files.
+struct MshMesh {
+  std::vector<Point3> points;
+  std::vector<char> seen;  // per point: some file gave it
+  std::vector<Tet> tets;
+  std::vector<Triangle> triangles;
+};
+
+std::int32_t point_index(std::uint64_t tag, const MshCursor& in) {
+  if (tag < 1 || tag > static_cast<std::uint64_t>(INT32_MAX)) in.fail("has node tag " + std::to_string(tag));
+  return static_cast<std::int32_t>(tag - 1);
+}
+
+// $Nodes and $Elements open alike: the number of blocks, then the number of entries and their
+// lowest and highest tags (not needed here). Returns the number of blocks; each block then opens
+// with its entity's dimension and tag, and a third int (parametric, or element type).
+std::uint64_t open_section(MshCursor& in, const char* name) {
+  in.expect_section(name);
+  const std::uint64_t blocks = in.size();
+  in.size(), in.size(), in.size();
+  return blocks;
+}
+
+void read_nodes(MshCursor& in, MshMesh& mesh) {
+  for (std::uint64_t b = 0, blocks = open_section(in, "Nodes"); b < blocks; ++b) {
+    in.tag(), in.tag();
+    if (in.tag() != 0) in.fail("has parametric nodes");
+    const std::uint64_t count = in.size();
+    std::vector<std::int32_t> index(count);
+    for (auto& i : index) i = point_index(in.size(), in);
+    for (std::int32_t i : index) {
+      const Point3 p{in.real(), in.real(), in.real()};
+      const auto at = static_cast<std::size_t>(i);
+      if (at >= mesh.points.size()) mesh.points.resize(at + 1), mesh.seen.resize(at + 1, 0);
+      if (mesh.seen[at] && mesh.points[at] != p)
+        in.fail("gives node " + std::to_string(i + 1) + " other coordinates than an earlier file of the set");
+      mesh.points[at] = p, mesh.seen[at] = 1;
+    }
+  }
+}
+
+void read_elements(MshCursor& in, MshMesh& mesh) {
+  for (std::uint64_t b = 0, blocks = open_section(in, "Elements"); b < blocks; ++b) {
+    in.tag(), in.tag();
+    const std::int64_t type = in.tag();
+    const std::uint64_t count = in.size();
+    if (type != 2 && type != 4) in.fail("has elements of type " + std::to_string(type) + " (not triangles or tets)");
+    for (std::uint64_t e = 0; e < count; ++e) {
+      in.size();  // the element's tag
+      if (type == 2) {
+        Triangle t;
+        for (auto& v : t) v = point_index(in.size(), in);
+        mesh.triangles.push_back(t);
+      } else {
+        Tet t;
+        for (auto& v : t) v = point_index(in.size(), in);
+        mesh.tets.push_back(t);
+      }
+    }
+  }
+}
+
+template <class Cell>
+void check_nodes_given(const std::vector<Cell>& cells, std::size_t nodes, const char* what, const std::string& path) {
+  for (const Cell& cell : cells)
+    for (std::int32_t v : cell)
+      if (static_cast<std::size_t>(v) >= nodes)
+        throw InputError(std::string("a ") + what + " of the set of '" + path + "' uses node " + std::to_string(v + 1) +
+                         ", which no file gives");
+}
+
+// The files of the set PATH belongs to: PATH alone, or PREFIX_1.msh ... PREFIX_N.msh.
+std::vector<std::string> set_files(const std::string& path) {
+  MshCursor in(path);
+  if (!in.section("PartitionedEntities")) return {path};
+  const std::uint64_t partitions = in.size();
+  const std::size_t underscore = path.find_last_of('_');
+  const std::string suffix = ".msh";
+  if (underscore == std::string::npos || path.size() < suffix.size() ||
+      path.compare(path.size() - suffix.size(), suffix.size(), suffix) != 0)
+    in.fail("is a partition file but not named PREFIX_i.msh");
+  std::vector<std::string> files;
+  for (std::uint64_t i = 1; i <= partitions; ++i)
+    files.push_back(path.substr(0, underscore) + "_" + std::to_string(i) + suffix);
+  return files;
+}
+
+}  // namespace
+
+TetgenFileSet read_msh_set(const std::string& path) {
+  MshMesh mesh;
+  for (const std::string& file : set_files(path)) {
+    MshCursor in(file);
+    read_nodes(in, mesh);
+    read_elements(in, mesh);
+  }
+  for (std::size_t i = 0; i < mesh.seen.size(); ++i)
+    if (!mesh.seen[i])
+      throw InputError("no file of the set of '" + path + "' gives node " + std::to_string(i + 1) +
+                       " (the tags must run from 1 to the highest)");
+  check_nodes_given(mesh.tets, mesh.points.size(), "tet", path);
+  check_nodes_given(mesh.triangles, mesh.points.size(), "triangle", path);
+  TetgenFileSet set;
+  set.mesh.points = std::move(mesh.points);
+  set.mesh.tets = std::move(mesh.tets);
+  set.mesh.neighbours = compute_neighbours(set.mesh.tets, set.mesh.points.size(), CrowdedFace::leave_open);
+  set.faces = std::move(mesh.triangles);
+  set.has_faces = true;
+  set.faces_outward = true;
+  set.faces_named = "the MSH triangles do";
+  return set;
+}
+
+}  // namespace partet

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# partet check on MSH output: a single .msh file and a partition set (named by any of its files),
+# ASCII and binary, must agree with the check of the TetGen files of the same run (vertices, tets,
+# boundary faces, volume, V-E+F-T), and damage must fail it: a boundary triangle turned over, a
+# node moved in one partition file only, a missing partition file.
+# Usage: check_msh.sh PARTET MPIEXEC
+set -euo pipefail
+partet=$1 mpiexec=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+"$partet" generate two_spheres --faces 4000 -o in.off > /dev/null
+"$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --format tetgen,msh,msh-parts --quiet
+"$mpiexec" -n 2 "$partet" mesh in.off -o b --pieces 4 --format msh-binary,msh-parts-binary --quiet
+"$partet" check in.off m --json > serial.json
+for set in m.msh m_1.msh m_3.msh b.msh b_2.msh; do
+  "$partet" check in.off "$set" --json > "$set.json"
+  /usr/bin/python3 - serial.json "$set.json" "$set" <<'PY'
+import json, sys
+serial, msh, name = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
+assert msh["ok"] and serial["ok"], msh["violations"]
+for key in ("vertices", "tets", "boundary_faces", "euler_mesh", "euler_expected", "tet_volume", "surface_volume"):
+    assert msh[key] == serial[key], f"{key}: {msh[key]} from {name}, {serial[key]} from the TetGen files"
+print(f"ok: {name}: {msh['vertices']} vertices, {msh['tets']} tets, {msh['boundary_faces']} boundary faces, "
+      "as the TetGen files")
+PY
+done
+
+damage() {  # NAME PYTHON-STATEMENTS (on lines, the text of d_2.msh) EXPECTED-MESSAGE
+  for i in 1 2 3 4 5; do cp "m_$i.msh" "d_$i.msh"; done
+  /usr/bin/python3 -c "
+lines = open('d_2.msh').read().split('\n')
+$2
+open('d_2.msh', 'w').write('\n'.join(lines))"
+  if "$partet" check in.off d_1.msh > out 2>&1; then echo "FAIL: $1 passed the check"; cat out; exit 1; fi
+  grep -q "$3" out || { echo "FAIL: $1: no '$3':"; cat out; exit 1; }
+  echo "ok: $1: $(grep -m 2 "VIOLATION\|error" out | tr '\n' ' ')"
+}
+# The first triangle of the first element block: its element tag, then its three node tags.
+damage "triangle turned over" "
+e = lines.index('\$Elements') + 3
+t = lines[e].split(); t[1], t[2] = t[2], t[1]; lines[e] = ' '.join(t)" "MSH triangles do not list exactly the outward"
+# The coordinates of a node that partition 1 has too, in partition 2's file only.
+damage "node moved in one file" "
+def node_tags(text):
+    n = text.index('\$Nodes') + 2
+    count = int(text[n].split()[3])
+    return n, [int(t) for t in text[n + 1:n + 1 + count]]
+_, first = node_tags(open('m_1.msh').read().split('\n'))
+n, tags = node_tags(lines)
+i = next(i for i, tag in enumerate(tags) if tag in set(first))
+row = n + 1 + len(tags) + i
+x = lines[row].split(); x[0] = repr(float(x[0]) + 1e-3); lines[row] = ' '.join(x)" \
+  "other coordinates than an earlier file"
+for i in 1 2 3 4 5; do cp "m_$i.msh" "d_$i.msh"; done
+rm d_4.msh
+if "$partet" check in.off d_1.msh > out 2>&1; then echo "FAIL: a missing partition passed"; exit 1; fi
+grep -q "cannot open 'd_4.msh'" out && echo "ok: a missing partition file: $(cat out)"
