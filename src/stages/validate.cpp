@@ -117,7 +117,12 @@ void find_duplicate_vertices(const Share& share, InputFindings& found) {
   constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> slots(capacity, kEmpty);
   // In ascending order, so the first duplicate is the lowest vertex at a position seen before.
+  // The slots are read at random (memory latency): each vertex's is fetched a few vertices ahead.
+  constexpr std::size_t kAhead = 8;
+  for (std::size_t v = 0; v < points.size() && v < kAhead; ++v)
+    __builtin_prefetch(&slots[hash_point(points[v]) & mask]);
   for (std::size_t v = 0; v < points.size(); ++v) {
+    if (v + kAhead < points.size()) __builtin_prefetch(&slots[hash_point(points[v + kAhead]) & mask]);
     if (!candidate[v]) continue;
     for (std::size_t slot = hash_point(points[v]) & mask;; slot = (slot + 1) & mask) {
       if (slots[slot] == kEmpty) {
@@ -163,6 +168,10 @@ class EdgeBuckets {
       while (end < vertex_count && first_[end + 1] - first_[begin] <= corners_per_range_) ++end;
       fill(begin, end, uses);
       for (std::size_t v = begin; v < end; ++v) {
+        // The edges' faces are read at random (memory latency): fetch those a few vertices on.
+        if (v + kAhead < end)
+          for (std::size_t k = first_[v + kAhead]; k < first_[v + kAhead + 1]; ++k)
+            __builtin_prefetch(&triangles_[static_cast<std::size_t>(uses[k - first_[begin]].face)]);
         const auto from = uses.begin() + static_cast<long>(first_[v] - first_[begin]);
         const auto to = uses.begin() + static_cast<long>(first_[v + 1] - first_[begin]);
         std::sort(from, to);  // each edge's uses together, in face order
@@ -193,6 +202,7 @@ class EdgeBuckets {
     }
   }
 
+  static constexpr std::size_t kAhead = 4;
   const std::vector<Triangle>& triangles_;
   std::vector<std::size_t> first_;  // bucket of lower vertex v: [first_[v], first_[v + 1])
   std::size_t corners_per_range_;
