@@ -16,6 +16,7 @@
 
 #include "common/test_hooks.hpp"
 #include "partet/errors.hpp"
+#include "runner/interrupts.hpp"
 
 namespace partet {
 
@@ -189,8 +190,16 @@ std::vector<std::unique_ptr<BufferedFile::Writer>>& background_writers() {
 
 BufferedFile::BufferedFile(std::string path, std::string shown, bool must_exist)
     : shown_(shown.empty() ? path : std::move(shown)), buffer_(kBufferSize), writer_(std::make_unique<Writer>()) {
-  writer_->fd = ::open(path.c_str(), O_WRONLY | (must_exist ? 0 : O_CREAT) | O_TRUNC | O_CLOEXEC, 0666);
-  if (writer_->fd < 0) fail(errno);
+  int error = 0;
+  {
+    // An interrupt removes the temporaries and ends the run: an open that may create the file
+    // must not fall between the two (it would make a removed temporary again). It waits for the
+    // interrupt's cleanup (forever: the process ends), or the cleanup waits for it.
+    const interrupts::Deferred held("");
+    writer_->fd = ::open(path.c_str(), O_WRONLY | (must_exist ? 0 : O_CREAT) | O_TRUNC | O_CLOEXEC, 0666);
+    error = errno;
+  }
+  if (writer_->fd < 0) fail(error);
 }
 
 BufferedFile::~BufferedFile() {

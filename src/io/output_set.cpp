@@ -308,12 +308,11 @@ OutputSet::~OutputSet() {
 void OutputSet::add(const std::string& final_path, const std::function<void(const std::string&)>& write_file) {
   const std::string temporary = final_path + impl_->suffix;
   OwnedFile owned;
-  if (!owned.create(temporary)) {
+  if (!interrupts::create_remembered(temporary, [&] { return owned.create(temporary); })) {
     const std::string reason = std::strerror(errno);
     discard();
     refuse(final_path, reason);
   }
-  interrupts::remember(temporary);
   finals_.push_back(final_path);
   impl_->temporaries.push_back(temporary);
   impl_->owned.push_back(std::move(owned));

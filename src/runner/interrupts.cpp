@@ -91,6 +91,14 @@ void remember(const std::string& path) {
   s.files.insert(path);
 }
 
+bool create_remembered(const std::string& path, const std::function<bool()>& create) {
+  State& s = state();
+  std::lock_guard<std::recursive_mutex> lock(s.mutex);  // end_run holds it from its first unlink to the exit
+  if (!create()) return false;
+  s.files.insert(path);
+  return true;
+}
+
 void forget(const std::string& path) {
   State& s = state();
   std::lock_guard<std::recursive_mutex> lock(s.mutex);

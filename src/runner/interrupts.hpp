@@ -4,6 +4,7 @@
 // set of files is in place, and exits: 0 when the new set is complete, 128 + the signal's number
 // when the previous files are (internal header).
 #pragma once
+#include <functional>
 #include <string>
 
 namespace partet::interrupts {
@@ -24,6 +25,10 @@ void reset_in_child();
 // Files to remove when interrupted (this process's temporaries).
 void remember(const std::string& path);
 void forget(const std::string& path);
+// Calls create() (which makes the file at path; false when it cannot) and remembers the file, as
+// one step an interrupt cannot fall between: a file made while an interrupt removes the others
+// would be left behind. Once an interrupt has begun, this waits for the process to end.
+bool create_remembered(const std::string& path, const std::function<bool()>& create);
 
 // What an interrupt says (without "partet: ") and how the run ends: `before` while the new
 // output is not in place (exit 128 + the signal's number), `after` once it is (exit 0). "%s"
