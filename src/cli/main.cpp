@@ -127,23 +127,16 @@ void settle(const std::string& prefix) {
   if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
 }
 
-bool ends_with(const std::string& s, const std::string& end) {
-  return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
-}
-
 // The set to check: TetGen files at a prefix, or an MSH file or partition set (PATH.msh).
 partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
-  if (!ends_with(prefix, ".msh")) {
+  partet::MeshFormat format;
+  std::string run;  // the run's prefix: PREFIX.msh, or PREFIX_i.msh for a partition
+  if (!partet::split_format_extension(prefix, format, run) || format != partet::MeshFormat::msh) {
     settle(prefix);
     return partet::read_tetgen_set(prefix);
   }
-  // Its run's prefix: PREFIX.msh, or PREFIX_i.msh for a partition.
-  std::string run = prefix.substr(0, prefix.size() - 4);
-  const std::size_t underscore = run.find_last_of('_');
   settle(run);
-  if (underscore != std::string::npos && underscore + 1 < run.size() &&
-      run.find_first_not_of("0123456789", underscore + 1) == std::string::npos)
-    settle(run.substr(0, underscore));
+  if (std::string parts; partet::partition_file_prefix(prefix, parts)) settle(parts);
   return partet::read_msh_set(prefix);
 }
 

@@ -332,10 +332,6 @@ std::string piece_file(const std::string& prefix, int piece) {
   return prefix + (piece < 0 ? std::string("_seams.vtu") : "_p" + std::to_string(piece) + ".vtu");
 }
 
-std::string partition_file(const std::string& prefix, std::size_t partition) {
-  return prefix + "_" + std::to_string(partition) + ".msh";
-}
-
 // Whether a file name is head + a number (no leading zero) + tail.
 bool is_numbered_name(const std::string& name, const std::string& head, const std::string& tail) {
   if (name.size() <= head.size() + tail.size() || name.compare(0, head.size(), head) != 0 ||
@@ -349,6 +345,21 @@ bool is_numbered_name(const std::string& name, const std::string& head, const st
 bool is_piece_file_name(const std::string& name, const std::string& base) {
   return name == base + "_seams.vtu" || is_numbered_name(name, base + "_p", ".vtu");
 }
+
+}  // namespace
+
+bool partition_file_prefix(const std::string& path, std::string& prefix) {
+  const std::size_t underscore = path.find_last_of('_');
+  if (underscore == std::string::npos || !is_numbered_name(path, path.substr(0, underscore + 1), ".msh")) return false;
+  prefix = path.substr(0, underscore);
+  return true;
+}
+
+std::string partition_file(const std::string& prefix, std::size_t partition) {
+  return prefix + "_" + std::to_string(partition) + ".msh";
+}
+
+namespace {
 
 // Whether a file is one of partition_file(base, i)'s: by its name, and by its head, so that a
 // single .msh another run wrote at BASE_2 is never taken for a partition.

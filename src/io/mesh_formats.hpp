@@ -34,6 +34,11 @@ bool split_format_extension(const std::string& path, MeshFormat& format, std::st
 // PREFIX.xdmf, PREFIX_boundary.xdmf and PREFIX.h5 (see xdmf.hpp).
 std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix);
 
+// The MSH partition files: PREFIX_<partition>.msh, from 1. partition_file_prefix: whether path is
+// one of them (a number without leading zeros), and its PREFIX.
+std::string partition_file(const std::string& prefix, std::size_t partition);
+bool partition_file_prefix(const std::string& path, std::string& prefix);
+
 // What the writers write.
 struct MeshOutput {
   const TetMesh& mesh;                    // positively oriented tets; mesh.piece per tet if known

@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <sstream>
 #include <vector>
 
+#include "io/mesh_formats.hpp"
 #include "partet/errors.hpp"
 #include "stages/topology.hpp"
 
@@ -19,11 +19,10 @@ namespace {
 class MshCursor {
  public:
   explicit MshCursor(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary);
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw InputError("cannot open '" + path + "'");
-    std::ostringstream all;
-    all << in.rdbuf();
-    text_ = all.str();
+    text_.resize(static_cast<std::size_t>(in.tellg()));
+    if (!in.seekg(0).read(text_.data(), static_cast<std::streamsize>(text_.size()))) fail("cannot be read");
     const std::string head = "$MeshFormat\n";
     if (text_.compare(0, head.size(), head) != 0) fail("does not start with $MeshFormat");
     at_ = head.size();
@@ -170,30 +169,36 @@ void check_nodes_given(const std::vector<Cell>& cells, std::size_t nodes, const 
                          ", which no file gives");
 }
 
-// The files of the set PATH belongs to: PATH alone, or PREFIX_1.msh ... PREFIX_N.msh.
-std::vector<std::string> set_files(const std::string& path) {
-  MshCursor in(path);
-  if (!in.section("PartitionedEntities")) return {path};
+// The other files of the set PATH belongs to (none for a single file), by PATH's own content,
+// which `in` holds: PREFIX_1.msh ... PREFIX_N.msh but PATH.
+std::vector<std::string> other_set_files(MshCursor& in, const std::string& path) {
+  if (!in.section("PartitionedEntities")) return {};
   const std::uint64_t partitions = in.size();
-  const std::size_t underscore = path.find_last_of('_');
-  const std::string suffix = ".msh";
-  if (underscore == std::string::npos || path.size() < suffix.size() ||
-      path.compare(path.size() - suffix.size(), suffix.size(), suffix) != 0)
-    in.fail("is a partition file but not named PREFIX_i.msh");
+  std::string prefix;
+  if (!partition_file_prefix(path, prefix)) in.fail("is a partition file but not named PREFIX_i.msh");
   std::vector<std::string> files;
   for (std::uint64_t i = 1; i <= partitions; ++i)
-    files.push_back(path.substr(0, underscore) + "_" + std::to_string(i) + suffix);
+    if (partition_file(prefix, i) != path) files.push_back(partition_file(prefix, i));
   return files;
+}
+
+void read_mesh(MshCursor& in, MshMesh& mesh) {
+  read_nodes(in, mesh);
+  read_elements(in, mesh);
 }
 
 }  // namespace
 
 TetgenFileSet read_msh_set(const std::string& path) {
   MshMesh mesh;
-  for (const std::string& file : set_files(path)) {
-    MshCursor in(file);
-    read_nodes(in, mesh);
-    read_elements(in, mesh);
+  {
+    MshCursor named(path);  // read once: it says whether there are more files
+    const std::vector<std::string> others = other_set_files(named, path);
+    read_mesh(named, mesh);
+    for (const std::string& file : others) {
+      MshCursor in(file);
+      read_mesh(in, mesh);
+    }
   }
   for (std::size_t i = 0; i < mesh.seen.size(); ++i)
     if (!mesh.seen[i])

@@ -85,12 +85,6 @@ void reset_in_child() {
   ::pthread_sigmask(SIG_SETMASK, &none, nullptr);
 }
 
-void remember(const std::string& path) {
-  State& s = state();
-  std::lock_guard<std::recursive_mutex> lock(s.mutex);
-  s.files.insert(path);
-}
-
 bool create_remembered(const std::string& path, const std::function<bool()>& create) {
   State& s = state();
   std::lock_guard<std::recursive_mutex> lock(s.mutex);  // end_run holds it from its first unlink to the exit

@@ -22,8 +22,7 @@ bool installed();
 // interrupt thread; it dies with its parent).
 void reset_in_child();
 
-// Files to remove when interrupted (this process's temporaries).
-void remember(const std::string& path);
+// Files to remove when interrupted (this process's temporaries): forget takes one off the list.
 void forget(const std::string& path);
 // Calls create() (which makes the file at path; false when it cannot) and remembers the file, as
 // one step an interrupt cannot fall between: a file made while an interrupt removes the others

@@ -23,6 +23,13 @@ void for_each_edge(const Triangle& t, F f) {
     if (t[e] < t[(e + 1) % 3]) f(t[e], t[(e + 1) % 3]);
 }
 
+// Each vertex's position along the axis.
+std::vector<double> projections(const SurfaceMesh& surface, const Point3& axis) {
+  std::vector<double> proj(surface.points.size());
+  for (std::size_t i = 0; i < surface.points.size(); ++i) proj[i] = dot(axis, surface.points[i]);
+  return proj;
+}
+
 // The triangles' centroids along the axis.
 std::vector<double> centroids_along(const SurfaceMesh& surface, const std::vector<double>& proj) {
   std::vector<double> centroids;
@@ -85,11 +92,6 @@ class AxisProfile {
     }
   }
 
-  static std::vector<double> projections(const SurfaceMesh& surface, const Point3& axis) {
-    std::vector<double> proj(surface.points.size());
-    for (std::size_t i = 0; i < surface.points.size(); ++i) proj[i] = dot(axis, surface.points[i]);
-    return proj;
-  }
   std::size_t vertices_below(double x) const {
     return static_cast<std::size_t>(
         std::lower_bound(along_.sorted.begin(), along_.sorted.end(), x,
@@ -152,8 +154,7 @@ std::vector<double> estimated_piece_costs(const SurfaceMesh& surface, const std:
   std::vector<double> offsets;
   for (const CutPlane& p : planes) offsets.push_back(p.offset);
   const Point3 axis = planes.empty() ? Point3{1, 0, 0} : planes.front().normal;
-  std::vector<double> proj(surface.points.size());
-  for (std::size_t i = 0; i < proj.size(); ++i) proj[i] = dot(axis, surface.points[i]);
+  const std::vector<double> proj = projections(surface, axis);
   // Whole counts per run of the triangles, on every usable CPU (the end of a run waits for this):
   // their sums do not depend on how the triangles were divided.
   const std::size_t runs = std::max<std::size_t>(1, std::min<std::size_t>(64, surface.triangles.size() >> 16));
