@@ -127,16 +127,26 @@ void settle(const std::string& prefix) {
   if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
 }
 
+bool is_msh(const std::string& path) {
+  partet::MeshFormat format;
+  std::string run;
+  return partet::split_format_extension(path, format, run) && format == partet::MeshFormat::msh;
+}
+
+// An MSH file's run may have been published at PREFIX (PREFIX.msh) or, for a partition file
+// PREFIX_i.msh, at PREFIX too.
+void settle_msh(const std::string& path) {
+  settle(path.substr(0, path.size() - std::strlen(".msh")));
+  if (std::string parts; partet::partition_file_prefix(path, parts)) settle(parts);
+}
+
 // The set to check: TetGen files at a prefix, or an MSH file or partition set (PATH.msh).
 partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
-  partet::MeshFormat format;
-  std::string run;  // the run's prefix: PREFIX.msh, or PREFIX_i.msh for a partition
-  if (!partet::split_format_extension(prefix, format, run) || format != partet::MeshFormat::msh) {
+  if (!is_msh(prefix)) {
     settle(prefix);
     return partet::read_tetgen_set(prefix);
   }
-  settle(run);
-  if (std::string parts; partet::partition_file_prefix(prefix, parts)) settle(parts);
+  settle_msh(prefix);
   return partet::read_msh_set(prefix);
 }
 
@@ -151,14 +161,17 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
   return report.ok() ? 0 : 1;
 }
 
-// partet check on an XDMF set, on every rank of the job (alone: one rank). Rank 0 prints.
-int run_check_xdmf(const std::string& input_path, const std::string& xdmf_path, bool json) {
-  const std::string prefix = xdmf_path.substr(0, xdmf_path.size() - std::strlen(".xdmf"));
+// partet check on an XDMF set (alone: on one rank), or an MSH file or partition set under a
+// launcher, on every rank of the job. Rank 0 prints.
+int run_check_distributed(const std::string& input_path, const std::string& path, bool json) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) settle(prefix);
+  const bool msh = is_msh(path);
+  const std::string prefix = path.substr(0, path.size() - std::strlen(".xdmf"));
+  if (rank == 0) msh ? settle_msh(path) : settle(prefix);
   MPI_Barrier(MPI_COMM_WORLD);
-  const partet::DistributedCheckReport report = partet::check_xdmf_set(MPI_COMM_WORLD, input_path, prefix);
+  const partet::DistributedCheckReport report = msh ? partet::check_msh_set(MPI_COMM_WORLD, input_path, path)
+                                                    : partet::check_xdmf_set(MPI_COMM_WORLD, input_path, prefix);
   if (rank != 0) return report.ok() ? 0 : 1;
   if (json) {
     std::printf("%s\n", nlohmann::json{{"ok", report.ok()},
@@ -240,8 +253,9 @@ std::string unwritable_session_directory() {
              : "/tmp is not writable, and MPI keeps its session files there: set TMPDIR to a writable directory";
 }
 
-// partet check INPUT PREFIX.xdmf: under MPI, each rank checking its part (see run_check_xdmf).
-int run_check_on_ranks(int argc, char** argv, const std::string& input, const std::string& xdmf, bool json) {
+// partet check INPUT PREFIX.xdmf (or PATH.msh under a launcher): under MPI, each rank checking
+// its part (see run_check_distributed).
+int run_check_on_ranks(int argc, char** argv, const std::string& input, const std::string& path, bool json) {
   if (const std::string problem = unwritable_session_directory(); !problem.empty()) {
     partet::log::error(problem);
     return 2;
@@ -249,7 +263,7 @@ int run_check_on_ranks(int argc, char** argv, const std::string& input, const st
   MPI_Init(&argc, &argv);
   int code = 1;
   try {
-    code = run_check_xdmf(input, xdmf, json);
+    code = run_check_distributed(input, path, json);
   } catch (const std::bad_alloc&) {
     partet::log::error("out of memory: run the check on more ranks (mpirun -n N partet check ...)");
   } catch (const std::exception& e) {
@@ -423,7 +437,8 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
   check->add_option("prefix", c.check_prefix,
                     "prefix of the .node/.ele files; PREFIX.msh, or one file of an MSH partition set "
-                    "(PREFIX_1.msh: the whole set is read); or PREFIX.xdmf: the XDMF set, checked on every rank of "
+                    "(PREFIX_1.msh: the whole set is read; under mpirun each rank reads some of its files and checks "
+                    "its part); or PREFIX.xdmf: the XDMF set, checked on every rank of "
                     "an mpirun job, each rank its part")
       ->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
@@ -656,8 +671,18 @@ int main(int argc, char** argv) {
   try {
     if (*check && c.check_prefix.size() > 5 && c.check_prefix.compare(c.check_prefix.size() - 5, 5, ".xdmf") == 0) {
       if (c.check_split || !c.check_report.empty())
-        throw partet::OptionError("--allow-split-faces and --report apply to TetGen files; check those (PREFIX) "
-                                  "instead of PREFIX.xdmf");
+        return usage_error(argc, argv,
+                           "--allow-split-faces and --report apply to TetGen files; check those (PREFIX) instead of "
+                           "PREFIX.xdmf");
+      return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
+    }
+    // Under a launcher with several ranks an MSH set is checked in parts, one share of its files
+    // per rank (one process reads it whole, and also reports the quality).
+    if (*check && is_msh(c.check_prefix) && launched_size() > 1) {
+      if (c.check_split || !c.check_report.empty())
+        return usage_error(argc, argv,
+                           "--allow-split-faces and --report need the whole mesh in one process: run partet check "
+                           "on the MSH files without mpirun");
       return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
     }
     if (*check)

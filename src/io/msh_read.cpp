@@ -111,6 +111,12 @@ std::int32_t point_index(std::uint64_t tag, const MshCursor& in) {
   return static_cast<std::int32_t>(tag - 1);
 }
 
+// A node's id (tag - 1) in a check on several ranks, which numbers points with 64 bits.
+std::int64_t node_id(std::uint64_t tag, const MshCursor& in) {
+  if (tag < 1 || tag > static_cast<std::uint64_t>(INT64_MAX)) in.fail("has node tag " + std::to_string(tag));
+  return static_cast<std::int64_t>(tag - 1);
+}
+
 // $Nodes and $Elements open alike: the number of blocks, then the number of entries and their
 // lowest and highest tags (not needed here). Returns the number of blocks; each block then opens
 // with its entity's dimension and tag, and a third int (parametric, or element type).
@@ -121,25 +127,22 @@ std::uint64_t open_section(MshCursor& in, const char* name) {
   return blocks;
 }
 
-void read_nodes(MshCursor& in, MshMesh& mesh) {
+// Calls node(tag, point) for every node of the file, in its order.
+template <class OnNode>
+void read_nodes(MshCursor& in, const OnNode& node) {
   for (std::uint64_t b = 0, blocks = open_section(in, "Nodes"); b < blocks; ++b) {
     in.tag(), in.tag();
     if (in.tag() != 0) in.fail("has parametric nodes");
     const std::uint64_t count = in.size();
-    std::vector<std::int32_t> index(count);
-    for (auto& i : index) i = point_index(in.size(), in);
-    for (std::int32_t i : index) {
-      const Point3 p{in.real(), in.real(), in.real()};
-      const auto at = static_cast<std::size_t>(i);
-      if (at >= mesh.points.size()) mesh.points.resize(at + 1), mesh.seen.resize(at + 1, 0);
-      if (mesh.seen[at] && mesh.points[at] != p)
-        in.fail("gives node " + std::to_string(i + 1) + " other coordinates than an earlier file of the set");
-      mesh.points[at] = p, mesh.seen[at] = 1;
-    }
+    std::vector<std::uint64_t> tags(count);
+    for (auto& tag : tags) tag = in.size();
+    for (std::uint64_t tag : tags) node(tag, Point3{in.real(), in.real(), in.real()});
   }
 }
 
-void read_elements(MshCursor& in, MshMesh& mesh) {
+// Calls triangle(tags) and tet(tags) for every element of the file (node tags, as given).
+template <class OnTriangle, class OnTet>
+void read_elements(MshCursor& in, const OnTriangle& triangle, const OnTet& tet) {
   for (std::uint64_t b = 0, blocks = open_section(in, "Elements"); b < blocks; ++b) {
     in.tag(), in.tag();
     const std::int64_t type = in.tag();
@@ -148,16 +151,30 @@ void read_elements(MshCursor& in, MshMesh& mesh) {
     for (std::uint64_t e = 0; e < count; ++e) {
       in.size();  // the element's tag
       if (type == 2) {
-        Triangle t;
-        for (auto& v : t) v = point_index(in.size(), in);
-        mesh.triangles.push_back(t);
+        std::array<std::uint64_t, 3> tags;
+        for (auto& tag : tags) tag = in.size();
+        triangle(tags);
       } else {
-        Tet t;
-        for (auto& v : t) v = point_index(in.size(), in);
-        mesh.tets.push_back(t);
+        std::array<std::uint64_t, 4> tags;
+        for (auto& tag : tags) tag = in.size();
+        tet(tags);
       }
     }
   }
+}
+
+template <class Cell, std::size_t N>
+Cell cell_of(const std::array<std::uint64_t, N>& tags, const MshCursor& in) {
+  Cell cell;
+  for (std::size_t k = 0; k < N; ++k) cell[k] = point_index(tags[k], in);
+  return cell;
+}
+
+template <class Cell, std::size_t N>
+Cell ids_of(const std::array<std::uint64_t, N>& tags, const MshCursor& in) {
+  Cell cell;
+  for (std::size_t k = 0; k < N; ++k) cell[k] = node_id(tags[k], in);
+  return cell;
 }
 
 template <class Cell>
@@ -183,8 +200,26 @@ std::vector<std::string> other_set_files(MshCursor& in, const std::string& path)
 }
 
 void read_mesh(MshCursor& in, MshMesh& mesh) {
-  read_nodes(in, mesh);
-  read_elements(in, mesh);
+  read_nodes(in, [&](std::uint64_t tag, const Point3& p) {
+    const auto at = static_cast<std::size_t>(point_index(tag, in));
+    if (at >= mesh.points.size()) mesh.points.resize(at + 1), mesh.seen.resize(at + 1, 0);
+    if (mesh.seen[at] && mesh.points[at] != p)
+      in.fail("gives node " + std::to_string(tag) + " other coordinates than an earlier file of the set");
+    mesh.points[at] = p, mesh.seen[at] = 1;
+  });
+  read_elements(
+      in, [&](const auto& tags) { mesh.triangles.push_back(cell_of<Triangle>(tags, in)); },
+      [&](const auto& tags) { mesh.tets.push_back(cell_of<Tet>(tags, in)); });
+}
+
+void read_part(MshCursor& in, MshPart& part) {
+  read_nodes(in, [&](std::uint64_t tag, const Point3& p) {
+    part.node_ids.push_back(node_id(tag, in));
+    part.nodes.push_back(p);
+  });
+  read_elements(
+      in, [&](const auto& tags) { part.triangles.push_back(ids_of<std::array<std::int64_t, 3>>(tags, in)); },
+      [&](const auto& tags) { part.tets.push_back(ids_of<std::array<std::int64_t, 4>>(tags, in)); });
 }
 
 }  // namespace
@@ -215,6 +250,19 @@ TetgenFileSet read_msh_set(const std::string& path) {
   set.faces_outward = true;
   set.faces_named = "the MSH triangles do";
   return set;
+}
+
+std::vector<std::string> read_msh_named(const std::string& path, MshPart& part) {
+  MshCursor in(path);
+  std::vector<std::string> files = other_set_files(in, path);
+  files.insert(files.begin(), path);
+  read_part(in, part);
+  return files;
+}
+
+void read_msh_file(const std::string& path, MshPart& part) {
+  MshCursor in(path);
+  read_part(in, part);
 }
 
 }  // namespace partet

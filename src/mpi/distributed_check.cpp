@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstring>
+#include <new>
 #include <tuple>
 
+#include "io/msh_read.hpp"
 #include "io/parallel_hdf5.hpp"
 #include "io/read_surface.hpp"
 #include "partet/errors.hpp"
@@ -335,7 +338,8 @@ void check_boundary_is_input(const Part& part, const SurfaceMesh* input, Counts&
 
 std::string count_text(std::int64_t n, const std::string& what) { return std::to_string(n) + " " + what; }
 
-std::vector<std::string> violations_of(const Counts& c) {
+// `boundary` names where the boundary triangles come from ("the boundary file").
+std::vector<std::string> violations_of(const Counts& c, const std::string& boundary) {
   std::vector<std::string> v;
   const auto say = [&](Count k, const std::string& what) {
     if (c[k] > 0) v.push_back(count_text(c[k], what));
@@ -345,9 +349,9 @@ std::vector<std::string> violations_of(const Counts& c) {
   say(flat, "tets are flat");
   say(overfull, "triangles are in more than two tets");
   say(same_side, "triangles have both their tets on the same side (overlap)");
-  say(free_face_not_boundary, "faces in one tet are missing from the boundary file");
-  say(boundary_not_free_face, "triangles of the boundary file are not faces in exactly one tet");
-  say(boundary_flipped, "triangles of the boundary file face into their tet");
+  say(free_face_not_boundary, "faces in one tet are missing from " + boundary);
+  say(boundary_not_free_face, "triangles of " + boundary + " are not faces in exactly one tet");
+  say(boundary_flipped, "triangles of " + boundary + " face into their tet");
   say(split_markers, "boundary triangles are parts of split input triangles (marker 2): check the TetGen files with "
                      "--allow-split-faces instead");
   say(unused, "vertices are in no tet");
@@ -358,45 +362,140 @@ std::vector<std::string> violations_of(const Counts& c) {
   return v;
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// Reading the parts
 
-DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
-  Part part;
-  part.comm = comm;
-  MPI_Comm_rank(comm, &part.rank);
-  MPI_Comm_size(comm, &part.size);
-  // 1. The input, on rank 0 (its volume and Euler characteristic go to every rank).
-  SurfaceMesh input;
-  std::string input_error;
-  if (part.rank == 0) try {
-      input = read_surface(input_path);
-    } catch (const std::exception& e) {
-      input_error = e.what();
-    }
-  int failed = input_error.empty() ? 0 : 1;
-  MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
-  if (failed) throw InputError(part.rank == 0 ? input_error : "rank 0 could not read the input");
+// When any rank has an error, every rank throws InputError with the lowest such rank's message.
+void throw_if_any(MPI_Comm comm, const std::string& error) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int mine = error.empty() ? INT_MAX : rank, first = INT_MAX;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == INT_MAX) return;
+  int length = rank == first ? static_cast<int>(error.size()) : 0;
+  MPI_Bcast(&length, 1, MPI_INT, first, comm);
+  std::string text = rank == first ? error : std::string(static_cast<std::size_t>(length), ' ');
+  MPI_Bcast(text.data(), length, MPI_CHAR, first, comm);
+  throw InputError(text);
+}
+
+// Runs read, turning what it throws into this rank's error (an allocation failure too: the
+// other ranks must not wait for a rank that has given up).
+template <class Read>
+std::string error_of(const std::string& path, const Read& read) {
+  try {
+    read();
+  } catch (const std::bad_alloc&) {
+    return "out of memory reading '" + path + "': run the check on more ranks";
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// What the check needs of the input, on every rank; the surface itself stays on rank 0.
+struct InputFigures {
+  SurfaceMesh surface;  // rank 0's only
+  long double volume = 0, euler = 0;
+};
+
+InputFigures read_input(MPI_Comm comm, int rank, const std::string& path) {
+  InputFigures input;
+  throw_if_any(comm, rank == 0 ? error_of(path, [&] { input.surface = read_surface(path); }) : "");
   long double figures[2] = {0, 0};  // enclosed volume, Euler characteristic
-  if (part.rank == 0) figures[0] = enclosed_volume_precise(input), figures[1] = surface_euler_characteristic(input);
+  if (rank == 0) figures[0] = enclosed_volume_precise(input.surface), figures[1] = surface_euler_characteristic(input.surface);
   MPI_Bcast(figures, 2, MPI_LONG_DOUBLE, 0, comm);
-  // 2. Every rank its rows of the HDF5 files.
-  part.block = read_mesh_hdf5(comm, prefix + ".h5", prefix + "_boundary.h5", part.totals);
-  // 3-7. The checks; 8. the counts summed over the ranks.
+  input.volume = figures[0], input.euler = figures[1];
+  return input;
+}
+
+std::vector<std::string> broadcast_lines(MPI_Comm comm, const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + '\n';
+  std::uint64_t length = text.size();
+  MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm);
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+  std::vector<std::string> out;
+  for (std::size_t at = 0, end; (end = text.find('\n', at)) != std::string::npos; at = end + 1)
+    out.push_back(text.substr(at, end - at));
+  return out;
+}
+
+// This rank's files of an MSH set: rank 0 reads the named one, which lists the set; file i of
+// the set is rank (i mod size)'s.
+MshPart read_msh_share(const Part& part, const std::string& path) {
+  MshPart mine;
+  std::vector<std::string> files;
+  throw_if_any(part.comm, part.rank == 0 ? error_of(path, [&] { files = read_msh_named(path, mine); }) : "");
+  files = broadcast_lines(part.comm, files);
+  std::string error;
+  for (std::size_t i = 1; i < files.size() && error.empty(); ++i)
+    if (static_cast<int>(i % static_cast<std::size_t>(part.size)) == part.rank)
+      error = error_of(files[i], [&] { read_msh_file(files[i], mine); });
+  throw_if_any(part.comm, error);
+  return mine;
+}
+
+struct NodeRecord {
+  Id id;
+  Point3 point;
+};
+
+// The points to their owners, each the run of ids the XDMF check's ranks read. A node given by
+// several files must have the same coordinates in each, and every id up to the highest must be
+// given (otherwise every rank throws InputError, as the serial reading does).
+void place_points(Part& part, MshPart& mine, const std::string& path) {
+  std::int64_t highest = -1;
+  for (Id id : mine.node_ids) highest = std::max(highest, id);
+  MPI_Allreduce(MPI_IN_PLACE, &highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
+  part.totals.points = static_cast<std::uint64_t>(highest + 1);
+  std::vector<std::vector<NodeRecord>> outgoing(part.size);
+  for (std::size_t i = 0; i < mine.node_ids.size(); ++i)
+    outgoing[part.point_owner(mine.node_ids[i])].push_back({mine.node_ids[i], mine.nodes[i]});
+  std::vector<Id>().swap(mine.node_ids);
+  std::vector<Point3>().swap(mine.nodes);
+  std::vector<NodeRecord> here = all_to_all(part.comm, std::move(outgoing));
+  std::sort(here.begin(), here.end(), [](const NodeRecord& a, const NodeRecord& b) { return a.id < b.id; });
+  const auto [first, last] = run_of(part.totals.points, part.rank, part.size);
+  part.block.points.resize(last - first);
+  std::string error;
+  std::uint64_t expected = first;
+  for (std::size_t i = 0; i < here.size() && error.empty(); ++i) {
+    const std::uint64_t id = static_cast<std::uint64_t>(here[i].id);
+    if (i > 0 && here[i - 1].id == here[i].id) {
+      if (here[i - 1].point != here[i].point)
+        error = "two files of the set of '" + path + "' give node " + std::to_string(id + 1) + " other coordinates";
+      continue;
+    }
+    if (id != expected) break;
+    part.block.points[id - first] = here[i].point, ++expected;
+  }
+  if (error.empty() && expected != last)
+    error = "no file of the set of '" + path + "' gives node " + std::to_string(expected + 1) +
+            " (the tags must run from 1 to the highest)";
+  throw_if_any(part.comm, error);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+// The checks on the part every rank holds, their counts summed over the ranks, and the report.
+DistributedCheckReport check_part(const Part& part, const InputFigures& input, const std::string& boundary) {
   Counts counts{};
   long double volume6 = check_tets(part, counts);
   check_faces(part, counts);
   count_edges(part, counts);
   check_duplicate_points(part, counts);
-  check_boundary_is_input(part, part.rank == 0 ? &input : nullptr, counts);
-  MPI_Allreduce(MPI_IN_PLACE, counts.data(), kCounts, MPI_INT64_T, MPI_SUM, comm);
-  MPI_Allreduce(MPI_IN_PLACE, &volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, comm);
+  check_boundary_is_input(part, part.rank == 0 ? &input.surface : nullptr, counts);
+  MPI_Allreduce(MPI_IN_PLACE, counts.data(), kCounts, MPI_INT64_T, MPI_SUM, part.comm);
+  MPI_Allreduce(MPI_IN_PLACE, &volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, part.comm);
 
   DistributedCheckReport report;
-  report.violations = violations_of(counts);
+  report.violations = violations_of(counts, boundary);
   report.vertices = static_cast<std::int64_t>(part.totals.points);
   report.tets = static_cast<std::int64_t>(part.totals.tets);
   report.boundary_faces = counts[free_faces];
-  const long double tet_volume = volume6 / 6, surface_volume = figures[0];
+  const long double tet_volume = volume6 / 6, surface_volume = input.volume;
   report.tet_volume = static_cast<double>(tet_volume);
   report.surface_volume = static_cast<double>(surface_volume);
   if (std::abs(tet_volume - surface_volume) >
@@ -405,13 +504,50 @@ DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_pa
                                 " differs from the volume enclosed by the input, " +
                                 std::to_string(report.surface_volume));
   report.euler_mesh = static_cast<long>(counts[used] - counts[edges] + counts[faces] - report.tets);
-  const long input_chi = static_cast<long>(figures[1]);
+  const long input_chi = static_cast<long>(input.euler);
   report.euler_expected = input_chi / 2;
   if (2 * report.euler_mesh != input_chi)
     report.violations.push_back("V-E+F-T of the mesh is " + std::to_string(report.euler_mesh) +
                                 ", expected half the Euler characteristic of the input, " + std::to_string(input_chi) +
                                 "/2");
   return report;
+}
+
+Part part_of(MPI_Comm comm) {
+  Part part;
+  part.comm = comm;
+  MPI_Comm_rank(comm, &part.rank);
+  MPI_Comm_size(comm, &part.size);
+  return part;
+}
+
+}  // namespace
+
+DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  Part part = part_of(comm);
+  // 1. The input, on rank 0 (its volume and Euler characteristic go to every rank).
+  const InputFigures input = read_input(comm, part.rank, input_path);
+  // 2. Every rank its rows of the HDF5 files.
+  part.block = read_mesh_hdf5(comm, prefix + ".h5", prefix + "_boundary.h5", part.totals);
+  // 3. The checks, their counts summed over the ranks.
+  return check_part(part, input, "the boundary file");
+}
+
+DistributedCheckReport check_msh_set(MPI_Comm comm, const std::string& input_path, const std::string& path) {
+  Part part = part_of(comm);
+  // 1. The input, on rank 0.
+  const InputFigures input = read_input(comm, part.rank, input_path);
+  // 2. Every rank its files of the set; the points to their owners (runs of ids).
+  MshPart mine = read_msh_share(part, path);
+  place_points(part, mine, path);
+  part.block.tets = std::move(mine.tets);
+  part.block.faces = std::move(mine.triangles);
+  part.block.face_marker.assign(part.block.faces.size(), 1);  // MSH has no split triangles to mark
+  std::uint64_t counts[2] = {part.block.tets.size(), part.block.faces.size()};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_UINT64_T, MPI_SUM, comm);
+  part.totals.tets = counts[0], part.totals.faces = counts[1];
+  // 3. The checks, their counts summed over the ranks.
+  return check_part(part, input, "the MSH files");
 }
 
 }  // namespace partet

@@ -1,7 +1,8 @@
-// `partet check` on an XDMF set, on any number of ranks: each rank reads and checks its own run of
-// the tets and boundary faces; what spans ranks (a face's two tets, an edge, a vertex's use, a
-// boundary triangle against the input) is decided by the rank its key hashes to. So no rank holds
-// the whole mesh, and a mesh too large for one process can still be verified. It checks what
+// `partet check` on an XDMF set or an MSH partition set, on any number of ranks: each rank reads
+// and checks its own part of the tets and boundary faces; what spans ranks (a face's two tets, an
+// edge, a vertex's use, a boundary triangle against the input) is decided by the rank its key
+// hashes to. So no rank holds the whole mesh, and a mesh too large for one process can still be
+// verified. It checks what
 // check_mesh checks for TetGen files, exact boundary rule: ids in range, every tet positively
 // oriented (exact predicate), every triangle in at most two tets on opposite sides, the boundary
 // faces equal to the tets' free faces (outward) and, by exact coordinates, to the input triangles,
@@ -27,5 +28,12 @@ struct DistributedCheckReport {  // the same on every rank
 // Collective over comm. Rank 0 reads the input surface; every rank reads its rows of PREFIX.h5
 // and PREFIX_boundary.h5. Throws InputError (on every rank) when a file cannot be read.
 DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix);
+
+// The same check on an MSH file or partition set (PATH, one of its files; the whole set is read,
+// as read_msh_set reads it): rank 0 reads PATH, which names the set's other files, and each rank
+// reads every size-th of them; the points go to their owners by id. So a set too large for one
+// process can be checked on several. Throws InputError (on every rank) when a file cannot be read,
+// a node has other coordinates in another file, or a tag between 1 and the highest is missing.
+DistributedCheckReport check_msh_set(MPI_Comm comm, const std::string& input_path, const std::string& path);
 
 }  // namespace partet
