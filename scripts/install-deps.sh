@@ -19,6 +19,7 @@ packages=(
   python3-matplotlib                   # scripts/render.py pictures and the benchmark plots
   libgtest-dev                         # unit tests
   time python3                         # GNU time and JSON parsing for the benchmark scripts
+  e2fsprogs                            # tests: an ext4 disk (a loop mount) that fills up
 )
 
 missing=()

@@ -14,6 +14,7 @@
 #include <new>
 #include <thread>
 
+#include "common/log.hpp"
 #include "common/test_hooks.hpp"
 #include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
@@ -220,7 +221,10 @@ void BufferedFile::flush(bool last) {
   if (used_ == 0) return;
   Writer& w = *writer_;
   // Started at the first hand-over: a small file closed with close() is written without one.
-  if (!w.thread.joinable()) w.start(buffer_.size());
+  if (!w.thread.joinable()) {
+    w.start(buffer_.size());
+    if (w.direct) log::debug("writing '" + shown_ + "' around the page cache (O_DIRECT)");
+  }
   if (const int error = w.wait_idle(); error != 0) fail(error);
   const std::size_t handed = w.direct && !last ? used_ - used_ % kBlock : used_;
   if (handed == 0) return;

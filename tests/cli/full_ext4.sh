@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# A local disk fills up while partet writes to it around the page cache (ext4, O_DIRECT: the
+# direct path a tmpfs never takes). The run must end with the disk's error, publish nothing,
+# leave no temporary behind, and leave the previous mesh at the same prefix byte for byte; in one
+# process and on 2 ranks (rank 1 formats half of the lines rank 0 writes). The disk is an ext4
+# image on a loop device; without loop mounts (not root, or a container that forbids them) the
+# test exits 77 (skipped).
+# Usage: full_ext4.sh PARTET MPIEXEC
+set -euo pipefail
+partet=$1 mpiexec=$2
+work=$(mktemp -d)
+trap 'umount "$work/disk" 2> /dev/null || true; rm -rf "$work"' EXIT
+cd "$work"
+command -v mkfs.ext4 > /dev/null || { echo "SKIP: no mkfs.ext4 (e2fsprogs)"; exit 77; }
+truncate -s 16M disk.img
+mkfs.ext4 -q -F disk.img
+mkdir disk
+mount -o loop disk.img disk 2> /dev/null || { echo "SKIP: loop mounts are not permitted here"; exit 77; }
+[ "$(stat -f -c %T disk)" = ext2/ext3 ] || { echo "FAIL: disk is not ext4: $(stat -f -c %T disk)"; exit 1; }
+
+"$partet" generate genus3 --faces 4000 -o small.off > /dev/null
+"$partet" generate genus3 --faces 160000 -o big.off > /dev/null
+"$partet" mesh small.off -o disk/m --pieces 2 --quiet
+(cd disk && md5sum m.* > ../before.md5)
+
+for n in 1 2; do
+  if "$mpiexec" -n $n "$partet" mesh big.off -o disk/m --pieces 4 --verbose > log 2>&1; then
+    echo "FAIL: $n rank(s): a full disk exited 0"; exit 1
+  fi
+  grep -q "around the page cache" log || { echo "FAIL: $n rank(s): no file was written directly:"; cat log; exit 1; }
+  grep -q "cannot write 'disk/m\.[a-z]*': No space left on device" log \
+    || { echo "FAIL: $n rank(s): not the disk's error:"; grep error log; exit 1; }
+  (cd disk && md5sum --quiet -c ../before.md5) || { echo "FAIL: $n rank(s): the previous mesh changed"; exit 1; }
+  left=$(cd disk && ls -A | grep -v -x -e lost+found -e 'm\.\(node\|ele\|face\|neigh\)' || true)
+  [ -z "$left" ] || { echo "FAIL: $n rank(s): files left: $left"; exit 1; }
+  echo "ok: $n rank(s): $(grep -o "cannot write '[^']*': No space left on device" log | head -n 1)," \
+    "$(grep -c "around the page cache" log) file(s) written directly, the previous mesh intact, nothing left"
+done
