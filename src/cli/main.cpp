@@ -161,17 +161,29 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
   return report.ok() ? 0 : 1;
 }
 
-// partet check on an XDMF set (alone: on one rank), or an MSH file or partition set under a
-// launcher, on every rank of the job. Rank 0 prints.
+bool is_xdmf(const std::string& path) { return path.size() > 5 && path.compare(path.size() - 5, 5, ".xdmf") == 0; }
+
+// The check on every rank of the job, each its part: an XDMF set (alone: on one rank), or under a
+// launcher an MSH file or partition set or TetGen files. Rank 0 prints.
+partet::DistributedCheckReport check_on_ranks(const std::string& input_path, const std::string& path) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (is_xdmf(path)) {
+    const std::string prefix = path.substr(0, path.size() - std::strlen(".xdmf"));
+    if (rank == 0) settle(prefix);
+    MPI_Barrier(MPI_COMM_WORLD);
+    return partet::check_xdmf_set(MPI_COMM_WORLD, input_path, prefix);
+  }
+  if (rank == 0) is_msh(path) ? settle_msh(path) : settle(path);
+  MPI_Barrier(MPI_COMM_WORLD);
+  return is_msh(path) ? partet::check_msh_set(MPI_COMM_WORLD, input_path, path)
+                      : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
+}
+
 int run_check_distributed(const std::string& input_path, const std::string& path, bool json) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const bool msh = is_msh(path);
-  const std::string prefix = path.substr(0, path.size() - std::strlen(".xdmf"));
-  if (rank == 0) msh ? settle_msh(path) : settle(prefix);
-  MPI_Barrier(MPI_COMM_WORLD);
-  const partet::DistributedCheckReport report = msh ? partet::check_msh_set(MPI_COMM_WORLD, input_path, path)
-                                                    : partet::check_xdmf_set(MPI_COMM_WORLD, input_path, prefix);
+  const partet::DistributedCheckReport report = check_on_ranks(input_path, path);
   if (rank != 0) return report.ok() ? 0 : 1;
   if (json) {
     std::printf("%s\n", nlohmann::json{{"ok", report.ok()},
@@ -253,8 +265,8 @@ std::string unwritable_session_directory() {
              : "/tmp is not writable, and MPI keeps its session files there: set TMPDIR to a writable directory";
 }
 
-// partet check INPUT PREFIX.xdmf (or PATH.msh under a launcher): under MPI, each rank checking
-// its part (see run_check_distributed).
+// partet check INPUT PREFIX.xdmf (or any set under a launcher): under MPI, each rank checking its
+// part (see check_on_ranks).
 int run_check_on_ranks(int argc, char** argv, const std::string& input, const std::string& path, bool json) {
   if (const std::string problem = unwritable_session_directory(); !problem.empty()) {
     partet::log::error(problem);
@@ -669,20 +681,20 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*check && c.check_prefix.size() > 5 && c.check_prefix.compare(c.check_prefix.size() - 5, 5, ".xdmf") == 0) {
+    if (*check && is_xdmf(c.check_prefix)) {
       if (c.check_split || !c.check_report.empty())
         return usage_error(argc, argv,
                            "--allow-split-faces and --report apply to TetGen files; check those (PREFIX) instead of "
                            "PREFIX.xdmf");
       return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
     }
-    // Under a launcher with several ranks an MSH set is checked in parts, one share of its files
-    // per rank (one process reads it whole, and also reports the quality).
-    if (*check && is_msh(c.check_prefix) && launched_size() > 1) {
+    // Under a launcher with several ranks every set is checked in parts, one per rank (one
+    // process reads it whole, and also reports the quality).
+    if (*check && launched_size() > 1) {
       if (c.check_split || !c.check_report.empty())
         return usage_error(argc, argv,
                            "--allow-split-faces and --report need the whole mesh in one process: run partet check "
-                           "on the MSH files without mpirun");
+                           "without mpirun");
       return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
     }
     if (*check)

@@ -193,14 +193,23 @@ std::FILE* open_regular_file(const std::string& path) {
 // skipped), with typed token parsing that reports file and line on malformed content.
 class LineReader {
  public:
-  explicit LineReader(std::string path) : path_(std::move(path)) {
+  // The whole file, or its bytes [begin, end) (end past the file: up to its end), which must
+  // start at a line's start.
+  explicit LineReader(std::string path, std::uint64_t begin = 0, std::uint64_t end = UINT64_MAX)
+      : path_(std::move(path)), first_byte_(begin) {
     std::FILE* f = open_regular_file(path_);
     // Size first, one read: growing the string chunk by chunk copies 100 MB files many times.
     bool failed = std::fseek(f, 0, SEEK_END) != 0;
     long size = failed ? -1 : std::ftell(f);
-    failed = failed || size < 0 || std::fseek(f, 0, SEEK_SET) != 0;
+    failed = failed || size < 0;
     if (!failed) {
-      text_.resize(static_cast<std::size_t>(size));
+      file_size_ = static_cast<std::uint64_t>(size);
+      end = std::min(end, file_size_);
+      begin = std::min(begin, end);
+      failed = ::fseeko(f, static_cast<off_t>(begin), SEEK_SET) != 0;
+    }
+    if (!failed) {
+      text_.resize(static_cast<std::size_t>(end - begin));
       failed = std::fread(text_.data(), 1, text_.size(), f) != text_.size();
     }
     std::fclose(f);
@@ -210,6 +219,7 @@ class LineReader {
   // Moves to the next line holding data; false at end of file.
   bool next_line() {
     while (pos_ < text_.size()) {
+      line_begin_ = pos_;
       std::size_t end = text_.find('\n', pos_);
       if (end == std::string::npos) end = text_.size();
       std::string_view line(text_.data() + pos_, end - pos_);
@@ -230,6 +240,9 @@ class LineReader {
 
   bool has_token() const { return !line_.empty(); }
   std::size_t size() const { return text_.size(); }
+  std::uint64_t file_size() const { return file_size_; }
+  // Where the line after the current one starts, in the file.
+  std::uint64_t next_line_byte() const { return first_byte_ + std::min(pos_, text_.size()); }
 
   // The id of the set the file belongs to (its "# partet mesh ID" line), or "".
   std::string id() const {
@@ -260,6 +273,8 @@ class LineReader {
   }
 
   [[noreturn]] void error(const std::string& message) const {
+    if (first_byte_ > 0)  // a part of the file: its lines before are not counted
+      throw InputError(path_ + " at byte " + std::to_string(first_byte_ + line_begin_) + ": " + message);
     throw InputError(path_ + " line " + std::to_string(line_number_) + ": " + message);
   }
 
@@ -283,8 +298,9 @@ class LineReader {
   }
 
   std::string path_;
+  std::uint64_t first_byte_ = 0, file_size_ = 0;
   std::string text_;
-  std::size_t pos_ = 0;
+  std::size_t pos_ = 0, line_begin_ = 0;
   long line_number_ = 0;
   std::string_view line_;
 };
@@ -500,6 +516,60 @@ TetMesh read_tetgen_files(const std::string& prefix, std::vector<Triangle>* boun
   TetgenFileSet set = read_tetgen_set(prefix);
   if (boundary_faces) *boundary_faces = std::move(set.faces);
   return std::move(set.mesh);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading a file in parts
+
+TetgenFileLayout tetgen_file_layout(const std::string& path, TetgenFile file) {
+  LineReader in(path, 0, 1 << 16);  // comments and the header line: a header is short
+  in.expect_line("the header");
+  TetgenFileLayout layout;
+  const char* what = file == TetgenFile::node ? "points" : file == TetgenFile::ele ? "tetrahedra" : file == TetgenFile::face ? "faces" : "neighbour rows";
+  layout.count = in.integer(what);
+  if (layout.count < 0) in.error(std::string("invalid ") + what + " " + std::to_string(layout.count));
+  if (file == TetgenFile::node)
+    if (std::int64_t dim = in.integer_or(3, "dimension"); dim != 3) in.error("dimension must be 3, found " + std::to_string(dim));
+  if (file == TetgenFile::ele)
+    if (std::int64_t corners = in.integer_or(4, "nodes per tetrahedron"); corners != 4)
+      in.error("nodes per tetrahedron must be 4, found " + std::to_string(corners));
+  layout.rows_begin = in.next_line_byte();
+  layout.size = in.file_size();
+  return layout;
+}
+
+std::uint64_t tetgen_part_begin(const std::string& path, const TetgenFileLayout& layout, int part, int parts) {
+  if (part <= 0) return layout.rows_begin;
+  if (part >= parts) return layout.size;
+  const std::uint64_t share = layout.rows_begin + static_cast<std::uint64_t>(
+      (static_cast<unsigned __int128>(layout.size - layout.rows_begin) * static_cast<unsigned>(part)) / static_cast<unsigned>(parts));
+  // The first line that starts at or after `share`: after the first newline at or after share - 1.
+  std::FILE* f = open_regular_file(path);
+  std::uint64_t at = share - 1;
+  bool found = false;
+  if (::fseeko(f, static_cast<off_t>(at), SEEK_SET) == 0)
+    for (int c; !found && (c = std::fgetc(f)) != EOF; ++at) found = c == '\n';
+  std::fclose(f);
+  return found ? at : layout.size;
+}
+
+TetgenRowsRead read_tetgen_rows(const std::string& path, TetgenFile file, std::uint64_t begin, std::uint64_t end) {
+  LineReader in(path, begin, end);
+  TetgenRowsRead rows;
+  const std::size_t per_row = file == TetgenFile::face ? 3 : 4;
+  while (in.next_line()) {
+    rows.index.push_back(in.integer("index"));
+    if (file == TetgenFile::node) {
+      Point3 p;
+      for (double& x : p) x = in.real("coordinate");
+      rows.points.push_back(p);
+      continue;
+    }
+    for (std::size_t k = 0; k < per_row; ++k) rows.values.push_back(in.integer(file == TetgenFile::neigh ? "neighbour index" : "vertex index"));
+    if (file == TetgenFile::face) rows.markers.push_back(static_cast<std::int32_t>(in.integer_or(1, "boundary marker")));
+  }
+  rows.id = in.id();
+  return rows;
 }
 
 }  // namespace partet

@@ -73,4 +73,30 @@ TetgenFileSet read_tetgen_set(const std::string& prefix);
 // PREFIX.node and PREFIX.ele (and PREFIX.face, if present, into boundary_faces).
 TetMesh read_tetgen_files(const std::string& prefix, std::vector<Triangle>* boundary_faces = nullptr);
 
+// Reading one file in parts, each part by another process (a check on several ranks): the
+// header's count and where the rows begin (after the header line), and the file's size. Throws
+// InputError on a missing file or a malformed header (10-node tets are refused here).
+struct TetgenFileLayout {
+  std::int64_t count = 0;
+  std::uint64_t rows_begin = 0, size = 0;
+};
+TetgenFileLayout tetgen_file_layout(const std::string& path, TetgenFile file);
+
+// Where part `part` of `parts` of the rows begins: the first line starting at or after its share
+// of the bytes (part 0: rows_begin; part `parts`: the end). Each part is whole lines.
+std::uint64_t tetgen_part_begin(const std::string& path, const TetgenFileLayout& layout, int part, int parts);
+
+// The rows whose lines lie in bytes [begin, end) of the file, as written: each row's own index,
+// its coordinates (.node) or values (4 per row for .ele and .neigh, 3 for .face, vertex or tet
+// indices as written) and .face's boundary markers (1 when there is none); and the set ID when
+// its line ("# partet mesh ID") is in the part. Throws InputError naming the byte of a malformed row.
+struct TetgenRowsRead {
+  std::vector<std::int64_t> index;
+  std::vector<Point3> points;
+  std::vector<std::int64_t> values;
+  std::vector<std::int32_t> markers;
+  std::string id;
+};
+TetgenRowsRead read_tetgen_rows(const std::string& path, TetgenFile file, std::uint64_t begin, std::uint64_t end);
+
 }  // namespace partet

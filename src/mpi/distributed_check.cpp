@@ -10,6 +10,7 @@
 
 #include "io/msh_read.hpp"
 #include "io/parallel_hdf5.hpp"
+#include "io/tetgen_files.hpp"
 #include "io/read_surface.hpp"
 #include "partet/errors.hpp"
 #include "stages/check.hpp"
@@ -76,6 +77,14 @@ int rank_of_key(const std::array<std::uint64_t, N>& key, int size) {
 // ---------------------------------------------------------------------------------------------
 // The part of the mesh this rank holds
 
+// The rank whose run (run_of) of [0, total) holds id.
+int run_owner(std::int64_t id, std::uint64_t total, int size) {
+  int r = static_cast<int>((static_cast<unsigned __int128>(id) * size) / std::max<std::uint64_t>(total, 1));
+  while (r + 1 < size && run_of(total, r + 1, size).first <= static_cast<std::uint64_t>(id)) ++r;
+  while (r > 0 && run_of(total, r, size).first > static_cast<std::uint64_t>(id)) --r;
+  return r;
+}
+
 struct Part {
   MPI_Comm comm;
   int rank = 0, size = 1;
@@ -83,12 +92,7 @@ struct Part {
   MeshBlock block;
   // This rank's points are [first_point, first_point + block.points.size()).
   std::uint64_t run_start(std::uint64_t total, int r) const { return run_of(total, r, size).first; }
-  int point_owner(Id id) const {
-    int r = static_cast<int>((static_cast<unsigned __int128>(id) * size) / std::max<std::uint64_t>(totals.points, 1));
-    while (r + 1 < size && run_start(totals.points, r + 1) <= static_cast<std::uint64_t>(id)) ++r;
-    while (r > 0 && run_start(totals.points, r) > static_cast<std::uint64_t>(id)) --r;
-    return r;
-  }
+  int point_owner(Id id) const { return run_owner(id, totals.points, size); }
   bool valid(Id id) const { return id >= 0 && static_cast<std::uint64_t>(id) < totals.points; }
 };
 
@@ -365,18 +369,23 @@ std::vector<std::string> violations_of(const Counts& c, const std::string& bound
 // ---------------------------------------------------------------------------------------------
 // Reading the parts
 
-// When any rank has an error, every rank throws InputError with the lowest such rank's message.
-void throw_if_any(MPI_Comm comm, const std::string& error) {
+// The lowest rank's non-empty text, on every rank ("" when every rank's is empty).
+std::string first_nonempty(MPI_Comm comm, const std::string& text) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  int mine = error.empty() ? INT_MAX : rank, first = INT_MAX;
+  int mine = text.empty() ? INT_MAX : rank, first = INT_MAX;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
-  if (first == INT_MAX) return;
-  int length = rank == first ? static_cast<int>(error.size()) : 0;
+  if (first == INT_MAX) return "";
+  int length = rank == first ? static_cast<int>(text.size()) : 0;
   MPI_Bcast(&length, 1, MPI_INT, first, comm);
-  std::string text = rank == first ? error : std::string(static_cast<std::size_t>(length), ' ');
-  MPI_Bcast(text.data(), length, MPI_CHAR, first, comm);
-  throw InputError(text);
+  std::string out = rank == first ? text : std::string(static_cast<std::size_t>(length), ' ');
+  MPI_Bcast(out.data(), length, MPI_CHAR, first, comm);
+  return out;
+}
+
+// When any rank has an error, every rank throws InputError with the lowest such rank's message.
+void throw_if_any(MPI_Comm comm, const std::string& error) {
+  if (std::string first = first_nonempty(comm, error); !first.empty()) throw InputError(first);
 }
 
 // Runs read, turning what it throws into this rank's error (an allocation failure too: the
@@ -437,44 +446,216 @@ MshPart read_msh_share(const Part& part, const std::string& path) {
   return mine;
 }
 
-struct NodeRecord {
+// A row of a file with its id: a point, or a tet's vertices or neighbours.
+template <class Values>
+struct Row {
   Id id;
-  Point3 point;
+  Values values;
 };
 
-// The points to their owners, each the run of ids the XDMF check's ranks read. A node given by
-// several files must have the same coordinates in each, and every id up to the highest must be
-// given (otherwise every rank throws InputError, as the serial reading does).
-void place_points(Part& part, MshPart& mine, const std::string& path) {
-  std::int64_t highest = -1;
-  for (Id id : mine.node_ids) highest = std::max(highest, id);
-  MPI_Allreduce(MPI_IN_PLACE, &highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
-  part.totals.points = static_cast<std::uint64_t>(highest + 1);
-  std::vector<std::vector<NodeRecord>> outgoing(part.size);
-  for (std::size_t i = 0; i < mine.node_ids.size(); ++i)
-    outgoing[part.point_owner(mine.node_ids[i])].push_back({mine.node_ids[i], mine.nodes[i]});
-  std::vector<Id>().swap(mine.node_ids);
-  std::vector<Point3>().swap(mine.nodes);
-  std::vector<NodeRecord> here = all_to_all(part.comm, std::move(outgoing));
-  std::sort(here.begin(), here.end(), [](const NodeRecord& a, const NodeRecord& b) { return a.id < b.id; });
-  const auto [first, last] = run_of(part.totals.points, part.rank, part.size);
-  part.block.points.resize(last - first);
+// How a row given twice is taken: the same point in several MSH partition files, or a TetGen
+// file's index, which must be unique.
+enum class Repeats { same_values, refused };
+
+// Rows to the owners of their ids (each rank the run of [0, total) the XDMF check's ranks read)
+// and returned in id order: every id in [0, total) given, once or (same_values) with the same
+// values each time; otherwise every rank throws InputError naming `file` (the lowest rank's find).
+template <class Values>
+std::vector<Values> place_rows(const Part& part, std::vector<Id>&& ids, std::vector<Values>&& values,
+                               std::uint64_t total, Repeats repeats, const std::string& file) {
+  // `file` names a TetGen file, or an MSH set ("the set of 'PATH'"), whose rows are nodes by tag.
+  std::vector<std::vector<Row<Values>>> outgoing(part.size);
   std::string error;
+  for (std::size_t i = 0; i < ids.size() && error.empty(); ++i) {
+    if (ids[i] < 0 || static_cast<std::uint64_t>(ids[i]) >= total)
+      error = file + " has index " + std::to_string(ids[i]) + ", beyond its " + std::to_string(total) + " rows";
+    else
+      outgoing[run_owner(ids[i], total, part.size)].push_back({ids[i], values[i]});
+  }
+  throw_if_any(part.comm, error);
+  std::vector<Id>().swap(ids);
+  std::vector<Values>().swap(values);
+  std::vector<Row<Values>> here = all_to_all(part.comm, std::move(outgoing));
+  std::sort(here.begin(), here.end(), [](const Row<Values>& a, const Row<Values>& b) { return a.id < b.id; });
+  const auto [first, last] = run_of(total, part.rank, part.size);
+  std::vector<Values> placed(last - first);
   std::uint64_t expected = first;
   for (std::size_t i = 0; i < here.size() && error.empty(); ++i) {
     const std::uint64_t id = static_cast<std::uint64_t>(here[i].id);
     if (i > 0 && here[i - 1].id == here[i].id) {
-      if (here[i - 1].point != here[i].point)
-        error = "two files of the set of '" + path + "' give node " + std::to_string(id + 1) + " other coordinates";
+      if (repeats == Repeats::refused)
+        error = file + " has index " + std::to_string(id) + " twice";
+      else if (here[i - 1].values != here[i].values)
+        error = "two files of " + file + " give node " + std::to_string(id + 1) + " other coordinates";
       continue;
     }
     if (id != expected) break;
-    part.block.points[id - first] = here[i].point, ++expected;
+    placed[id - first] = here[i].values, ++expected;
   }
   if (error.empty() && expected != last)
-    error = "no file of the set of '" + path + "' gives node " + std::to_string(expected + 1) +
-            " (the tags must run from 1 to the highest)";
+    error = repeats == Repeats::refused ? file + " has no row of index " + std::to_string(expected)
+                                        : "no file of " + file + " gives node " + std::to_string(expected + 1) +
+                                              " (the tags must run from 1 to the highest)";
   throw_if_any(part.comm, error);
+  return placed;
+}
+
+// The MSH set's points: node tags from 1 to the highest, a node in several files the same in each.
+void place_msh_points(Part& part, MshPart& mine, const std::string& path) {
+  std::int64_t highest = -1;
+  for (Id id : mine.node_ids) highest = std::max(highest, id);
+  MPI_Allreduce(MPI_IN_PLACE, &highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
+  part.totals.points = static_cast<std::uint64_t>(highest + 1);
+  part.block.points = place_rows(part, std::move(mine.node_ids), std::move(mine.nodes), part.totals.points,
+                                 Repeats::same_values, "the set of '" + path + "'");
+}
+
+// ---------------------------------------------------------------------------------------------
+// A set of TetGen files, each read in parts: rank r reads the r-th share of every file's bytes
+
+// This rank's rows of one file of the set, and the file's layout.
+TetgenRowsRead read_tetgen_part(const Part& part, const std::string& path, TetgenFile file, TetgenFileLayout& layout) {
+  TetgenRowsRead rows;
+  throw_if_any(part.comm, error_of(path, [&] {
+                 layout = tetgen_file_layout(path, file);
+                 rows = read_tetgen_rows(path, file, tetgen_part_begin(path, layout, part.rank, part.size),
+                                         tetgen_part_begin(path, layout, part.rank + 1, part.size));
+               }));
+  return rows;
+}
+
+// The file's numbering base (0 or 1, as TetGen allows): its first row's index. Rows out of order
+// are found when they are placed.
+std::int64_t numbering_base(const Part& part, const TetgenRowsRead& rows, const std::string& path) {
+  std::int64_t first = rows.index.empty() ? INT64_MAX : rows.index.front();
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT64_T, MPI_MIN, part.comm);
+  if (first == INT64_MAX) return 0;  // no rows
+  if (first != 0 && first != 1)
+    throw InputError(path + ": first index must be 0 or 1, found " + std::to_string(first));  // on every rank
+  return first;
+}
+
+// The ids of rows (their index less the base), and each row's values as 0-based ids; -1 stays
+// -1 (a neighbour row's "none").
+std::vector<Id> row_ids(const std::vector<std::int64_t>& index, std::int64_t base) {
+  std::vector<Id> ids(index.size());
+  for (std::size_t i = 0; i < index.size(); ++i) ids[i] = index[i] - base;
+  return ids;
+}
+
+template <std::size_t N>
+std::vector<std::array<Id, N>> rows_of_ids(const std::vector<std::int64_t>& values, std::int64_t base, bool keep_minus_one) {
+  std::vector<std::array<Id, N>> rows(values.size() / N);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t k = 0; k < N; ++k) {
+      const std::int64_t v = values[N * i + k];
+      rows[i][k] = keep_minus_one && v == -1 ? -1 : v - base;
+    }
+  return rows;
+}
+
+// The set's ID: every file's "# partet mesh ID" line (found by whichever rank reads the file's
+// end) must be there and the same. Without one the set is not partet's, and its .face file
+// does not promise outward faces: that is for the check in one process.
+std::string check_set_id(const std::vector<std::pair<std::string, std::string>>& ids) {
+  for (const auto& [file, id] : ids)
+    if (id.empty())
+      throw InputError(file + " has no '# partet mesh ID' line: only sets partet wrote are checked on several ranks; "
+                       "check this one in one process");
+  for (const auto& [file, id] : ids)
+    if (id != ids.front().second)
+      return "the files come from different runs: " + ids.front().first + " has mesh ID '" + ids.front().second +
+             "', " + file + " has '" + id + "'";
+  return "";
+}
+
+// What only a TetGen set has besides the mesh: its .neigh rows (tet id order, this rank's run).
+struct TetgenExtras {
+  std::vector<std::array<Id, 4>> neighbours;
+  std::string set_violation;
+};
+
+TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
+  TetgenExtras extras;
+  std::vector<std::pair<std::string, std::string>> ids;
+  const auto read = [&](TetgenFile file, TetgenFileLayout& layout, std::int64_t& base) {
+    const std::string path = prefix + extension(file);
+    TetgenRowsRead rows = read_tetgen_part(part, path, file, layout);
+    base = numbering_base(part, rows, path);
+    ids.push_back({path, first_nonempty(part.comm, rows.id)});
+    return rows;
+  };
+  TetgenFileLayout node, ele, face, neigh;
+  std::int64_t vertex_base = 0, tet_base = 0, unused_base = 0;
+  {
+    TetgenRowsRead rows = read(TetgenFile::node, node, vertex_base);
+    part.totals.points = static_cast<std::uint64_t>(node.count);
+    part.block.points = place_rows(part, row_ids(rows.index, vertex_base), std::move(rows.points), part.totals.points,
+                                   Repeats::refused, prefix + ".node");
+  }
+  {
+    TetgenRowsRead rows = read(TetgenFile::ele, ele, tet_base);
+    part.totals.tets = static_cast<std::uint64_t>(ele.count);
+    part.block.tets = place_rows(part, row_ids(rows.index, tet_base), rows_of_ids<4>(rows.values, vertex_base, false),
+                                 part.totals.tets, Repeats::refused, prefix + ".ele");
+  }
+  {
+    TetgenRowsRead rows = read(TetgenFile::face, face, unused_base);
+    part.block.faces = rows_of_ids<3>(rows.values, vertex_base, false);
+    part.block.face_marker = std::move(rows.markers);
+    std::uint64_t faces = part.block.faces.size();
+    MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
+    if (faces != static_cast<std::uint64_t>(face.count))
+      throw InputError(prefix + ".face declares " + std::to_string(face.count) + " faces but has " +
+                       std::to_string(faces) + " rows");  // on every rank
+    part.totals.faces = faces;
+  }
+  {
+    TetgenRowsRead rows = read(TetgenFile::neigh, neigh, unused_base);
+    if (neigh.count != ele.count)
+      throw InputError(prefix + ".neigh: " + std::to_string(neigh.count) + " neighbour rows for " +
+                       std::to_string(ele.count) + " tetrahedra");
+    extras.neighbours = place_rows(part, row_ids(rows.index, tet_base), rows_of_ids<4>(rows.values, tet_base, true),
+                                   part.totals.tets, Repeats::refused, prefix + ".neigh");
+  }
+  extras.set_violation = check_set_id(ids);
+  return extras;
+}
+
+// A tet's face (opposite one corner) with the tet and the neighbour its .neigh row names there.
+struct NeighbourRecord {
+  std::array<std::uint64_t, 3> key;
+  Id tet, named;
+};
+
+// .neigh names, across each face, the tet on its other side (-1 on the boundary): the faces go to
+// the ranks their keys hash to, which compare the two sides. Returns how many tet faces name
+// another neighbour than the tets imply (faces in three or more tets are counted elsewhere).
+std::int64_t check_neighbours(const Part& part, const std::vector<std::array<Id, 4>>& neighbours) {
+  std::vector<std::vector<NeighbourRecord>> outgoing(part.size);
+  const Id first = static_cast<Id>(run_of(part.totals.tets, part.rank, part.size).first);
+  for (std::size_t t = 0; t < part.block.tets.size(); ++t) {
+    const auto& tet = part.block.tets[t];
+    for (int k = 0; k < 4; ++k) {
+      std::array<std::uint64_t, 3> key;
+      for (int j = 0, at = 0; j < 4; ++j)
+        if (j != k) key[at++] = static_cast<std::uint64_t>(tet[j]);
+      std::sort(key.begin(), key.end());
+      outgoing[rank_of_key(key, part.size)].push_back({key, first + static_cast<Id>(t), neighbours[t][k]});
+    }
+  }
+  std::vector<NeighbourRecord> here = all_to_all(part.comm, std::move(outgoing));
+  std::sort(here.begin(), here.end(), [](const NeighbourRecord& a, const NeighbourRecord& b) { return a.key < b.key; });
+  std::int64_t wrong = 0;
+  for (std::size_t i = 0; i < here.size();) {
+    std::size_t j = i;
+    while (j < here.size() && here[j].key == here[i].key) ++j;
+    if (j - i == 1) wrong += here[i].named != -1;
+    if (j - i == 2) wrong += (here[i].named != here[i + 1].tet) + (here[i + 1].named != here[i].tet);
+    i = j;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPI_INT64_T, MPI_SUM, part.comm);
+  return wrong;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -533,13 +714,29 @@ DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_pa
   return check_part(part, input, "the boundary file");
 }
 
+DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  Part part = part_of(comm);
+  // 1. The input, on rank 0.
+  const InputFigures input = read_input(comm, part.rank, input_path);
+  // 2. Every rank the same share of each file's bytes; points, tets and neighbour rows to their
+  // owners (runs of ids), the faces kept where read.
+  const TetgenExtras extras = read_tetgen_parts(part, prefix);
+  // 3. The checks, their counts summed over the ranks; the .neigh rows and the set's ID.
+  DistributedCheckReport report = check_part(part, input, "the .face file");
+  if (const std::int64_t wrong = check_neighbours(part, extras.neighbours); wrong > 0)
+    report.violations.push_back(std::to_string(wrong) + " tet faces have another neighbour in the .neigh file than "
+                                                        "the tets imply");
+  if (!extras.set_violation.empty()) report.violations.push_back(extras.set_violation);
+  return report;
+}
+
 DistributedCheckReport check_msh_set(MPI_Comm comm, const std::string& input_path, const std::string& path) {
   Part part = part_of(comm);
   // 1. The input, on rank 0.
   const InputFigures input = read_input(comm, part.rank, input_path);
   // 2. Every rank its files of the set; the points to their owners (runs of ids).
   MshPart mine = read_msh_share(part, path);
-  place_points(part, mine, path);
+  place_msh_points(part, mine, path);
   part.block.tets = std::move(mine.tets);
   part.block.faces = std::move(mine.triangles);
   part.block.face_marker.assign(part.block.faces.size(), 1);  // MSH has no split triangles to mark

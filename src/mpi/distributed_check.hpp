@@ -1,7 +1,7 @@
-// `partet check` on an XDMF set or an MSH partition set, on any number of ranks: each rank reads
-// and checks its own part of the tets and boundary faces; what spans ranks (a face's two tets, an
-// edge, a vertex's use, a boundary triangle against the input) is decided by the rank its key
-// hashes to. So no rank holds the whole mesh, and a mesh too large for one process can still be
+// `partet check` on an XDMF set, an MSH file or partition set, or TetGen files, on any number of
+// ranks: each rank reads and checks its own part of the tets and boundary faces; what spans ranks
+// (a face's two tets, an edge, a vertex's use, a boundary triangle against the input) is decided
+// by the rank its key hashes to. So no rank holds the whole mesh, and a mesh too large for one process can still be
 // verified. It checks what
 // check_mesh checks for TetGen files, exact boundary rule: ids in range, every tet positively
 // oriented (exact predicate), every triangle in at most two tets on opposite sides, the boundary
@@ -35,5 +35,13 @@ DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_pa
 // process can be checked on several. Throws InputError (on every rank) when a file cannot be read,
 // a node has other coordinates in another file, or a tag between 1 and the highest is missing.
 DistributedCheckReport check_msh_set(MPI_Comm comm, const std::string& input_path, const std::string& path);
+
+// The same check on TetGen files PREFIX.node .ele .face .neigh as partet writes them (each file
+// ending with its set ID): every rank reads the same share of each file's bytes (whole lines);
+// points, tets and .neigh rows go to their owners by index. Besides the checks above, the .neigh
+// rows must name the tets the faces imply and all four files the same set ID. Throws InputError
+// (on every rank) on a missing file, a malformed row, an index missing, repeated or out of range,
+// or a set without an ID (not partet's: its faces are not promised outward).
+DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix);
 
 }  // namespace partet

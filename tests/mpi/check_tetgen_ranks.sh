@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# partet check on TetGen files under mpirun, each rank reading a share of every file's bytes: on
+# 2, 3 and 4 ranks it must agree with the check in one process (vertices, tets, boundary faces,
+# volume, V-E+F-T), and on 2 ranks it must catch each kind of damage done to the text: an inverted
+# tet, a boundary face turned over, a wrong neighbour, a missing and a repeated row, files from
+# two runs, a set without partet's ID, a missing file; --report needs one process.
+# Usage: check_tetgen_ranks.sh PARTET MPIEXEC
+set -euo pipefail
+partet=$1 mpiexec=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+"$partet" generate two_spheres --faces 4000 -o in.off > /dev/null
+"$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --quiet
+"$partet" check in.off m --json > serial.json
+for n in 2 3 4; do
+  "$mpiexec" -n $n "$partet" check in.off m --json > n$n.json
+  /usr/bin/python3 - serial.json n$n.json $n <<'PY'
+import json, sys
+serial, parts, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
+assert parts["ok"] and serial["ok"], parts["violations"]
+for key in ("vertices", "tets", "boundary_faces", "euler_mesh", "euler_expected"):
+    assert parts[key] == serial[key], f"{key}: {parts[key]} on {n} ranks, {serial[key]} in one process"
+for key in ("tet_volume", "surface_volume"):
+    assert abs(parts[key] - serial[key]) <= 1e-12 * abs(serial[key]), f"{key}: {parts[key]} vs {serial[key]}"
+print(f"ok: {n} ranks: {parts['vertices']} vertices, {parts['tets']} tets, {parts['boundary_faces']} boundary faces, "
+      "as in one process")
+PY
+done
+
+# damage NAME EXTENSION PYTHON-STATEMENTS EXPECTED: copies the set to d.*, runs the statements on
+# `lines` (the text of d.EXTENSION, split at newlines; lines[0] is the header, lines[i] row i - 1),
+# and the check on 2 ranks must fail saying EXPECTED.
+damage() {
+  for e in node ele face neigh; do cp m.$e d.$e; done
+  /usr/bin/python3 -c "
+lines = open('d.$2').read().split('\n')
+$3
+open('d.$2', 'w').write('\n'.join(lines))"
+  if "$mpiexec" -n 2 "$partet" check in.off d > out 2>&1; then echo "FAIL: $1 passed the check"; cat out; exit 1; fi
+  grep -q "$4" out || { echo "FAIL: $1: no '$4':"; cat out; exit 1; }
+  echo "ok: $1: $(grep -m 2 "VIOLATION\|error" out | tr '\n' ' ')"
+}
+swap() {  # ROW A B: python statements swapping values A and B (after the index) of row ROW
+  echo "r = lines[$1 + 1].split(); r[$2 + 1], r[$3 + 1] = r[$3 + 1], r[$2 + 1]; lines[$1 + 1] = '  '.join(r)"
+}
+damage "inverted tet" ele "$(swap 700 0 1)" "tets are inverted"
+damage "face turned over" face "$(swap 5 1 2)" "triangles of the .face file face into their tet"
+damage "wrong neighbour" neigh "r = lines[900].split(); r[1] = '-1' if r[1] != '-1' else '0'; lines[900] = ' '.join(r)" \
+  "tet faces have another neighbour in the .neigh file"
+damage "missing point row" node "del lines[1200]" "d.node has no row of index 1199"
+damage "repeated tet row" ele "lines.insert(801, lines[801])" "d.ele has index 800 twice"
+damage "files of two runs" face "lines[-2] = lines[-2][:-4] + '0000'" "come from different runs"
+damage "a set without partet's ID" neigh "lines[-2] = '# written elsewhere'" "only sets partet wrote"
+rm d.neigh
+if "$mpiexec" -n 2 "$partet" check in.off d > out 2>&1; then echo "FAIL: a missing .neigh passed"; exit 1; fi
+grep -q "cannot open d.neigh" out && echo "ok: a missing file: $(grep -m 1 error out)"
+if "$mpiexec" -n 2 "$partet" check in.off m --report r.json > out 2>&1; then echo "FAIL: --report on ranks"; exit 1; fi
+grep -q "need the whole mesh in one process" out && echo "ok: --report needs one process"
