@@ -71,6 +71,8 @@ void share_stop(int rank) {
   if (rank == 2 && injected("worker:stop-before-findings")) ::raise(SIGSTOP);
 }
 
+double check_pass_bytes(double fallback) { return seconds_or("PARTET_TEST_CHECK_PASS_BYTES", fallback); }
+
 double verdict_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_VERDICT_WAIT_S", fallback); }
 
 void worker_death(int rank) {

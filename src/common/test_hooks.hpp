@@ -1,7 +1,7 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh,
-// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh.
+// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/check_tetgen_ranks.sh.
 #pragma once
 #include <cstddef>
 
@@ -28,6 +28,9 @@ void share_failure(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-before-findings": rank 2 stops itself (SIGSTOP) once it has
 // checked its share of the input, before it sends its findings to rank 1.
 void share_stop(int rank);
+// PARTET_TEST_CHECK_PASS_BYTES=B: the record bytes a rank of the check on several ranks gathers
+// per pass (else fallback), so that small meshes are checked in many passes too.
+double check_pass_bytes(double fallback);
 // PARTET_TEST_VERDICT_WAIT_S=S: how long rank 1 waits for the other ranks' findings (else
 // fallback); rank 0 waits twice that for rank 1's verdict.
 double verdict_wait_seconds(double fallback);

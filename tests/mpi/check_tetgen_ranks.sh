@@ -13,31 +13,40 @@ cd "$work"
 "$partet" generate two_spheres --faces 4000 -o in.off > /dev/null
 "$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --quiet
 "$partet" check in.off m --json > serial.json
-for n in 2 3 4; do
-  "$mpiexec" -n $n "$partet" check in.off m --json > n$n.json
+# 4 ranks also in passes of 16 KB of records (10-25 per step of the check), as a mesh of
+# millions of tets is checked.
+for n in 2 3 4 4p; do
+  if [ $n = 4p ]; then
+    PARTET_TEST_CHECK_PASS_BYTES=16384 "$mpiexec" -n 4 "$partet" check in.off m --json > n$n.json
+  else
+    "$mpiexec" -n $n "$partet" check in.off m --json > n$n.json
+  fi
   /usr/bin/python3 - serial.json n$n.json $n <<'PY'
 import json, sys
 serial, parts, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
 assert parts["ok"] and serial["ok"], parts["violations"]
 for key in ("vertices", "tets", "boundary_faces", "euler_mesh", "euler_expected"):
-    assert parts[key] == serial[key], f"{key}: {parts[key]} on {n} ranks, {serial[key]} in one process"
+    assert parts[key] == serial[key], f"{key}: {parts[key]} on {n}, {serial[key]} in one process"
 for key in ("tet_volume", "surface_volume"):
     assert abs(parts[key] - serial[key]) <= 1e-12 * abs(serial[key]), f"{key}: {parts[key]} vs {serial[key]}"
-print(f"ok: {n} ranks: {parts['vertices']} vertices, {parts['tets']} tets, {parts['boundary_faces']} boundary faces, "
+label = f"{n[:-1]} ranks in passes of 16 KB" if n.endswith("p") else f"{n} ranks"
+print(f"ok: {label}: {parts['vertices']} vertices, {parts['tets']} tets, {parts['boundary_faces']} boundary faces, "
       "as in one process")
 PY
 done
 
 # damage NAME EXTENSION PYTHON-STATEMENTS EXPECTED: copies the set to d.*, runs the statements on
 # `lines` (the text of d.EXTENSION, split at newlines; lines[0] is the header, lines[i] row i - 1),
-# and the check on 2 ranks must fail saying EXPECTED.
+# and the check on 2 ranks must fail saying EXPECTED (each step in passes of 16 KB).
 damage() {
   for e in node ele face neigh; do cp m.$e d.$e; done
   /usr/bin/python3 -c "
 lines = open('d.$2').read().split('\n')
 $3
 open('d.$2', 'w').write('\n'.join(lines))"
-  if "$mpiexec" -n 2 "$partet" check in.off d > out 2>&1; then echo "FAIL: $1 passed the check"; cat out; exit 1; fi
+  if PARTET_TEST_CHECK_PASS_BYTES=16384 "$mpiexec" -n 2 "$partet" check in.off d > out 2>&1; then
+    echo "FAIL: $1 passed the check"; cat out; exit 1
+  fi
   grep -q "$4" out || { echo "FAIL: $1: no '$4':"; cat out; exit 1; }
   echo "ok: $1: $(grep -m 2 "VIOLATION\|error" out | tr '\n' ' ')"
 }

@@ -1,0 +1,240 @@
+#include "mpi/check_reading.hpp"
+
+#include <algorithm>
+#include <climits>
+
+#include "io/msh_read.hpp"
+#include "io/read_surface.hpp"
+#include "io/tetgen_files.hpp"
+#include "partet/errors.hpp"
+#include "stages/check.hpp"
+#include "stages/validate.hpp"
+
+namespace partet::distributed {
+
+InputFigures read_input(MPI_Comm comm, int rank, const std::string& path) {
+  InputFigures input;
+  throw_if_any(comm, rank == 0 ? error_of(path, [&] { input.surface = read_surface(path); }) : "");
+  long double figures[2] = {0, 0};  // enclosed volume, Euler characteristic
+  if (rank == 0) figures[0] = enclosed_volume_precise(input.surface), figures[1] = surface_euler_characteristic(input.surface);
+  MPI_Bcast(figures, 2, MPI_LONG_DOUBLE, 0, comm);
+  input.volume = figures[0], input.euler = figures[1];
+  return input;
+}
+
+namespace {
+
+
+
+std::vector<std::string> broadcast_lines(MPI_Comm comm, const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + '\n';
+  std::uint64_t length = text.size();
+  MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm);
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+  std::vector<std::string> out;
+  for (std::size_t at = 0, end; (end = text.find('\n', at)) != std::string::npos; at = end + 1)
+    out.push_back(text.substr(at, end - at));
+  return out;
+}
+
+// This rank's files of an MSH set: rank 0 reads the named one, which lists the set; file i of
+// the set is rank (i mod size)'s.
+MshPart read_msh_share(const Part& part, const std::string& path) {
+  MshPart mine;
+  std::vector<std::string> files;
+  throw_if_any(part.comm, part.rank == 0 ? error_of(path, [&] { files = read_msh_named(path, mine); }) : "");
+  files = broadcast_lines(part.comm, files);
+  std::string error;
+  for (std::size_t i = 1; i < files.size() && error.empty(); ++i)
+    if (static_cast<int>(i % static_cast<std::size_t>(part.size)) == part.rank)
+      error = error_of(files[i], [&] { read_msh_file(files[i], mine); });
+  throw_if_any(part.comm, error);
+  return mine;
+}
+
+// A row of a file with its id: a point, or a tet's vertices or neighbours.
+template <class Values>
+struct Row {
+  Id id;
+  Values values;
+};
+
+// How a row given twice is taken: the same point in several MSH partition files, or a TetGen
+// file's index, which must be unique.
+enum class Repeats { same_values, refused };
+
+// Rows to the owners of their ids (each rank the run of [0, total) the XDMF check's ranks read)
+// and returned in id order: every id in [0, total) given, once or (same_values) with the same
+// values each time; otherwise every rank throws InputError naming `file` (the lowest rank's find).
+template <class Values>
+std::vector<Values> place_rows(const Part& part, std::vector<Id>&& ids, std::vector<Values>&& values,
+                               std::uint64_t total, Repeats repeats, const std::string& file) {
+  // `file` names a TetGen file, or an MSH set ("the set of 'PATH'"), whose rows are nodes by tag.
+  std::vector<std::vector<Row<Values>>> outgoing(part.size);
+  std::string error;
+  for (std::size_t i = 0; i < ids.size() && error.empty(); ++i) {
+    if (ids[i] < 0 || static_cast<std::uint64_t>(ids[i]) >= total)
+      error = file + " has index " + std::to_string(ids[i]) + ", beyond its " + std::to_string(total) + " rows";
+    else
+      outgoing[run_owner(ids[i], total, part.size)].push_back({ids[i], values[i]});
+  }
+  throw_if_any(part.comm, error);
+  std::vector<Id>().swap(ids);
+  std::vector<Values>().swap(values);
+  std::vector<Row<Values>> here = all_to_all(part.comm, std::move(outgoing));
+  std::sort(here.begin(), here.end(), [](const Row<Values>& a, const Row<Values>& b) { return a.id < b.id; });
+  const auto [first, last] = run_of(total, part.rank, part.size);
+  std::vector<Values> placed(last - first);
+  std::uint64_t expected = first;
+  for (std::size_t i = 0; i < here.size() && error.empty(); ++i) {
+    const std::uint64_t id = static_cast<std::uint64_t>(here[i].id);
+    if (i > 0 && here[i - 1].id == here[i].id) {
+      if (repeats == Repeats::refused)
+        error = file + " has index " + std::to_string(id) + " twice";
+      else if (here[i - 1].values != here[i].values)
+        error = "two files of " + file + " give node " + std::to_string(id + 1) + " other coordinates";
+      continue;
+    }
+    if (id != expected) break;
+    placed[id - first] = here[i].values, ++expected;
+  }
+  if (error.empty() && expected != last)
+    error = repeats == Repeats::refused ? file + " has no row of index " + std::to_string(expected)
+                                        : "no file of " + file + " gives node " + std::to_string(expected + 1) +
+                                              " (the tags must run from 1 to the highest)";
+  throw_if_any(part.comm, error);
+  return placed;
+}
+
+// The MSH set's points: node tags from 1 to the highest, a node in several files the same in each.
+void place_msh_points(Part& part, MshPart& mine, const std::string& path) {
+  std::int64_t highest = -1;
+  for (Id id : mine.node_ids) highest = std::max(highest, id);
+  MPI_Allreduce(MPI_IN_PLACE, &highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
+  part.totals.points = static_cast<std::uint64_t>(highest + 1);
+  part.block.points = place_rows(part, std::move(mine.node_ids), std::move(mine.nodes), part.totals.points,
+                                 Repeats::same_values, "the set of '" + path + "'");
+}
+
+// ---------------------------------------------------------------------------------------------
+// A set of TetGen files, each read in parts: rank r reads the r-th share of every file's bytes
+
+// This rank's rows of one file of the set, and the file's layout.
+TetgenRowsRead read_tetgen_part(const Part& part, const std::string& path, TetgenFile file, TetgenFileLayout& layout) {
+  TetgenRowsRead rows;
+  throw_if_any(part.comm, error_of(path, [&] {
+                 layout = tetgen_file_layout(path, file);
+                 rows = read_tetgen_rows(path, file, tetgen_part_begin(path, layout, part.rank, part.size),
+                                         tetgen_part_begin(path, layout, part.rank + 1, part.size));
+               }));
+  return rows;
+}
+
+// The file's numbering base (0 or 1, as TetGen allows): its first row's index. Rows out of order
+// are found when they are placed.
+std::int64_t numbering_base(const Part& part, const TetgenRowsRead& rows, const std::string& path) {
+  std::int64_t first = rows.index.empty() ? INT64_MAX : rows.index.front();
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT64_T, MPI_MIN, part.comm);
+  if (first == INT64_MAX) return 0;  // no rows
+  if (first != 0 && first != 1)
+    throw InputError(path + ": first index must be 0 or 1, found " + std::to_string(first));  // on every rank
+  return first;
+}
+
+// The ids of rows (their index less the base), and each row's values as 0-based ids; -1 stays
+// -1 (a neighbour row's "none").
+std::vector<Id> row_ids(const std::vector<std::int64_t>& index, std::int64_t base) {
+  std::vector<Id> ids(index.size());
+  for (std::size_t i = 0; i < index.size(); ++i) ids[i] = index[i] - base;
+  return ids;
+}
+
+template <std::size_t N>
+std::vector<std::array<Id, N>> rows_of_ids(const std::vector<std::int64_t>& values, std::int64_t base, bool keep_minus_one) {
+  std::vector<std::array<Id, N>> rows(values.size() / N);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t k = 0; k < N; ++k) {
+      const std::int64_t v = values[N * i + k];
+      rows[i][k] = keep_minus_one && v == -1 ? -1 : v - base;
+    }
+  return rows;
+}
+
+// The set's ID: every file's "# partet mesh ID" line (found by whichever rank reads the file's
+// end) must be there and the same. Without one the set is not partet's, and its .face file
+// does not promise outward faces: that is for the check in one process.
+std::string check_set_id(const std::vector<std::pair<std::string, std::string>>& ids) {
+  for (const auto& [file, id] : ids)
+    if (id.empty())
+      throw InputError(file + " has no '# partet mesh ID' line: only sets partet wrote are checked on several ranks; "
+                       "check this one in one process");
+  for (const auto& [file, id] : ids)
+    if (id != ids.front().second)
+      return "the files come from different runs: " + ids.front().first + " has mesh ID '" + ids.front().second +
+             "', " + file + " has '" + id + "'";
+  return "";
+}
+
+}  // namespace
+
+void read_msh_part(Part& part, const std::string& path) {
+  MshPart mine = read_msh_share(part, path);
+  place_msh_points(part, mine, path);
+  part.block.tets = std::move(mine.tets);
+  part.block.faces = std::move(mine.triangles);
+  part.block.face_marker.assign(part.block.faces.size(), 1);  // MSH has no split triangles to mark
+  std::uint64_t counts[2] = {part.block.tets.size(), part.block.faces.size()};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_UINT64_T, MPI_SUM, part.comm);
+  part.totals.tets = counts[0], part.totals.faces = counts[1];
+}
+
+TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
+  TetgenExtras extras;
+  std::vector<std::pair<std::string, std::string>> ids;
+  const auto read = [&](TetgenFile file, TetgenFileLayout& layout, std::int64_t& base) {
+    const std::string path = prefix + extension(file);
+    TetgenRowsRead rows = read_tetgen_part(part, path, file, layout);
+    base = numbering_base(part, rows, path);
+    ids.push_back({path, first_nonempty(part.comm, rows.id)});
+    return rows;
+  };
+  TetgenFileLayout node, ele, face, neigh;
+  std::int64_t vertex_base = 0, tet_base = 0, unused_base = 0;
+  {
+    TetgenRowsRead rows = read(TetgenFile::node, node, vertex_base);
+    part.totals.points = static_cast<std::uint64_t>(node.count);
+    part.block.points = place_rows(part, row_ids(rows.index, vertex_base), std::move(rows.points), part.totals.points,
+                                   Repeats::refused, prefix + ".node");
+  }
+  {
+    TetgenRowsRead rows = read(TetgenFile::ele, ele, tet_base);
+    part.totals.tets = static_cast<std::uint64_t>(ele.count);
+    part.block.tets = place_rows(part, row_ids(rows.index, tet_base), rows_of_ids<4>(rows.values, vertex_base, false),
+                                 part.totals.tets, Repeats::refused, prefix + ".ele");
+  }
+  {
+    TetgenRowsRead rows = read(TetgenFile::face, face, unused_base);
+    part.block.faces = rows_of_ids<3>(rows.values, vertex_base, false);
+    part.block.face_marker = std::move(rows.markers);
+    std::uint64_t faces = part.block.faces.size();
+    MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
+    if (faces != static_cast<std::uint64_t>(face.count))
+      throw InputError(prefix + ".face declares " + std::to_string(face.count) + " faces but has " +
+                       std::to_string(faces) + " rows");  // on every rank
+    part.totals.faces = faces;
+  }
+  {
+    TetgenRowsRead rows = read(TetgenFile::neigh, neigh, unused_base);
+    if (neigh.count != ele.count)
+      throw InputError(prefix + ".neigh: " + std::to_string(neigh.count) + " neighbour rows for " +
+                       std::to_string(ele.count) + " tetrahedra");
+    extras.neighbours = place_rows(part, row_ids(rows.index, tet_base), rows_of_ids<4>(rows.values, tet_base, true),
+                                   part.totals.tets, Repeats::refused, prefix + ".neigh");
+  }
+  extras.set_violation = check_set_id(ids);
+  return extras;
+}
+
+}  // namespace partet::distributed

@@ -1,0 +1,33 @@
+// The check on several ranks (distributed_check.hpp), internal: what each rank reads of the input
+// and of the mesh's files, into its Part.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mpi/check_exchange.hpp"
+#include "partet/mesh_types.hpp"
+
+namespace partet::distributed {
+
+// What the check needs of the input, on every rank; the surface itself stays on rank 0.
+struct InputFigures {
+  SurfaceMesh surface;  // rank 0's only
+  long double volume = 0, euler = 0;
+};
+// Collective: rank 0 reads the input, every rank gets its figures.
+InputFigures read_input(MPI_Comm comm, int rank, const std::string& path);
+
+// Collective: this rank's part of an MSH file or partition set (see check_msh_set).
+void read_msh_part(Part& part, const std::string& path);
+
+// What only a TetGen set has besides the mesh: its .neigh rows (tet id order, this rank's run),
+// and a violation when its files carry different set IDs.
+struct TetgenExtras {
+  std::vector<std::array<Id, 4>> neighbours;
+  std::string set_violation;
+};
+// Collective: this rank's part of the TetGen files at prefix (see check_tetgen_set).
+TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix);
+
+}  // namespace partet::distributed
