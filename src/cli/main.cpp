@@ -449,9 +449,9 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
   check->add_option("prefix", c.check_prefix,
                     "prefix of the .node/.ele files; PREFIX.msh, or one file of an MSH partition set "
-                    "(PREFIX_1.msh: the whole set is read; under mpirun each rank reads some of its files and checks "
-                    "its part); or PREFIX.xdmf: the XDMF set, checked on every rank of "
-                    "an mpirun job, each rank its part")
+                    "(PREFIX_1.msh: the whole set is read); or PREFIX.xdmf, the XDMF set. Under mpirun every rank "
+                    "reads and checks its part of any of them (no quality figures then), so a mesh too large for "
+                    "one process can be checked")
       ->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
   check->add_flag("--allow-split-faces", c.check_split,

@@ -24,8 +24,7 @@ InputFigures read_input(MPI_Comm comm, int rank, const std::string& path) {
 
 namespace {
 
-
-
+// Rank 0's lines, on every rank.
 std::vector<std::string> broadcast_lines(MPI_Comm comm, const std::vector<std::string>& lines) {
   std::string text;
   for (const std::string& line : lines) text += line + '\n';
@@ -177,6 +176,61 @@ std::string check_set_id(const std::vector<std::pair<std::string, std::string>>&
   return "";
 }
 
+// One file of a TetGen set: its layout, its numbering base and this rank's rows. Its set ID is
+// added to `ids`.
+struct FileShare {
+  TetgenFileLayout layout;
+  std::int64_t base = 0;
+  TetgenRowsRead rows;
+};
+
+FileShare read_share(const Part& part, const std::string& prefix, TetgenFile file,
+                     std::vector<std::pair<std::string, std::string>>& ids) {
+  const std::string path = prefix + extension(file);
+  FileShare share;
+  share.rows = read_tetgen_part(part, path, file, share.layout);
+  share.base = numbering_base(part, share.rows, path);
+  ids.push_back({path, first_nonempty(part.comm, share.rows.id)});
+  return share;
+}
+
+// place_points and place_tets free the rows they place (the layout and base stay).
+void place_points(Part& part, FileShare& node, const std::string& prefix) {
+  part.totals.points = static_cast<std::uint64_t>(node.layout.count);
+  part.block.points = place_rows(part, row_ids(node.rows.index, node.base), std::move(node.rows.points),
+                                 part.totals.points, Repeats::refused, prefix + ".node");
+  node.rows = {};
+}
+
+void place_tets(Part& part, FileShare& ele, std::int64_t vertex_base, const std::string& prefix) {
+  part.totals.tets = static_cast<std::uint64_t>(ele.layout.count);
+  part.block.tets = place_rows(part, row_ids(ele.rows.index, ele.base), rows_of_ids<4>(ele.rows.values, vertex_base, false),
+                               part.totals.tets, Repeats::refused, prefix + ".ele");
+  ele.rows = {};
+}
+
+// The .face rows stay where they were read.
+void keep_faces(Part& part, FileShare&& face, std::int64_t vertex_base, const std::string& prefix) {
+  part.block.faces = rows_of_ids<3>(face.rows.values, vertex_base, false);
+  part.block.face_marker = std::move(face.rows.markers);
+  std::uint64_t faces = part.block.faces.size();
+  MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
+  if (faces != static_cast<std::uint64_t>(face.layout.count))
+    throw InputError(prefix + ".face declares " + std::to_string(face.layout.count) + " faces but has " +
+                     std::to_string(faces) + " rows");  // on every rank
+  part.totals.faces = faces;
+}
+
+// The .neigh rows of this rank's tets, numbered as the .ele rows are.
+std::vector<std::array<Id, 4>> place_neighbours(const Part& part, const FileShare& neigh, const FileShare& ele,
+                                                const std::string& prefix) {
+  if (neigh.layout.count != ele.layout.count)
+    throw InputError(prefix + ".neigh: " + std::to_string(neigh.layout.count) + " neighbour rows for " +
+                     std::to_string(ele.layout.count) + " tetrahedra");  // on every rank
+  return place_rows(part, row_ids(neigh.rows.index, ele.base), rows_of_ids<4>(neigh.rows.values, ele.base, true),
+                    part.totals.tets, Repeats::refused, prefix + ".neigh");
+}
+
 }  // namespace
 
 void read_msh_part(Part& part, const std::string& path) {
@@ -191,48 +245,14 @@ void read_msh_part(Part& part, const std::string& path) {
 }
 
 TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
+  std::vector<std::pair<std::string, std::string>> ids;  // each file's set ID
+  FileShare node = read_share(part, prefix, TetgenFile::node, ids);
+  place_points(part, node, prefix);
+  FileShare ele = read_share(part, prefix, TetgenFile::ele, ids);
+  place_tets(part, ele, node.base, prefix);
+  keep_faces(part, read_share(part, prefix, TetgenFile::face, ids), node.base, prefix);
   TetgenExtras extras;
-  std::vector<std::pair<std::string, std::string>> ids;
-  const auto read = [&](TetgenFile file, TetgenFileLayout& layout, std::int64_t& base) {
-    const std::string path = prefix + extension(file);
-    TetgenRowsRead rows = read_tetgen_part(part, path, file, layout);
-    base = numbering_base(part, rows, path);
-    ids.push_back({path, first_nonempty(part.comm, rows.id)});
-    return rows;
-  };
-  TetgenFileLayout node, ele, face, neigh;
-  std::int64_t vertex_base = 0, tet_base = 0, unused_base = 0;
-  {
-    TetgenRowsRead rows = read(TetgenFile::node, node, vertex_base);
-    part.totals.points = static_cast<std::uint64_t>(node.count);
-    part.block.points = place_rows(part, row_ids(rows.index, vertex_base), std::move(rows.points), part.totals.points,
-                                   Repeats::refused, prefix + ".node");
-  }
-  {
-    TetgenRowsRead rows = read(TetgenFile::ele, ele, tet_base);
-    part.totals.tets = static_cast<std::uint64_t>(ele.count);
-    part.block.tets = place_rows(part, row_ids(rows.index, tet_base), rows_of_ids<4>(rows.values, vertex_base, false),
-                                 part.totals.tets, Repeats::refused, prefix + ".ele");
-  }
-  {
-    TetgenRowsRead rows = read(TetgenFile::face, face, unused_base);
-    part.block.faces = rows_of_ids<3>(rows.values, vertex_base, false);
-    part.block.face_marker = std::move(rows.markers);
-    std::uint64_t faces = part.block.faces.size();
-    MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
-    if (faces != static_cast<std::uint64_t>(face.count))
-      throw InputError(prefix + ".face declares " + std::to_string(face.count) + " faces but has " +
-                       std::to_string(faces) + " rows");  // on every rank
-    part.totals.faces = faces;
-  }
-  {
-    TetgenRowsRead rows = read(TetgenFile::neigh, neigh, unused_base);
-    if (neigh.count != ele.count)
-      throw InputError(prefix + ".neigh: " + std::to_string(neigh.count) + " neighbour rows for " +
-                       std::to_string(ele.count) + " tetrahedra");
-    extras.neighbours = place_rows(part, row_ids(rows.index, tet_base), rows_of_ids<4>(rows.values, tet_base, true),
-                                   part.totals.tets, Repeats::refused, prefix + ".neigh");
-  }
+  extras.neighbours = place_neighbours(part, read_share(part, prefix, TetgenFile::neigh, ids), ele, prefix);
   extras.set_violation = check_set_id(ids);
   return extras;
 }
