@@ -218,6 +218,15 @@ for log in $logs; do
     failed=1
   fi
 done
+# On several nodes the XDMF set is checked by all of the job's ranks, one per node.
+if [ "$node_count" -gt 1 ]; then
+  if grep -q "checked on $node_count ranks" "$run/jobs/slurm-multinode.log" 2>/dev/null; then
+    echo "ok: slurm-multinode: the XDMF set checked on $node_count ranks, one per node"
+  else
+    echo "FAIL: slurm-multinode: the XDMF set was not checked on $node_count ranks"
+    failed=1
+  fi
+fi
 # On several nodes the files must be those one process writes (same pieces: 2 and 4 per rank).
 if [ "$node_count" -gt 1 ] && [ $failed -eq 0 ]; then
   (cd "$run/jobs" && "$partet" mesh "$input" -o one --pieces $((2 * node_count)) --quiet &&
