@@ -28,8 +28,9 @@ void share_failure(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-before-findings": rank 2 stops itself (SIGSTOP) once it has
 // checked its share of the input, before it sends its findings to rank 1.
 void share_stop(int rank);
-// PARTET_TEST_CHECK_PASS_BYTES=B: the record bytes a rank of the check on several ranks gathers
-// per pass (else fallback), so that small meshes are checked in many passes too.
+// PARTET_TEST_CHECK_PASS_BYTES=B: the bytes the check on several ranks takes at a time (else
+// fallback): a rank's records per pass, and a TetGen file's text per read; so that small meshes
+// are checked in many passes and reads too.
 double check_pass_bytes(double fallback);
 // PARTET_TEST_VERDICT_WAIT_S=S: how long rank 1 waits for the other ranks' findings (else
 // fallback); rank 0 waits twice that for rank 1's verdict.

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/test_hooks.hpp"
 #include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
 #include "partet/errors.hpp"
@@ -538,37 +539,52 @@ TetgenFileLayout tetgen_file_layout(const std::string& path, TetgenFile file) {
   return layout;
 }
 
+namespace {
+
+// Where the first line that starts at or after byte `at` (> 0) starts: after the first newline at
+// or after at - 1; `size` when there is none.
+std::uint64_t line_start_from(const std::string& path, std::uint64_t at, std::uint64_t size) {
+  if (at >= size) return size;
+  std::FILE* f = open_regular_file(path);
+  bool found = false;
+  if (::fseeko(f, static_cast<off_t>(--at), SEEK_SET) == 0)
+    for (int c; !found && (c = std::fgetc(f)) != EOF; ++at) found = c == '\n';
+  std::fclose(f);
+  return found ? at : size;
+}
+
+}  // namespace
+
 std::uint64_t tetgen_part_begin(const std::string& path, const TetgenFileLayout& layout, int part, int parts) {
   if (part <= 0) return layout.rows_begin;
   if (part >= parts) return layout.size;
   const std::uint64_t share = layout.rows_begin + static_cast<std::uint64_t>(
       (static_cast<unsigned __int128>(layout.size - layout.rows_begin) * static_cast<unsigned>(part)) / static_cast<unsigned>(parts));
-  // The first line that starts at or after `share`: after the first newline at or after share - 1.
-  std::FILE* f = open_regular_file(path);
-  std::uint64_t at = share - 1;
-  bool found = false;
-  if (::fseeko(f, static_cast<off_t>(at), SEEK_SET) == 0)
-    for (int c; !found && (c = std::fgetc(f)) != EOF; ++at) found = c == '\n';
-  std::fclose(f);
-  return found ? at : layout.size;
+  return line_start_from(path, share, layout.size);
 }
 
 TetgenRowsRead read_tetgen_rows(const std::string& path, TetgenFile file, std::uint64_t begin, std::uint64_t end) {
-  LineReader in(path, begin, end);
+  // In chunks of whole lines: a rank's share of a file's text can be larger than its rows.
+  static const auto kChunk = static_cast<std::uint64_t>(std::max(1.0, test_hooks::check_pass_bytes(64 << 20)));
   TetgenRowsRead rows;
   const std::size_t per_row = file == TetgenFile::face ? 3 : 4;
-  while (in.next_line()) {
-    rows.index.push_back(in.integer("index"));
-    if (file == TetgenFile::node) {
-      Point3 p;
-      for (double& x : p) x = in.real("coordinate");
-      rows.points.push_back(p);
-      continue;
+  for (std::uint64_t at = begin; at < end;) {
+    const std::uint64_t next = std::min(end, line_start_from(path, at + kChunk, end));
+    LineReader in(path, at, next);
+    while (in.next_line()) {
+      rows.index.push_back(in.integer("index"));
+      if (file == TetgenFile::node) {
+        Point3 p;
+        for (double& x : p) x = in.real("coordinate");
+        rows.points.push_back(p);
+        continue;
+      }
+      for (std::size_t k = 0; k < per_row; ++k) rows.values.push_back(in.integer(file == TetgenFile::neigh ? "neighbour index" : "vertex index"));
+      if (file == TetgenFile::face) rows.markers.push_back(static_cast<std::int32_t>(in.integer_or(1, "boundary marker")));
     }
-    for (std::size_t k = 0; k < per_row; ++k) rows.values.push_back(in.integer(file == TetgenFile::neigh ? "neighbour index" : "vertex index"));
-    if (file == TetgenFile::face) rows.markers.push_back(static_cast<std::int32_t>(in.integer_or(1, "boundary marker")));
+    if (rows.id.empty()) rows.id = in.id();
+    at = next;
   }
-  rows.id = in.id();
   return rows;
 }
 

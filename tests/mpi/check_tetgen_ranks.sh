@@ -13,8 +13,8 @@ cd "$work"
 "$partet" generate two_spheres --faces 4000 -o in.off > /dev/null
 "$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --quiet
 "$partet" check in.off m --json > serial.json
-# 4 ranks also in passes of 16 KB of records (10-25 per step of the check), as a mesh of
-# millions of tets is checked.
+# 4 ranks also in passes of 16 KB of records (10-25 per step of the check) and reads of 16 KB of
+# text, as a mesh of millions of tets is checked.
 for n in 2 3 4 4p; do
   if [ $n = 4p ]; then
     PARTET_TEST_CHECK_PASS_BYTES=16384 "$mpiexec" -n 4 "$partet" check in.off m --json > n$n.json
