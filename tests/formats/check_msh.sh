@@ -6,7 +6,7 @@
 # over, a node moved in one partition file only, a missing partition file.
 # Usage: check_msh.sh PARTET MPIEXEC
 set -euo pipefail
-partet=$1 mpiexec=$2
+partet=$1 mpiexec=$2 tests=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -14,19 +14,7 @@ cd "$work"
 "$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --format tetgen,msh,msh-parts --quiet
 "$mpiexec" -n 2 "$partet" mesh in.off -o b --pieces 4 --format msh-binary,msh-parts-binary --quiet
 "$partet" check in.off m --json > serial.json
-same_as_tetgen_files() {  # JSON NAME
-  /usr/bin/python3 - serial.json "$1" "$2" <<'PY'
-import json, sys
-serial, msh, name = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
-assert msh["ok"] and serial["ok"], msh["violations"]
-for key in ("vertices", "tets", "boundary_faces", "euler_mesh", "euler_expected"):
-    assert msh[key] == serial[key], f"{key}: {msh[key]} from {name}, {serial[key]} from the TetGen files"
-for key in ("tet_volume", "surface_volume"):  # summed in another order on several ranks
-    assert abs(msh[key] - serial[key]) <= 1e-12 * abs(serial[key]), f"{key}: {msh[key]} vs {serial[key]}"
-print(f"ok: {name}: {msh['vertices']} vertices, {msh['tets']} tets, {msh['boundary_faces']} boundary faces, "
-      "as the TetGen files")
-PY
-}
+same_as_tetgen_files() { "$tests/same_check.py" serial.json "$1" "$2" "the TetGen files"; }  # JSON NAME
 for set in m.msh m_1.msh m_3.msh b.msh b_2.msh; do
   "$partet" check in.off "$set" --json > "$set.json"
   same_as_tetgen_files "$set.json" "$set"

@@ -6,7 +6,7 @@
 # two runs, a set without partet's ID, a missing file; --report needs one process.
 # Usage: check_tetgen_ranks.sh PARTET MPIEXEC
 set -euo pipefail
-partet=$1 mpiexec=$2
+partet=$1 mpiexec=$2 tests=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -21,18 +21,9 @@ for n in 2 3 4 4p; do
   else
     "$mpiexec" -n $n "$partet" check in.off m --json > n$n.json
   fi
-  /usr/bin/python3 - serial.json n$n.json $n <<'PY'
-import json, sys
-serial, parts, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
-assert parts["ok"] and serial["ok"], parts["violations"]
-for key in ("vertices", "tets", "boundary_faces", "euler_mesh", "euler_expected"):
-    assert parts[key] == serial[key], f"{key}: {parts[key]} on {n}, {serial[key]} in one process"
-for key in ("tet_volume", "surface_volume"):
-    assert abs(parts[key] - serial[key]) <= 1e-12 * abs(serial[key]), f"{key}: {parts[key]} vs {serial[key]}"
-label = f"{n[:-1]} ranks in passes of 16 KB" if n.endswith("p") else f"{n} ranks"
-print(f"ok: {label}: {parts['vertices']} vertices, {parts['tets']} tets, {parts['boundary_faces']} boundary faces, "
-      "as in one process")
-PY
+  label="$n ranks"
+  [ $n = 4p ] && label="4 ranks in passes of 16 KB"
+  "$tests/same_check.py" serial.json n$n.json "$label" "one process"
 done
 
 # damage NAME EXTENSION PYTHON-STATEMENTS EXPECTED: copies the set to d.*, runs the statements on

@@ -6,7 +6,7 @@
 # and a different input.
 # Usage: check_xdmf.sh PARTET MPIEXEC
 set -euo pipefail
-partet=$1 mpiexec=$2
+partet=$1 mpiexec=$2 tests=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -16,17 +16,7 @@ cd "$work"
 "$partet" check in.off m --json > serial.json
 for n in 1 2 3; do
   "$mpiexec" -n $n "$partet" check in.off m.xdmf --json > n$n.json
-  /usr/bin/python3 - serial.json n$n.json $n <<'PY'
-import json, sys
-serial, parts, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
-assert parts["ok"] and serial["ok"], parts["violations"]
-for key in ("vertices", "tets", "boundary_faces", "euler_mesh", "euler_expected"):
-    assert parts[key] == serial[key], f"{key}: {parts[key]} on {n} ranks, {serial[key]} serially"
-for key in ("tet_volume", "surface_volume"):
-    assert abs(parts[key] - serial[key]) <= 1e-12 * abs(serial[key]), f"{key}: {parts[key]} vs {serial[key]}"
-print(f"ok: {n} ranks: {parts['vertices']} vertices, {parts['tets']} tets, {parts['boundary_faces']} boundary faces, "
-      f"as the serial check")
-PY
+  "$tests/same_check.py" serial.json n$n.json "$n ranks" "the serial check"
 done
 
 damage() {  # NAME PYTHON-STATEMENTS EXPECTED-VIOLATION
