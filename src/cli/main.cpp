@@ -127,26 +127,30 @@ void settle(const std::string& prefix) {
   if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
 }
 
-bool is_msh(const std::string& path) {
-  partet::MeshFormat format;
-  std::string run;
-  return partet::split_format_extension(path, format, run) && format == partet::MeshFormat::msh;
+// Whether PATH's extension names `format`; `run` (if given) is then PATH without it.
+bool names_format(const std::string& path, partet::MeshFormat format, std::string* run = nullptr) {
+  partet::MeshFormat named;
+  std::string without;
+  if (!partet::split_format_extension(path, named, without) || named != format) return false;
+  if (run) *run = without;
+  return true;
 }
 
-// An MSH file's run may have been published at PREFIX (PREFIX.msh) or, for a partition file
-// PREFIX_i.msh, at PREFIX too.
-void settle_msh(const std::string& path) {
-  settle(path.substr(0, path.size() - std::strlen(".msh")));
+// An MSH file PATH's run (PATH without .msh) may have been published at RUN or, for a partition
+// file PREFIX_i.msh, at PREFIX.
+void settle_msh(const std::string& path, const std::string& run) {
+  settle(run);
   if (std::string parts; partet::partition_file_prefix(path, parts)) settle(parts);
 }
 
 // The set to check: TetGen files at a prefix, or an MSH file or partition set (PATH.msh).
 partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
-  if (!is_msh(prefix)) {
+  std::string run;
+  if (!names_format(prefix, partet::MeshFormat::msh, &run)) {
     settle(prefix);
     return partet::read_tetgen_set(prefix);
   }
-  settle_msh(prefix);
+  settle_msh(prefix, run);
   return partet::read_msh_set(prefix);
 }
 
@@ -161,23 +165,22 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
   return report.ok() ? 0 : 1;
 }
 
-bool is_xdmf(const std::string& path) { return path.size() > 5 && path.compare(path.size() - 5, 5, ".xdmf") == 0; }
-
 // The check on every rank of the job, each its part: an XDMF set (alone: on one rank), or under a
 // launcher an MSH file or partition set or TetGen files. Rank 0 prints.
 partet::DistributedCheckReport check_on_ranks(const std::string& input_path, const std::string& path) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (is_xdmf(path)) {
-    const std::string prefix = path.substr(0, path.size() - std::strlen(".xdmf"));
-    if (rank == 0) settle(prefix);
+  std::string run;
+  if (names_format(path, partet::MeshFormat::xdmf, &run)) {
+    if (rank == 0) settle(run);
     MPI_Barrier(MPI_COMM_WORLD);
-    return partet::check_xdmf_set(MPI_COMM_WORLD, input_path, prefix);
+    return partet::check_xdmf_set(MPI_COMM_WORLD, input_path, run);
   }
-  if (rank == 0) is_msh(path) ? settle_msh(path) : settle(path);
+  const bool msh = names_format(path, partet::MeshFormat::msh, &run);
+  if (rank == 0) msh ? settle_msh(path, run) : settle(path);
   MPI_Barrier(MPI_COMM_WORLD);
-  return is_msh(path) ? partet::check_msh_set(MPI_COMM_WORLD, input_path, path)
-                      : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
+  return msh ? partet::check_msh_set(MPI_COMM_WORLD, input_path, path)
+             : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
 }
 
 int run_check_distributed(const std::string& input_path, const std::string& path, bool json) {
@@ -681,20 +684,16 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*check && is_xdmf(c.check_prefix)) {
+    // An XDMF set is always checked on the job's ranks (alone: one), each its part; under a
+    // launcher with several ranks every set is (one process reads it whole, and also reports the
+    // quality).
+    const bool xdmf = names_format(c.check_prefix, partet::MeshFormat::xdmf);
+    if (*check && (xdmf || launched_size() > 1)) {
       if (c.check_split || !c.check_report.empty())
         return usage_error(argc, argv,
-                           "--allow-split-faces and --report apply to TetGen files; check those (PREFIX) instead of "
-                           "PREFIX.xdmf");
-      return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
-    }
-    // Under a launcher with several ranks every set is checked in parts, one per rank (one
-    // process reads it whole, and also reports the quality).
-    if (*check && launched_size() > 1) {
-      if (c.check_split || !c.check_report.empty())
-        return usage_error(argc, argv,
-                           "--allow-split-faces and --report need the whole mesh in one process: run partet check "
-                           "without mpirun");
+                           std::string("--allow-split-faces and --report ") +
+                               (xdmf ? "apply to TetGen files; check those (PREFIX) instead of PREFIX.xdmf"
+                                     : "need the whole mesh in one process: run partet check without mpirun"));
       return run_check_on_ranks(argc, argv, c.check_input, c.check_prefix, c.check_json);
     }
     if (*check)

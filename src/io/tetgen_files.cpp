@@ -334,6 +334,29 @@ std::int64_t read_row_index(LineReader& in, std::int64_t row, std::int64_t& base
   return index;
 }
 
+// What a file's header counts, in messages (the file read in parts).
+const char* rows_named(TetgenFile file) {
+  switch (file) {
+    case TetgenFile::node: return "points";
+    case TetgenFile::ele: return "tetrahedra";
+    case TetgenFile::face: return "faces";
+    default: return "neighbour rows";
+  }
+}
+
+// The header line's fields after its count: .node's dimension must be 3, .ele's nodes per
+// tetrahedron 4 (or 10, where second-order tets are read).
+void check_header_fields(LineReader& in, TetgenFile file, bool second_order_tets) {
+  if (file == TetgenFile::node)
+    if (std::int64_t dim = in.integer_or(3, "dimension"); dim != 3)
+      in.error("dimension must be 3, found " + std::to_string(dim));
+  if (file == TetgenFile::ele)
+    if (std::int64_t corners = in.integer_or(4, "nodes per tetrahedron");
+        corners != 4 && (corners != 10 || !second_order_tets))
+      in.error(std::string("nodes per tetrahedron must be 4") + (second_order_tets ? " or 10" : "") + ", found " +
+               std::to_string(corners));
+}
+
 std::int32_t read_vertex_ref(LineReader& in, std::int64_t base, std::size_t vertex_count) {
   std::int64_t v = in.integer("vertex index") - base;
   if (v < 0 || v >= static_cast<std::int64_t>(vertex_count))
@@ -344,8 +367,7 @@ std::int32_t read_vertex_ref(LineReader& in, std::int64_t base, std::size_t vert
 std::vector<Point3> read_node(LineReader& in, std::int64_t& base) {
   in.expect_line("the header");
   const std::int64_t count = read_count(in, "points");
-  if (std::int64_t dim = in.integer_or(3, "dimension"); dim != 3)
-    in.error("dimension must be 3, found " + std::to_string(dim));
+  check_header_fields(in, TetgenFile::node, true);
   check_fits(in, count, 8, "points");
   std::vector<Point3> points(static_cast<std::size_t>(count));
   base = 0;
@@ -379,8 +401,7 @@ std::vector<std::array<std::int32_t, N>> read_rows(LineReader& in, std::int64_t 
 std::vector<Tet> read_ele(LineReader& in, std::int64_t vertex_base, std::size_t vertex_count, std::int64_t& tet_base) {
   in.expect_line("the header");
   const std::int64_t count = read_count(in, "tetrahedra");
-  if (std::int64_t corners = in.integer_or(4, "nodes per tetrahedron"); corners != 4 && corners != 10)
-    in.error("nodes per tetrahedron must be 4 or 10, found " + std::to_string(corners));
+  check_header_fields(in, TetgenFile::ele, true);
   check_fits(in, count, 10, "tetrahedra");
   return read_rows<4>(
       in, count, "a tetrahedron", [&](LineReader& l) { return read_vertex_ref(l, vertex_base, vertex_count); },
@@ -526,14 +547,10 @@ TetgenFileLayout tetgen_file_layout(const std::string& path, TetgenFile file) {
   LineReader in(path, 0, 1 << 16);  // comments and the header line: a header is short
   in.expect_line("the header");
   TetgenFileLayout layout;
-  const char* what = file == TetgenFile::node ? "points" : file == TetgenFile::ele ? "tetrahedra" : file == TetgenFile::face ? "faces" : "neighbour rows";
-  layout.count = in.integer(what);
+  const char* what = rows_named(file);
+  layout.count = in.integer(what);  // 64-bit: no 2^31 bound as for a mesh read whole
   if (layout.count < 0) in.error(std::string("invalid ") + what + " " + std::to_string(layout.count));
-  if (file == TetgenFile::node)
-    if (std::int64_t dim = in.integer_or(3, "dimension"); dim != 3) in.error("dimension must be 3, found " + std::to_string(dim));
-  if (file == TetgenFile::ele)
-    if (std::int64_t corners = in.integer_or(4, "nodes per tetrahedron"); corners != 4)
-      in.error("nodes per tetrahedron must be 4, found " + std::to_string(corners));
+  check_header_fields(in, file, false);
   layout.rows_begin = in.next_line_byte();
   layout.size = in.file_size();
   return layout;

@@ -33,7 +33,8 @@ MPI_Datatype record_type() {
 // Sends outgoing[r] to rank r (each bucket freed as it is packed); returns what every rank sent
 // here, in rank order, and how many came from each (from_counts, if given).
 template <class T>
-std::vector<T> all_to_all(MPI_Comm comm, std::vector<std::vector<T>>&& outgoing, std::vector<int>* from_counts = nullptr) {
+std::vector<T> all_to_all(MPI_Comm comm, std::vector<std::vector<T>>&& outgoing,
+                          std::vector<int>* from_counts = nullptr) {
   const int size = static_cast<int>(outgoing.size());
   std::vector<int> send_counts(size), receive_counts(size), send_at(size, 0), receive_at(size, 0);
   std::size_t sending = 0;

@@ -16,7 +16,8 @@ InputFigures read_input(MPI_Comm comm, int rank, const std::string& path) {
   InputFigures input;
   throw_if_any(comm, rank == 0 ? error_of(path, [&] { input.surface = read_surface(path); }) : "");
   long double figures[2] = {0, 0};  // enclosed volume, Euler characteristic
-  if (rank == 0) figures[0] = enclosed_volume_precise(input.surface), figures[1] = surface_euler_characteristic(input.surface);
+  if (rank == 0)
+    figures[0] = enclosed_volume_precise(input.surface), figures[1] = surface_euler_characteristic(input.surface);
   MPI_Bcast(figures, 2, MPI_LONG_DOUBLE, 0, comm);
   input.volume = figures[0], input.euler = figures[1];
   return input;
@@ -151,7 +152,8 @@ std::vector<Id> row_ids(const std::vector<std::int64_t>& index, std::int64_t bas
 }
 
 template <std::size_t N>
-std::vector<std::array<Id, N>> rows_of_ids(const std::vector<std::int64_t>& values, std::int64_t base, bool keep_minus_one) {
+std::vector<std::array<Id, N>> rows_of_ids(const std::vector<std::int64_t>& values, std::int64_t base,
+                                           bool keep_minus_one) {
   std::vector<std::array<Id, N>> rows(values.size() / N);
   for (std::size_t i = 0; i < rows.size(); ++i)
     for (std::size_t k = 0; k < N; ++k) {
@@ -167,13 +169,10 @@ std::vector<std::array<Id, N>> rows_of_ids(const std::vector<std::int64_t>& valu
 std::string check_set_id(const std::vector<std::pair<std::string, std::string>>& ids) {
   for (const auto& [file, id] : ids)
     if (id.empty())
-      throw InputError(file + " has no '# partet mesh ID' line: only sets partet wrote are checked on several ranks; "
+      throw InputError(file +
+                       " has no '# partet mesh ID' line: only sets partet wrote are checked on several ranks; "
                        "check this one in one process");
-  for (const auto& [file, id] : ids)
-    if (id != ids.front().second)
-      return "the files come from different runs: " + ids.front().first + " has mesh ID '" + ids.front().second +
-             "', " + file + " has '" + id + "'";
-  return "";
+  return set_id_violation(ids);
 }
 
 // One file of a TetGen set: its layout, its numbering base and this rank's rows. Its set ID is
@@ -204,8 +203,9 @@ void place_points(Part& part, FileShare& node, const std::string& prefix) {
 
 void place_tets(Part& part, FileShare& ele, std::int64_t vertex_base, const std::string& prefix) {
   part.totals.tets = static_cast<std::uint64_t>(ele.layout.count);
-  part.block.tets = place_rows(part, row_ids(ele.rows.index, ele.base), rows_of_ids<4>(ele.rows.values, vertex_base, false),
-                               part.totals.tets, Repeats::refused, prefix + ".ele");
+  part.block.tets =
+      place_rows(part, row_ids(ele.rows.index, ele.base), rows_of_ids<4>(ele.rows.values, vertex_base, false),
+                 part.totals.tets, Repeats::refused, prefix + ".ele");
   ele.rows = {};
 }
 

@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <climits>
 #include <cmath>
 #include <cstring>
-#include <new>
 #include <tuple>
 
 #include "io/parallel_hdf5.hpp"
@@ -101,6 +99,9 @@ long double check_tets(const Part& part, Counts& counts) {
   return volume6;
 }
 
+// A tet's faces, each opposite its corner and outward (topology's outward_face).
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
 // A triangle as sorted ids and whether its given order is an even permutation of them.
 struct FaceRecord {
   std::array<std::uint64_t, 3> key;
@@ -124,11 +125,9 @@ bool by_key(const FaceRecord& x, const FaceRecord& y) {
 // The faces of this rank's tets that no other of its tets shares, to the ranks their keys hash
 // to; the shared ones are settled here (two tets on opposite sides, or a violation). A third tet
 // on another rank would leave its copy of a face paired here unpaired there, which then fails
-// the boundary checks.
-// Only the faces of this pass.
+// the boundary checks. Only the faces whose key falls in this pass.
 std::vector<std::vector<FaceRecord>> unpaired_tet_faces(const Part& part, std::uint64_t pass, std::uint64_t passes,
                                                         Counts& counts) {
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward_face
   std::vector<FaceRecord> local;
   local.reserve(4 * part.block.tets.size() / passes + 1024);
   for (const auto& tet : part.block.tets)
@@ -362,10 +361,7 @@ std::int64_t check_neighbours(const Part& part, const std::vector<std::array<Id,
     for (std::size_t t = 0; t < part.block.tets.size(); ++t) {
       const auto& tet = part.block.tets[t];
       for (int k = 0; k < 4; ++k) {
-        std::array<std::uint64_t, 3> key;
-        for (int j = 0, at = 0; j < 4; ++j)
-          if (j != k) key[at++] = static_cast<std::uint64_t>(tet[j]);
-        std::sort(key.begin(), key.end());
+        const auto key = face_record(tet[kFace[k][0]], tet[kFace[k][1]], tet[kFace[k][2]], false).key;
         const KeyPlace place = place_of_key(key, part.size, passes);
         if (place.pass == pass) outgoing[place.rank].push_back({key, first + static_cast<Id>(t), neighbours[t][k]});
       }

@@ -1,13 +1,12 @@
 // `partet check` on an XDMF set, an MSH file or partition set, or TetGen files, on any number of
 // ranks: each rank reads and checks its own part of the tets and boundary faces; what spans ranks
 // (a face's two tets, an edge, a vertex's use, a boundary triangle against the input) is decided
-// by the rank its key hashes to. So no rank holds the whole mesh, and a mesh too large for one process can still be
-// verified. It checks what
-// check_mesh checks for TetGen files, exact boundary rule: ids in range, every tet positively
-// oriented (exact predicate), every triangle in at most two tets on opposite sides, the boundary
-// faces equal to the tets' free faces (outward) and, by exact coordinates, to the input triangles,
-// no unused or duplicate vertices, V-E+F-T against the input's Euler characteristic, and the tets'
-// volume against the input's.
+// by the rank its key hashes to. So no rank holds the whole mesh, and a mesh too large for one
+// process can still be verified. It checks what check_mesh checks for TetGen files, exact
+// boundary rule: ids in range, every tet positively oriented (exact predicate), every triangle in
+// at most two tets on opposite sides, the boundary faces equal to the tets' free faces (outward)
+// and, by exact coordinates, to the input triangles, no unused or duplicate vertices, V-E+F-T
+// against the input's Euler characteristic, and the tets' volume against the input's.
 #pragma once
 #include <mpi.h>
 

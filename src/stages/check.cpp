@@ -485,12 +485,7 @@ void check_volume(const SurfaceMesh& input, long double tet_volume, CheckReport&
 
 // All files of a set carry the same ID.
 void check_set_ids(const TetgenFileSet& files, Violations& violations) {
-  for (const auto& [file, id] : files.ids)
-    if (id != files.ids.front().second) {
-      violations.push_back("the files come from different runs: " + files.ids.front().first + " has mesh ID '" +
-                           files.ids.front().second + "', " + file + " has '" + id + "'");
-      return;
-    }
+  if (std::string mixed = set_id_violation(files.ids); !mixed.empty()) violations.push_back(std::move(mixed));
 }
 
 // .face holds exactly the boundary faces: outward when partet wrote the set, in any orientation
@@ -536,6 +531,14 @@ void check_neigh_file(const TetgenFileSet& files, Violations& violations) {
 }
 
 }  // namespace
+
+std::string set_id_violation(const std::vector<std::pair<std::string, std::string>>& ids) {
+  for (const auto& [file, id] : ids)
+    if (id != ids.front().second)
+      return "the files come from different runs: " + ids.front().first + " has mesh ID '" + ids.front().second +
+             "', " + file + " has '" + id + "'";
+  return "";
+}
 
 CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files, BoundaryRule rule) {
   CheckReport report = check_mesh(input, files.mesh, rule);

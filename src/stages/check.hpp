@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
@@ -52,6 +53,10 @@ inline constexpr double kCheckVolumeTolerance = 1e-9;
 // must carry the same set ID (a set mixed from different runs fails).
 CheckReport check_mesh_files(const SurfaceMesh& input, const TetgenFileSet& files,
                              BoundaryRule rule = BoundaryRule::exact);
+
+// The violation when the files of a set (each with its set ID, as TetgenFileSet::ids) carry
+// different IDs; "" when they agree. Also for the check on several ranks.
+std::string set_id_violation(const std::vector<std::pair<std::string, std::string>>& ids);
 
 
 }  // namespace partet
