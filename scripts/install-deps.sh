@@ -15,6 +15,7 @@ packages=(
   zlib1g-dev                           # compressed .vtu output
   libhdf5-openmpi-dev                  # XDMF output: one HDF5 file all ranks write at once
   python3-meshio python3-h5py gmsh      # tests: independent readers of the mesh formats
+  python3-vtk9                         # tests: VTK itself (ParaView's reader) reads the .pvtu set
   python3-dolfinx                      # tests: a FEM code reads the XDMF output in parallel
   python3-matplotlib                   # scripts/render.py pictures and the benchmark plots
   libgtest-dev                         # unit tests

@@ -106,10 +106,12 @@ TEST(WritePieceFile, RefusesArraysThatDoNotFitTogether) {
   const std::vector<std::int64_t> connectivity{0, 1, 2, 3}, offsets{4, 8};
   const std::vector<std::uint8_t> types{10};
   const std::vector<std::int32_t> piece{0}, region{1};
+  const std::vector<std::int64_t> global_ids{0, 1, 2, 3};
   const auto bytes = [](const auto& v) {
     return std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
   };
-  const PieceArrays cells{bytes(xyz), bytes(connectivity), bytes(offsets), bytes(types), bytes(piece), bytes(region)};
+  const PieceArrays cells{bytes(xyz),   bytes(connectivity), bytes(offsets),   bytes(types),
+                          bytes(piece), bytes(region),       bytes(global_ids)};
   EXPECT_THROW(write_piece_file(MeshFormat::pvtu, cells, path, "m_p0.vtu"), OutputError);
   EXPECT_THROW(write_piece_file(MeshFormat::vtu, arrays, path, "m.vtu"), InternalError);
 }

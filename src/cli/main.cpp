@@ -27,7 +27,7 @@
 #include "io/read_surface.hpp"
 #include "io/write_surface.hpp"
 #include "io/tetgen_files.hpp"
-#include "io/msh_read.hpp"
+#include "io/mesh_read.hpp"
 #include "mesher/tetgen_mesher.hpp"
 #include "common/version.hpp"
 #include "common/memory.hpp"
@@ -143,15 +143,23 @@ void settle_msh(const std::string& path, const std::string& run) {
   if (std::string parts; partet::partition_file_prefix(path, parts)) settle(parts);
 }
 
-// The set to check: TetGen files at a prefix, or an MSH file or partition set (PATH.msh).
-partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
+// A set named by one of its files (an MSH, VTK or MEDIT file): its run may have been published
+// at PATH without its extension, or (an MSH partition file) at the set's prefix.
+void settle_named(const std::string& path) {
+  partet::MeshFormat format;
   std::string run;
-  if (!names_format(prefix, partet::MeshFormat::msh, &run)) {
+  partet::split_format_extension(path, format, run);
+  format == partet::MeshFormat::msh ? settle_msh(path, run) : settle(run);
+}
+
+// The set to check: TetGen files at a prefix, or a set named by one of its files (mesh_read.hpp).
+partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
+  if (!partet::reads_mesh_file(prefix)) {
     settle(prefix);
     return partet::read_tetgen_set(prefix);
   }
-  settle_msh(prefix, run);
-  return partet::read_msh_set(prefix);
+  settle_named(prefix);
+  return partet::read_mesh_set(prefix);
 }
 
 int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json,
@@ -166,7 +174,7 @@ int run_check(const std::string& input_path, const std::string& prefix, const st
 }
 
 // The check on every rank of the job, each its part: an XDMF set (alone: on one rank), or under a
-// launcher an MSH file or partition set or TetGen files. Rank 0 prints.
+// launcher TetGen files or a set named by one of its files (MSH, VTK, MEDIT). Rank 0 prints.
 partet::DistributedCheckReport check_on_ranks(const std::string& input_path, const std::string& path) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -176,11 +184,11 @@ partet::DistributedCheckReport check_on_ranks(const std::string& input_path, con
     MPI_Barrier(MPI_COMM_WORLD);
     return partet::check_xdmf_set(MPI_COMM_WORLD, input_path, run);
   }
-  const bool msh = names_format(path, partet::MeshFormat::msh, &run);
-  if (rank == 0) msh ? settle_msh(path, run) : settle(path);
+  const bool named = partet::reads_mesh_file(path);
+  if (rank == 0) named ? settle_named(path) : settle(path);
   MPI_Barrier(MPI_COMM_WORLD);
-  return msh ? partet::check_msh_set(MPI_COMM_WORLD, input_path, path)
-             : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
+  return named ? partet::check_mesh_file_set(MPI_COMM_WORLD, input_path, path)
+               : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
 }
 
 int run_check_distributed(const std::string& input_path, const std::string& path, bool json) {
@@ -452,9 +460,9 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
   check->add_option("input", c.check_input, "the surface that was meshed")->required();
   check->add_option("prefix", c.check_prefix,
                     "prefix of the .node/.ele files; PREFIX.msh, or one file of an MSH partition set "
-                    "(PREFIX_1.msh: the whole set is read); or PREFIX.xdmf, the XDMF set. Under mpirun every rank "
-                    "reads and checks its part of any of them (no quality figures then), so a mesh too large for "
-                    "one process can be checked")
+                    "(PREFIX_1.msh: the whole set is read); PREFIX.vtu, PREFIX.pvtu (the set), PREFIX.mesh "
+                    "(MEDIT); or PREFIX.xdmf, the XDMF set. Under mpirun every rank reads and checks its part of any "
+                    "of them (no quality figures then), so a mesh too large for one process can be checked")
       ->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
   check->add_flag("--allow-split-faces", c.check_split,

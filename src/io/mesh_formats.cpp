@@ -79,9 +79,11 @@ struct VtuCells {
   std::vector<std::int64_t> connectivity, offsets;
   std::vector<std::uint8_t> types;
   std::vector<std::int32_t> piece, region;
+  std::vector<std::int64_t> global_ids;  // a piece file's: each point's id in the whole mesh
 
   VtuCellsView view() const {
-    return {run_of(xyz), run_of(connectivity), run_of(offsets), run_of(types), run_of(piece), run_of(region)};
+    return {run_of(xyz),   run_of(connectivity), run_of(offsets),   run_of(types),
+            run_of(piece), run_of(region),       run_of(global_ids)};
   }
 };
 
@@ -132,6 +134,7 @@ class PieceCells {
         if (new_id_[v] < 0) {
           new_id_[v] = next++;
           cells.xyz.insert(cells.xyz.end(), mesh.points[v].begin(), mesh.points[v].end());
+          cells.global_ids.push_back(v);
         }
         cells.connectivity.push_back(new_id_[v]);
       }
@@ -164,6 +167,8 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
   arrays.push_back(compress("types", "UInt8", 1, cells.types, shown));
   arrays.push_back(compress("piece", "Int32", 1, cells.piece, shown));
   arrays.push_back(compress("region", "Int32", 1, cells.region, shown));
+  const bool global_ids = cells.global_ids.size > 0;
+  if (global_ids) arrays.push_back(compress(kGlobalPointIds, "Int64", 1, cells.global_ids, shown));
   std::vector<std::size_t> offset(arrays.size(), 0);
   for (std::size_t i = 1; i < arrays.size(); ++i) offset[i] = offset[i - 1] + arrays[i - 1].bytes.size();
   auto data_array = [&](std::size_t i) {
@@ -175,8 +180,11 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
       "compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" +
-      std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(tets) + "\">\n<Points>\n" + data_array(0) +
-      "</Points>\n<Cells>\n" + data_array(1) + data_array(2) + data_array(3) +
+      std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(tets) + "\">\n" +
+      (global_ids
+           ? "<PointData GlobalIds=\"" + std::string(kGlobalPointIds) + "\">\n" + data_array(6) + "</PointData>\n"
+           : "") +
+      "<Points>\n" + data_array(0) + "</Points>\n<Cells>\n" + data_array(1) + data_array(2) + data_array(3) +
       "</Cells>\n<CellData Scalars=\"piece\">\n" + data_array(4) + data_array(5) +
       "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
   BufferedFile out(path, shown, /*must_exist=*/true);  // a temporary OutputSet made, maybe on another rank
@@ -190,18 +198,20 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
 namespace {
 
 PieceArrays arrays_of(const VtuCellsView& cells) {
-  return {bytes_of(cells.xyz),   bytes_of(cells.connectivity), bytes_of(cells.offsets),
-          bytes_of(cells.types), bytes_of(cells.piece),        bytes_of(cells.region)};
+  return {bytes_of(cells.xyz),   bytes_of(cells.connectivity), bytes_of(cells.offsets),   bytes_of(cells.types),
+          bytes_of(cells.piece), bytes_of(cells.region),       bytes_of(cells.global_ids)};
 }
 
 // The cells, or nothing when the arrays do not fit together (lost or cut bytes).
 std::optional<VtuCellsView> vtu_cells_from(const PieceArrays& arrays) {
   VtuCellsView cells;
-  if (!as_runs(arrays, cells.xyz, cells.connectivity, cells.offsets, cells.types, cells.piece, cells.region))
+  if (!as_runs(arrays, cells.xyz, cells.connectivity, cells.offsets, cells.types, cells.piece, cells.region,
+               cells.global_ids))
     return std::nullopt;
   const std::size_t tets = cells.types.size;
   if (cells.xyz.size % 3 != 0 || cells.connectivity.size != 4 * tets || cells.offsets.size != tets ||
-      cells.piece.size != tets || cells.region.size != tets)
+      cells.piece.size != tets || cells.region.size != tets ||
+      (cells.global_ids.size != 0 && cells.global_ids.size != cells.xyz.size / 3))
     return std::nullopt;
   return cells;
 }
@@ -264,6 +274,9 @@ void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<st
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "<PUnstructuredGrid GhostLevel=\"0\">\n"
+      "<PPointData GlobalIds=\"" +
+      std::string(kGlobalPointIds) + "\">\n<PDataArray type=\"Int64\" Name=\"" + kGlobalPointIds +
+      "\"/>\n</PPointData>\n"
       "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n"
       "<PCellData Scalars=\"piece\">\n<PDataArray type=\"Int32\" Name=\"piece\"/>\n"
       "<PDataArray type=\"Int32\" Name=\"region\"/>\n</PCellData>\n";

@@ -93,7 +93,11 @@ struct VtuCellsView {
   ArrayRun<std::int64_t> connectivity, offsets;
   ArrayRun<std::uint8_t> types;
   ArrayRun<std::int32_t> piece, region;
+  ArrayRun<std::int64_t> global_ids;  // a .pvtu piece file's (else empty): each point's id in the whole mesh
 };
+// The point data of a .pvtu set's piece files that numbers their points as in the whole mesh
+// (from 0, as in the single .vtu and, less one, the TetGen and MSH files): VTK's global ids.
+inline constexpr const char* kGlobalPointIds = "GlobalPointIds";
 
 // Writes one .vtu file of these cells into `path`, which must exist (an OutputSet's temporary);
 // errors name `shown`.
@@ -105,8 +109,8 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
 void write_vtu(const MeshOutput& output, const std::string& path);
 
 // The .pvtu index naming one .vtu per piece value (each as write_vtu writes, with just that
-// piece's tets and the points they use); the names are stored as given (relative to the .pvtu's
-// directory).
+// piece's tets and the points they use, numbered from 0, and kGlobalPointIds their ids in the whole mesh); the names
+// are stored as given (relative to the .pvtu's directory).
 void write_pvtu(const MeshOutput& output, const std::string& path, const std::vector<std::string>& piece_files);
 
 // The piece indices a .pvtu set has files for, in order (the -1 group included when present).

@@ -9,7 +9,6 @@
 
 #include "io/mesh_formats.hpp"
 #include "partet/errors.hpp"
-#include "stages/topology.hpp"
 
 namespace partet {
 namespace {
@@ -98,21 +97,8 @@ class MshCursor {
   bool binary_ = false;
 };
 
-// The set's points and cells, gathered from its files.
-struct MshMesh {
-  std::vector<Point3> points;
-  std::vector<char> seen;  // per point: some file gave it
-  std::vector<Tet> tets;
-  std::vector<Triangle> triangles;
-};
-
-std::int32_t point_index(std::uint64_t tag, const MshCursor& in) {
-  if (tag < 1 || tag > static_cast<std::uint64_t>(INT32_MAX)) in.fail("has node tag " + std::to_string(tag));
-  return static_cast<std::int32_t>(tag - 1);
-}
-
-// A node's id (tag - 1) in a check on several ranks, which numbers points with 64 bits.
-std::int64_t node_id(std::uint64_t tag, const MshCursor& in) {
+// A node's id: its tag - 1.
+MeshId node_id(std::uint64_t tag, const MshCursor& in) {
   if (tag < 1 || tag > static_cast<std::uint64_t>(INT64_MAX)) in.fail("has node tag " + std::to_string(tag));
   return static_cast<std::int64_t>(tag - 1);
 }
@@ -163,27 +149,11 @@ void read_elements(MshCursor& in, const OnTriangle& triangle, const OnTet& tet) 
   }
 }
 
-template <class Cell, std::size_t N>
-Cell cell_of(const std::array<std::uint64_t, N>& tags, const MshCursor& in) {
-  Cell cell;
-  for (std::size_t k = 0; k < N; ++k) cell[k] = point_index(tags[k], in);
-  return cell;
-}
-
-template <class Cell, std::size_t N>
-Cell ids_of(const std::array<std::uint64_t, N>& tags, const MshCursor& in) {
-  Cell cell;
-  for (std::size_t k = 0; k < N; ++k) cell[k] = node_id(tags[k], in);
-  return cell;
-}
-
-template <class Cell>
-void check_nodes_given(const std::vector<Cell>& cells, std::size_t nodes, const char* what, const std::string& path) {
-  for (const Cell& cell : cells)
-    for (std::int32_t v : cell)
-      if (static_cast<std::size_t>(v) >= nodes)
-        throw InputError(std::string("a ") + what + " of the set of '" + path + "' uses node " + std::to_string(v + 1) +
-                         ", which no file gives");
+template <std::size_t N>
+std::array<MeshId, N> ids_of(const std::array<std::uint64_t, N>& tags, const MshCursor& in) {
+  std::array<MeshId, N> ids;
+  for (std::size_t k = 0; k < N; ++k) ids[k] = node_id(tags[k], in);
+  return ids;
 }
 
 // The other files of the set PATH belongs to (none for a single file), by PATH's own content,
@@ -199,70 +169,26 @@ std::vector<std::string> other_set_files(MshCursor& in, const std::string& path)
   return files;
 }
 
-void read_mesh(MshCursor& in, MshMesh& mesh) {
-  read_nodes(in, [&](std::uint64_t tag, const Point3& p) {
-    const auto at = static_cast<std::size_t>(point_index(tag, in));
-    if (at >= mesh.points.size()) mesh.points.resize(at + 1), mesh.seen.resize(at + 1, 0);
-    if (mesh.seen[at] && mesh.points[at] != p)
-      in.fail("gives node " + std::to_string(tag) + " other coordinates than an earlier file of the set");
-    mesh.points[at] = p, mesh.seen[at] = 1;
-  });
+void read_cells(MshCursor& in, MeshSink& sink) {
+  read_nodes(in, [&](std::uint64_t tag, const Point3& p) { sink.node(node_id(tag, in), p); });
   read_elements(
-      in, [&](const auto& tags) { mesh.triangles.push_back(cell_of<Triangle>(tags, in)); },
-      [&](const auto& tags) { mesh.tets.push_back(cell_of<Tet>(tags, in)); });
-}
-
-void read_part(MshCursor& in, MshPart& part) {
-  read_nodes(in, [&](std::uint64_t tag, const Point3& p) {
-    part.node_ids.push_back(node_id(tag, in));
-    part.nodes.push_back(p);
-  });
-  read_elements(
-      in, [&](const auto& tags) { part.triangles.push_back(ids_of<std::array<std::int64_t, 3>>(tags, in)); },
-      [&](const auto& tags) { part.tets.push_back(ids_of<std::array<std::int64_t, 4>>(tags, in)); });
+      in, [&](const auto& tags) { sink.triangle(ids_of(tags, in), 1); },
+      [&](const auto& tags) { sink.tet(ids_of(tags, in)); });
 }
 
 }  // namespace
 
-TetgenFileSet read_msh_set(const std::string& path) {
-  MshMesh mesh;
-  {
-    MshCursor named(path);  // read once: it says whether there are more files
-    const std::vector<std::string> others = other_set_files(named, path);
-    read_mesh(named, mesh);
-    for (const std::string& file : others) {
-      MshCursor in(file);
-      read_mesh(in, mesh);
-    }
-  }
-  for (std::size_t i = 0; i < mesh.seen.size(); ++i)
-    if (!mesh.seen[i])
-      throw InputError("no file of the set of '" + path + "' gives node " + std::to_string(i + 1) +
-                       " (the tags must run from 1 to the highest)");
-  check_nodes_given(mesh.tets, mesh.points.size(), "tet", path);
-  check_nodes_given(mesh.triangles, mesh.points.size(), "triangle", path);
-  TetgenFileSet set;
-  set.mesh.points = std::move(mesh.points);
-  set.mesh.tets = std::move(mesh.tets);
-  set.mesh.neighbours = compute_neighbours(set.mesh.tets, set.mesh.points.size(), CrowdedFace::leave_open);
-  set.faces = std::move(mesh.triangles);
-  set.has_faces = true;
-  set.faces_outward = true;
-  set.faces_named = "the MSH triangles do";
-  return set;
-}
-
-std::vector<std::string> read_msh_named(const std::string& path, MshPart& part) {
+std::vector<std::string> read_msh_named(const std::string& path, MeshSink& sink) {
   MshCursor in(path);
   std::vector<std::string> files = other_set_files(in, path);
   files.insert(files.begin(), path);
-  read_part(in, part);
+  read_cells(in, sink);
   return files;
 }
 
-void read_msh_file(const std::string& path, MshPart& part) {
+void read_msh_file(const std::string& path, MeshSink& sink) {
   MshCursor in(path);
-  read_part(in, part);
+  read_cells(in, sink);
 }
 
 }  // namespace partet

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <climits>
 
-#include "io/msh_read.hpp"
+#include "io/mesh_read.hpp"
 #include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
 #include "partet/errors.hpp"
@@ -39,17 +39,17 @@ std::vector<std::string> broadcast_lines(MPI_Comm comm, const std::vector<std::s
   return out;
 }
 
-// This rank's files of an MSH set: rank 0 reads the named one, which lists the set; file i of
-// the set is rank (i mod size)'s.
-MshPart read_msh_share(const Part& part, const std::string& path) {
-  MshPart mine;
+// This rank's files of a set named by one path (mesh_read.hpp): rank 0 reads the named one, which
+// lists the set; file i of the set is rank (i mod size)'s.
+MeshPart read_files_share(const Part& part, const std::string& path) {
+  MeshPart mine;
   std::vector<std::string> files;
-  throw_if_any(part.comm, part.rank == 0 ? error_of(path, [&] { files = read_msh_named(path, mine); }) : "");
+  throw_if_any(part.comm, part.rank == 0 ? error_of(path, [&] { files = read_named_mesh_file(path, mine); }) : "");
   files = broadcast_lines(part.comm, files);
   std::string error;
   for (std::size_t i = 1; i < files.size() && error.empty(); ++i)
     if (static_cast<int>(i % static_cast<std::size_t>(part.size)) == part.rank)
-      error = error_of(files[i], [&] { read_msh_file(files[i], mine); });
+      error = error_of(files[i], [&] { read_set_file(path, files[i], mine); });
   throw_if_any(part.comm, error);
   return mine;
 }
@@ -61,7 +61,7 @@ struct Row {
   Values values;
 };
 
-// How a row given twice is taken: the same point in several MSH partition files, or a TetGen
+// How a row given twice is taken: the same point in several files of a set (MSH, .pvtu), or a TetGen
 // file's index, which must be unique.
 enum class Repeats { same_values, refused };
 
@@ -71,7 +71,7 @@ enum class Repeats { same_values, refused };
 template <class Values>
 std::vector<Values> place_rows(const Part& part, std::vector<Id>&& ids, std::vector<Values>&& values,
                                std::uint64_t total, Repeats repeats, const std::string& file) {
-  // `file` names a TetGen file, or an MSH set ("the set of 'PATH'"), whose rows are nodes by tag.
+  // `file` names a TetGen file, or a set of MSH or VTK files ("the set of 'PATH'"), whose rows are points by id.
   std::vector<std::vector<Row<Values>>> outgoing(part.size);
   std::string error;
   for (std::size_t i = 0; i < ids.size() && error.empty(); ++i) {
@@ -103,13 +103,13 @@ std::vector<Values> place_rows(const Part& part, std::vector<Id>&& ids, std::vec
   if (error.empty() && expected != last)
     error = repeats == Repeats::refused ? file + " has no row of index " + std::to_string(expected)
                                         : "no file of " + file + " gives node " + std::to_string(expected + 1) +
-                                              " (the tags must run from 1 to the highest)";
+                                              " (the nodes must be numbered from 1 to the highest without a gap)";
   throw_if_any(part.comm, error);
   return placed;
 }
 
-// The MSH set's points: node tags from 1 to the highest, a node in several files the same in each.
-void place_msh_points(Part& part, MshPart& mine, const std::string& path) {
+// The set's points: ids from 0 to the highest, a point in several files the same in each.
+void place_set_points(Part& part, MeshPart& mine, const std::string& path) {
   std::int64_t highest = -1;
   for (Id id : mine.node_ids) highest = std::max(highest, id);
   MPI_Allreduce(MPI_IN_PLACE, &highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
@@ -233,12 +233,12 @@ std::vector<std::array<Id, 4>> place_neighbours(const Part& part, const FileShar
 
 }  // namespace
 
-void read_msh_part(Part& part, const std::string& path) {
-  MshPart mine = read_msh_share(part, path);
-  place_msh_points(part, mine, path);
+void read_mesh_part(Part& part, const std::string& path) {
+  MeshPart mine = read_files_share(part, path);
+  place_set_points(part, mine, path);
   part.block.tets = std::move(mine.tets);
   part.block.faces = std::move(mine.triangles);
-  part.block.face_marker.assign(part.block.faces.size(), 1);  // MSH has no split triangles to mark
+  part.block.face_marker = std::move(mine.markers);
   std::uint64_t counts[2] = {part.block.tets.size(), part.block.faces.size()};
   MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_UINT64_T, MPI_SUM, part.comm);
   part.totals.tets = counts[0], part.totals.faces = counts[1];

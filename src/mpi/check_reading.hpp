@@ -18,8 +18,8 @@ struct InputFigures {
 // Collective: rank 0 reads the input, every rank gets its figures.
 InputFigures read_input(MPI_Comm comm, int rank, const std::string& path);
 
-// Collective: this rank's part of an MSH file or partition set (see check_msh_set).
-void read_msh_part(Part& part, const std::string& path);
+// Collective: this rank's part of a set mesh_read.hpp reads (see check_mesh_file_set).
+void read_mesh_part(Part& part, const std::string& path);
 
 // What only a TetGen set has besides the mesh: its .neigh rows (tet id order, this rank's run),
 // and a violation when its files carry different set IDs.

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <tuple>
 
+#include "io/mesh_formats.hpp"
 #include "io/parallel_hdf5.hpp"
 #include "mpi/check_exchange.hpp"
 #include "mpi/check_reading.hpp"
@@ -154,11 +155,16 @@ std::vector<std::vector<FaceRecord>> unpaired_tet_faces(const Part& part, std::u
   return outgoing;
 }
 
-void settle_faces(std::vector<FaceRecord>&& here, Counts& counts);
+// The boundary faces of a set whose files do not list them (VTK files): the faces in one tet,
+// outward, each kept by the rank its key hashes to.
+using FreeFaces = std::vector<std::array<Id, 3>>;
+
+void settle_faces(std::vector<FaceRecord>&& here, Counts& counts, FreeFaces* unlisted);
 
 // Faces: at most two tets on opposite sides; the free faces (one tet) are exactly the boundary
-// file's triangles, facing out.
-void check_faces(const Part& part, Counts& counts) {
+// file's triangles, facing out. Without a boundary file (unlisted not null), the free faces are
+// gathered into unlisted instead.
+void check_faces(const Part& part, Counts& counts, FreeFaces* unlisted) {
   counts[split_markers] = std::count_if(part.block.face_marker.begin(), part.block.face_marker.end(),
                                         [](std::int32_t marker) { return marker != 1; });
   const std::uint64_t passes =
@@ -171,12 +177,12 @@ void check_faces(const Part& part, Counts& counts) {
       const KeyPlace place = place_of_key(r.key, part.size, passes);
       if (place.pass == pass) outgoing[place.rank].push_back(r);
     }
-    settle_faces(all_to_all(part.comm, std::move(outgoing)), counts);
+    settle_faces(all_to_all(part.comm, std::move(outgoing)), counts, unlisted);
   }
 }
 
 // The records of some keys, from every rank: all of each key's.
-void settle_faces(std::vector<FaceRecord>&& here, Counts& counts) {
+void settle_faces(std::vector<FaceRecord>&& here, Counts& counts, FreeFaces* unlisted) {
   std::sort(here.begin(), here.end(), by_key);
   for (std::size_t i = 0; i < here.size();) {
     std::size_t j = i;
@@ -187,7 +193,13 @@ void settle_faces(std::vector<FaceRecord>&& here, Counts& counts) {
     if (tets > 2) ++counts[overfull];
     if (tets == 2 && tet_even != 1) ++counts[same_side];
     if (tets == 1) ++counts[free_faces];
-    if (tets == 1 && listed == 0) ++counts[free_face_not_boundary];
+    if (tets == 1 && listed == 0 && unlisted) {
+      const auto& k = here[i].key;  // even: the tet's outward order is the sorted one
+      unlisted->push_back(here[i].even ? std::array<Id, 3>{Id(k[0]), Id(k[1]), Id(k[2])}
+                                   : std::array<Id, 3>{Id(k[0]), Id(k[2]), Id(k[1])});
+    } else if (tets == 1 && listed == 0) {
+      ++counts[free_face_not_boundary];
+    }
     if (listed > 0 && (tets != 1 || listed > 1)) counts[boundary_not_free_face] += listed;
     if (tets == 1 && listed == 1 && tet_even != listed_even) ++counts[boundary_flipped];
     i = j;
@@ -333,8 +345,8 @@ std::vector<std::string> violations_of(const Counts& c, const std::string& bound
   say(free_face_not_boundary, "faces in one tet are missing from " + boundary);
   say(boundary_not_free_face, "triangles of " + boundary + " are not faces in exactly one tet");
   say(boundary_flipped, "triangles of " + boundary + " face into their tet");
-  say(split_markers, "boundary triangles are parts of split input triangles (marker 2): check the TetGen files in one "
-                     "process with --allow-split-faces instead");
+  say(split_markers, "boundary triangles are parts of split input triangles (marker 2): check the mesh in one process "
+                     "with --allow-split-faces instead");
   say(unused, "vertices are in no tet");
   say(duplicate_points, "duplicate vertices (identical coordinates)");
   say(input_not_boundary, "input triangles are not boundary faces of the mesh (coordinates changed?)");
@@ -383,10 +395,19 @@ std::int64_t check_neighbours(const Part& part, const std::vector<std::array<Id,
 // ---------------------------------------------------------------------------------------------
 
 // The checks on the part every rank holds, their counts summed over the ranks, and the report.
-DistributedCheckReport check_part(const Part& part, const InputFigures& input, const std::string& boundary) {
+// `boundary` names the files that list the boundary faces; "" when none does (VTK files): the
+// faces in one tet are then taken for the boundary, and checked against the input.
+DistributedCheckReport check_part(Part& part, const InputFigures& input, const std::string& boundary) {
   Counts counts{};
   long double volume6 = check_tets(part, counts);
-  check_faces(part, counts);
+  if (boundary.empty()) {
+    FreeFaces unlisted;
+    check_faces(part, counts, &unlisted);
+    part.block.faces = std::move(unlisted);
+    part.block.face_marker.assign(part.block.faces.size(), 1);
+  } else {
+    check_faces(part, counts, nullptr);
+  }
   count_edges(part, counts);
   check_duplicate_points(part, counts);
   check_boundary_is_input(part, part.rank == 0 ? &input.surface : nullptr, counts);
@@ -452,14 +473,20 @@ DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_
   return report;
 }
 
-DistributedCheckReport check_msh_set(MPI_Comm comm, const std::string& input_path, const std::string& path) {
+DistributedCheckReport check_mesh_file_set(MPI_Comm comm, const std::string& input_path, const std::string& path) {
   Part part = part_of(comm);
   // 1. The input, on rank 0.
   const InputFigures input = read_input(comm, part.rank, input_path);
   // 2. Every rank its files of the set; the points to their owners (runs of ids).
-  read_msh_part(part, path);
+  read_mesh_part(part, path);
   // 3. The checks, their counts summed over the ranks.
-  return check_part(part, input, "the MSH files");
+  MeshFormat format;
+  std::string prefix;
+  split_format_extension(path, format, prefix);
+  return check_part(part, input,
+                    format == MeshFormat::msh     ? "the MSH files"
+                    : format == MeshFormat::medit ? "the MEDIT file"
+                                                  : "");
 }
 
 }  // namespace partet

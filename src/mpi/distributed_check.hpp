@@ -1,4 +1,4 @@
-// `partet check` on an XDMF set, an MSH file or partition set, or TetGen files, on any number of
+// `partet check` on an XDMF set, TetGen files, or the sets mesh_read.hpp reads (MSH, VTK, MEDIT), on any number of
 // ranks: each rank reads and checks its own part of the tets and boundary faces; what spans ranks
 // (a face's two tets, an edge, a vertex's use, a boundary triangle against the input) is decided
 // by the rank its key hashes to. So no rank holds the whole mesh, and a mesh too large for one
@@ -28,12 +28,14 @@ struct DistributedCheckReport {  // the same on every rank
 // and PREFIX_boundary.h5. Throws InputError (on every rank) when a file cannot be read.
 DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix);
 
-// The same check on an MSH file or partition set (PATH, one of its files; the whole set is read,
-// as read_msh_set reads it): rank 0 reads PATH, which names the set's other files, and each rank
-// reads every size-th of them; the points go to their owners by id. So a set too large for one
-// process can be checked on several. Throws InputError (on every rank) when a file cannot be read,
-// a node has other coordinates in another file, or a tag between 1 and the highest is missing.
-DistributedCheckReport check_msh_set(MPI_Comm comm, const std::string& input_path, const std::string& path);
+// The same check on a set mesh_read.hpp reads (PATH, one of its files): an MSH file or partition
+// set, a .vtu or a .pvtu set, a MEDIT .mesh. Rank 0 reads PATH, which names the set's other files,
+// and each rank reads every size-th of them; the points go to their owners by id. So a set too
+// large for one process can be checked on several. VTK files list no boundary triangles: the
+// faces in one tet are checked against the input instead. Throws InputError (on every rank) when
+// a file cannot be read, a point has other coordinates in another file, or an id between the
+// lowest and the highest is missing.
+DistributedCheckReport check_mesh_file_set(MPI_Comm comm, const std::string& input_path, const std::string& path);
 
 // The same check on TetGen files PREFIX.node .ele .face .neigh as partet writes them (each file
 // ending with its set ID): every rank reads the same share of each file's bytes (whole lines);

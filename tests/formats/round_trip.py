@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Reads every format partet wrote at PREFIX with independent readers (meshio; the gmsh binary
-for MSH) and compares it with partet's TetGen files of the same run: points bit for bit, tets in
+for MSH; VTK for the .pvtu set) and compares it with partet's TetGen files of the same run: points bit for bit, tets in
 order, boundary triangles, cell data. Usage: round_trip.py PREFIX PIECES REGIONS"""
 import re
 import subprocess
@@ -65,10 +65,26 @@ for source in sources:
     values = set(np.concatenate(part.cell_data["piece"]).ravel().tolist())
     expect(len(values) == 1, f"pvtu: {source} mixes pieces {values}")
     to_global = np.array([key[tuple(p)] for p in part.points])
+    expect(np.array_equal(part.point_data["GlobalPointIds"].ravel(), to_global),
+           f"pvtu: {source}'s GlobalPointIds are not its points' ids in the whole mesh")
     for t in to_global[part.get_cells_type("tetra")]:
         seen[tet_index[tuple(t)]] += 1
 expect((seen == 1).all(), f"pvtu: {np.sum(seen != 1)} tets not in exactly one piece file")
-print(f"pvtu: {len(sources)} piece files, every tet in exactly one")
+print(f"pvtu: {len(sources)} piece files, every tet in exactly one, GlobalPointIds as in the whole mesh")
+
+# VTK itself (the reader ParaView uses) reads the set, and takes GlobalPointIds for its global ids.
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+reader = vtk.vtkXMLPUnstructuredGridReader()
+reader.SetFileName(prefix + ".pvtu")
+reader.Update()
+grid = reader.GetOutput()
+global_ids = grid.GetPointData().GetGlobalIds()
+expect(grid.GetNumberOfCells() == len(tets), f"pvtu: VTK read {grid.GetNumberOfCells()} cells")
+expect(global_ids is not None and np.array_equal(np.unique(vtk_to_numpy(global_ids)), np.arange(len(points))),
+       "pvtu: VTK's global ids are not the mesh's points, each at least once")
+print(f"pvtu: VTK {vtk.vtkVersion.GetVTKVersion()} reads {grid.GetNumberOfCells()} cells, global ids of "
+      f"{len(points)} points")
 
 # MSH 4.1, ASCII and binary: meshio, then gmsh itself (its checker, and the mesh it re-saves).
 for name, path in (("msh", prefix + ".msh"), ("msh-binary", prefix + "_binary.msh")):
