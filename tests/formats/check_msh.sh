@@ -14,7 +14,7 @@ cd "$work"
 "$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --format tetgen,msh,msh-parts --quiet
 "$mpiexec" -n 2 "$partet" mesh in.off -o b --pieces 4 --format msh-binary,msh-parts-binary --quiet
 "$partet" check in.off m --json > serial.json
-same_as_tetgen_files() { "$tests/same_check.py" serial.json "$1" "$2" "the TetGen files"; }  # JSON NAME
+. "$tests/formats/check_helpers.sh"
 for set in m.msh m_1.msh m_3.msh b.msh b_2.msh; do
   "$partet" check in.off "$set" --json > "$set.json"
   same_as_tetgen_files "$set.json" "$set"
@@ -26,14 +26,6 @@ for n in 2 3; do
   done
 done
 
-# A check that must fail: COMMAND... must exit non-zero and say EXPECTED.
-fails() {  # NAME EXPECTED COMMAND...
-  local name=$1 expected=$2
-  shift 2
-  if "$@" > out 2>&1; then echo "FAIL: $name passed the check"; cat out; exit 1; fi
-  grep -q "$expected" out || { echo "FAIL: $name: no '$expected':"; cat out; exit 1; }
-  echo "ok: $name: $(grep -m 2 "VIOLATION\|error" out | tr '\n' ' ')"
-}
 
 damage() {  # NAME PYTHON-STATEMENTS (on lines, the text of d_2.msh) EXPECTED-MESSAGE EXPECTED-ON-RANKS
   for i in 1 2 3 4 5; do cp "m_$i.msh" "d_$i.msh"; done

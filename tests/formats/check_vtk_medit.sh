@@ -14,7 +14,7 @@ cd "$work"
 "$partet" generate two_spheres --faces 4000 -o in.off > /dev/null
 "$mpiexec" -n 2 "$partet" mesh in.off -o m --pieces 4 --format tetgen,vtu,pvtu,medit --quiet
 "$partet" check in.off m --json > serial.json
-same_as_tetgen_files() { "$tests/same_check.py" serial.json "$1" "$2" "the TetGen files"; }  # JSON NAME
+. "$tests/formats/check_helpers.sh"
 for set in m.vtu m.pvtu m.mesh; do
   "$partet" check in.off "$set" --json > "$set.json"
   same_as_tetgen_files "$set.json" "$set"
@@ -24,14 +24,6 @@ for set in m.vtu m.pvtu m.mesh; do
   done
 done
 
-# A check that must fail: COMMAND... must exit non-zero and say EXPECTED.
-fails() {  # NAME EXPECTED COMMAND...
-  local name=$1 expected=$2
-  shift 2
-  if "$@" > out 2>&1; then echo "FAIL: $name passed the check"; cat out; exit 1; fi
-  grep -q "$expected" out || { echo "FAIL: $name: no '$expected':"; cat out; exit 1; }
-  echo "ok: $name: $(grep -m 2 "VIOLATION\|error" out | tr '\n' ' ')"
-}
 # A damaged copy of the run in d/, checked by NAMED (a file of d/) in one process and on 2 ranks.
 damaged() {  # NAME NAMED EXPECTED EXPECTED-ON-RANKS
   fails "$1" "$3" "$partet" check in.off "d/$2"
