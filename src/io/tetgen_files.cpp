@@ -553,6 +553,7 @@ TetgenFileLayout tetgen_file_layout(const std::string& path, TetgenFile file) {
   check_header_fields(in, file, false);
   layout.rows_begin = in.next_line_byte();
   layout.size = in.file_size();
+  if (layout.count > 0 && in.next_line()) layout.first_index = in.integer("index");
   return layout;
 }
 

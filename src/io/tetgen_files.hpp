@@ -74,10 +74,11 @@ TetgenFileSet read_tetgen_set(const std::string& prefix);
 TetMesh read_tetgen_files(const std::string& prefix, std::vector<Triangle>* boundary_faces = nullptr);
 
 // Reading one file in parts, each part by another process (a check on several ranks): the
-// header's count and where the rows begin (after the header line), and the file's size. Throws
-// InputError on a missing file or a malformed header (10-node tets are refused here).
+// header's count, where the rows begin (after the header line), the first row's index (TetGen
+// numbers from 0 or 1; 0 when there is no row) and the file's size. Throws InputError on a
+// missing file or a malformed header (10-node tets are refused here).
 struct TetgenFileLayout {
-  std::int64_t count = 0;
+  std::int64_t count = 0, first_index = 0;
   std::uint64_t rows_begin = 0, size = 0;
 };
 TetgenFileLayout tetgen_file_layout(const std::string& path, TetgenFile file);

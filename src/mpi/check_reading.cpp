@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 
+#include "common/test_hooks.hpp"
 #include "io/mesh_read.hpp"
 #include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
@@ -65,47 +67,81 @@ struct Row {
 // file's index, which must be unique.
 enum class Repeats { same_values, refused };
 
-// Rows to the owners of their ids (each rank the run of [0, total) the XDMF check's ranks read)
-// and returned in id order: every id in [0, total) given, once or (same_values) with the same
-// values each time; otherwise every rank throws InputError naming `file` (the lowest rank's find).
+// Rows to the owners of their ids (each rank the run of [0, total) the XDMF check's ranks read),
+// in rounds: each round every rank sends the rows it has read since the last and places those it
+// receives, so that besides its placed rows a rank holds one round's. At the end every id in
+// [0, total) must have been given, once or (same_values) with the same values each time;
+// otherwise every rank throws InputError naming `file` (the lowest rank's find). `file` names a
+// TetGen file, or a set of MSH or VTK files ("the set of 'PATH'"), whose rows are points by id.
+template <class Values>
+class RowPlacer {
+ public:
+  RowPlacer(const Part& part, std::uint64_t total, Repeats repeats, std::string file)
+      : part_(part), total_(total), repeats_(repeats), file_(std::move(file)) {
+    const auto [first, last] = run_of(total, part.rank, part.size);
+    first_ = first;
+    placed_.resize(last - first);
+    seen_.assign(last - first, 0);
+  }
+
+  // Collective: one round; ids[i] is the id of values[i] (both freed here).
+  void add(std::vector<Id>&& ids, std::vector<Values>&& values) {
+    std::vector<std::vector<Row<Values>>> outgoing(part_.size);
+    for (std::size_t i = 0; i < ids.size() && error_.empty(); ++i) {
+      if (ids[i] < 0 || static_cast<std::uint64_t>(ids[i]) >= total_)
+        error_ = file_ + " has index " + std::to_string(ids[i]) + ", beyond its " + std::to_string(total_) + " rows";
+      else
+        outgoing[run_owner(ids[i], total_, part_.size)].push_back({ids[i], values[i]});
+    }
+    std::vector<Id>().swap(ids);
+    std::vector<Values>().swap(values);
+    for (const Row<Values>& row : all_to_all(part_.comm, std::move(outgoing))) place(row);
+  }
+
+  // Collective: the rows of this rank's run, in id order.
+  std::vector<Values> finish() {
+    if (error_.empty()) {
+      const auto missing = std::find(seen_.begin(), seen_.end(), 0);
+      if (missing != seen_.end()) {
+        const std::uint64_t id = first_ + static_cast<std::uint64_t>(missing - seen_.begin());
+        error_ = repeats_ == Repeats::refused ? file_ + " has no row of index " + std::to_string(id)
+                                              : "no file of " + file_ + " gives node " + std::to_string(id + 1) +
+                                                    " (the nodes must be numbered from 1 to the highest without a gap)";
+      }
+    }
+    throw_if_any(part_.comm, error_);
+    std::vector<char>().swap(seen_);
+    return std::move(placed_);
+  }
+
+ private:
+  void place(const Row<Values>& row) {
+    const auto at = static_cast<std::size_t>(static_cast<std::uint64_t>(row.id) - first_);
+    if (!seen_[at]) {
+      placed_[at] = row.values, seen_[at] = 1;
+    } else if (error_.empty()) {
+      if (repeats_ == Repeats::refused)
+        error_ = file_ + " has index " + std::to_string(row.id) + " twice";
+      else if (placed_[at] != row.values)
+        error_ = "two files of " + file_ + " give node " + std::to_string(row.id + 1) + " other coordinates";
+    }
+  }
+
+  const Part& part_;
+  std::uint64_t total_, first_ = 0;
+  Repeats repeats_;
+  std::string file_, error_;
+  std::vector<Values> placed_;
+  std::vector<char> seen_;  // per row of this rank's run: placed
+};
+
+// All rows in one round.
 template <class Values>
 std::vector<Values> place_rows(const Part& part, std::vector<Id>&& ids, std::vector<Values>&& values,
                                std::uint64_t total, Repeats repeats, const std::string& file) {
-  // `file` names a TetGen file, or a set of MSH or VTK files ("the set of 'PATH'"), whose rows are points by id.
-  std::vector<std::vector<Row<Values>>> outgoing(part.size);
-  std::string error;
-  for (std::size_t i = 0; i < ids.size() && error.empty(); ++i) {
-    if (ids[i] < 0 || static_cast<std::uint64_t>(ids[i]) >= total)
-      error = file + " has index " + std::to_string(ids[i]) + ", beyond its " + std::to_string(total) + " rows";
-    else
-      outgoing[run_owner(ids[i], total, part.size)].push_back({ids[i], values[i]});
-  }
-  throw_if_any(part.comm, error);
-  std::vector<Id>().swap(ids);
-  std::vector<Values>().swap(values);
-  std::vector<Row<Values>> here = all_to_all(part.comm, std::move(outgoing));
-  std::sort(here.begin(), here.end(), [](const Row<Values>& a, const Row<Values>& b) { return a.id < b.id; });
-  const auto [first, last] = run_of(total, part.rank, part.size);
-  std::vector<Values> placed(last - first);
-  std::uint64_t expected = first;
-  for (std::size_t i = 0; i < here.size() && error.empty(); ++i) {
-    const std::uint64_t id = static_cast<std::uint64_t>(here[i].id);
-    if (i > 0 && here[i - 1].id == here[i].id) {
-      if (repeats == Repeats::refused)
-        error = file + " has index " + std::to_string(id) + " twice";
-      else if (here[i - 1].values != here[i].values)
-        error = "two files of " + file + " give node " + std::to_string(id + 1) + " other coordinates";
-      continue;
-    }
-    if (id != expected) break;
-    placed[id - first] = here[i].values, ++expected;
-  }
-  if (error.empty() && expected != last)
-    error = repeats == Repeats::refused ? file + " has no row of index " + std::to_string(expected)
-                                        : "no file of " + file + " gives node " + std::to_string(expected + 1) +
-                                              " (the nodes must be numbered from 1 to the highest without a gap)";
-  throw_if_any(part.comm, error);
-  return placed;
+  RowPlacer<Values> placer(part, total, repeats, file);
+  placer.add(std::move(ids), std::move(values));
+  return placer.finish();
 }
 
 // The set's points: ids from 0 to the highest, a point in several files the same in each.
@@ -119,28 +155,49 @@ void place_set_points(Part& part, MeshPart& mine, const std::string& path) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// A set of TetGen files, each read in parts: rank r reads the r-th share of every file's bytes
+// A set of TetGen files, each read in parts: rank r reads the r-th share of every file's bytes,
+// in rounds of about 64 MB of text, each round's rows placed before the next is read
 
-// This rank's rows of one file of the set, and the file's layout.
-TetgenRowsRead read_tetgen_part(const Part& part, const std::string& path, TetgenFile file, TetgenFileLayout& layout) {
-  TetgenRowsRead rows;
-  throw_if_any(part.comm, error_of(path, [&] {
-                 layout = tetgen_file_layout(path, file);
-                 rows = read_tetgen_rows(path, file, tetgen_part_begin(path, layout, part.rank, part.size),
-                                         tetgen_part_begin(path, layout, part.rank + 1, part.size));
+// One file of a TetGen set: its layout and numbering base (0 or 1, as TetGen allows: its first
+// row's index; rows out of order are found when they are placed), agreed by every rank.
+struct TetgenFileShare {
+  std::string path;
+  TetgenFileLayout layout;
+  std::int64_t base = 0;
+};
+
+TetgenFileShare file_share(const Part& part, const std::string& prefix, TetgenFile file) {
+  TetgenFileShare share{prefix + extension(file), {}, 0};
+  throw_if_any(part.comm, error_of(share.path, [&] {
+                 share.layout = tetgen_file_layout(share.path, file);
+                 share.base = share.layout.first_index;
+                 if (share.layout.count > 0 && share.base != 0 && share.base != 1)
+                   throw InputError(share.path + ": first index must be 0 or 1, found " + std::to_string(share.base));
                }));
-  return rows;
+  return share;
 }
 
-// The file's numbering base (0 or 1, as TetGen allows): its first row's index. Rows out of order
-// are found when they are placed.
-std::int64_t numbering_base(const Part& part, const TetgenRowsRead& rows, const std::string& path) {
-  std::int64_t first = rows.index.empty() ? INT64_MAX : rows.index.front();
-  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT64_T, MPI_MIN, part.comm);
-  if (first == INT64_MAX) return 0;  // no rows
-  if (first != 0 && first != 1)
-    throw InputError(path + ": first index must be 0 or 1, found " + std::to_string(first));  // on every rank
-  return first;
+// Reads this rank's share of the file in rounds (every rank as many), handing each round's rows
+// to take (collective: every rank calls it in every round). Returns the set ID, when this rank's
+// share holds the file's "# partet mesh ID" line.
+template <class Take>
+std::string read_in_rounds(const Part& part, const TetgenFileShare& share, TetgenFile file, const Take& take) {
+  const double round_bytes = test_hooks::check_pass_bytes(64 << 20);
+  const std::uint64_t text = share.layout.size - share.layout.rows_begin;
+  const auto rounds = static_cast<int>(std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::ceil(static_cast<double>(text) / part.size / std::max(round_bytes, 1.0)))));
+  std::string id;
+  for (int round = 0; round < rounds; ++round) {
+    TetgenRowsRead rows;
+    const int piece = part.rank * rounds + round, pieces = part.size * rounds;
+    throw_if_any(part.comm, error_of(share.path, [&] {
+                   rows = read_tetgen_rows(share.path, file, tetgen_part_begin(share.path, share.layout, piece, pieces),
+                                           tetgen_part_begin(share.path, share.layout, piece + 1, pieces));
+                 }));
+    if (!rows.id.empty()) id = rows.id;
+    take(rows);
+  }
+  return id;
 }
 
 // The ids of rows (their index less the base), and each row's values as 0-based ids; -1 stays
@@ -175,60 +232,36 @@ std::string check_set_id(const std::vector<std::pair<std::string, std::string>>&
   return set_id_violation(ids);
 }
 
-// One file of a TetGen set: its layout, its numbering base and this rank's rows. Its set ID is
-// added to `ids`.
-struct FileShare {
-  TetgenFileLayout layout;
-  std::int64_t base = 0;
-  TetgenRowsRead rows;
-};
+// Set IDs of the files read so far, as (file, ID), for check_set_id.
+using SetIds = std::vector<std::pair<std::string, std::string>>;
 
-FileShare read_share(const Part& part, const std::string& prefix, TetgenFile file,
-                     std::vector<std::pair<std::string, std::string>>& ids) {
-  const std::string path = prefix + extension(file);
-  FileShare share;
-  share.rows = read_tetgen_part(part, path, file, share.layout);
-  share.base = numbering_base(part, share.rows, path);
-  ids.push_back({path, first_nonempty(part.comm, share.rows.id)});
-  return share;
-}
-
-// place_points and place_tets free the rows they place (the layout and base stay).
-void place_points(Part& part, FileShare& node, const std::string& prefix) {
-  part.totals.points = static_cast<std::uint64_t>(node.layout.count);
-  part.block.points = place_rows(part, row_ids(node.rows.index, node.base), std::move(node.rows.points),
-                                 part.totals.points, Repeats::refused, prefix + ".node");
-  node.rows = {};
-}
-
-void place_tets(Part& part, FileShare& ele, std::int64_t vertex_base, const std::string& prefix) {
-  part.totals.tets = static_cast<std::uint64_t>(ele.layout.count);
-  part.block.tets =
-      place_rows(part, row_ids(ele.rows.index, ele.base), rows_of_ids<4>(ele.rows.values, vertex_base, false),
-                 part.totals.tets, Repeats::refused, prefix + ".ele");
-  ele.rows = {};
+// A file whose rows go to the owners of their index: .node (points), .ele (tets), .neigh (a tet's
+// neighbours), numbered with `values_base` (the file's own rows' base for .neigh). The rows
+// arrive in id order on their owners.
+template <class Values, class Convert>
+std::vector<Values> place_file(const Part& part, const TetgenFileShare& share, TetgenFile file, Convert convert,
+                               SetIds& ids) {
+  RowPlacer<Values> placer(part, static_cast<std::uint64_t>(share.layout.count), Repeats::refused, share.path);
+  const std::string id = read_in_rounds(
+      part, share, file, [&](TetgenRowsRead& rows) { placer.add(row_ids(rows.index, share.base), convert(rows)); });
+  ids.push_back({share.path, first_nonempty(part.comm, id)});
+  return placer.finish();
 }
 
 // The .face rows stay where they were read.
-void keep_faces(Part& part, FileShare&& face, std::int64_t vertex_base, const std::string& prefix) {
-  part.block.faces = rows_of_ids<3>(face.rows.values, vertex_base, false);
-  part.block.face_marker = std::move(face.rows.markers);
+void keep_faces(Part& part, const TetgenFileShare& face, std::int64_t vertex_base, SetIds& ids) {
+  const std::string id = read_in_rounds(part, face, TetgenFile::face, [&](TetgenRowsRead& rows) {
+    const std::vector<std::array<Id, 3>> faces = rows_of_ids<3>(rows.values, vertex_base, false);
+    part.block.faces.insert(part.block.faces.end(), faces.begin(), faces.end());
+    part.block.face_marker.insert(part.block.face_marker.end(), rows.markers.begin(), rows.markers.end());
+  });
+  ids.push_back({face.path, first_nonempty(part.comm, id)});
   std::uint64_t faces = part.block.faces.size();
   MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
   if (faces != static_cast<std::uint64_t>(face.layout.count))
-    throw InputError(prefix + ".face declares " + std::to_string(face.layout.count) + " faces but has " +
+    throw InputError(face.path + " declares " + std::to_string(face.layout.count) + " faces but has " +
                      std::to_string(faces) + " rows");  // on every rank
   part.totals.faces = faces;
-}
-
-// The .neigh rows of this rank's tets, numbered as the .ele rows are.
-std::vector<std::array<Id, 4>> place_neighbours(const Part& part, const FileShare& neigh, const FileShare& ele,
-                                                const std::string& prefix) {
-  if (neigh.layout.count != ele.layout.count)
-    throw InputError(prefix + ".neigh: " + std::to_string(neigh.layout.count) + " neighbour rows for " +
-                     std::to_string(ele.layout.count) + " tetrahedra");  // on every rank
-  return place_rows(part, row_ids(neigh.rows.index, ele.base), rows_of_ids<4>(neigh.rows.values, ele.base, true),
-                    part.totals.tets, Repeats::refused, prefix + ".neigh");
 }
 
 }  // namespace
@@ -245,14 +278,28 @@ void read_mesh_part(Part& part, const std::string& path) {
 }
 
 TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
-  std::vector<std::pair<std::string, std::string>> ids;  // each file's set ID
-  FileShare node = read_share(part, prefix, TetgenFile::node, ids);
-  place_points(part, node, prefix);
-  FileShare ele = read_share(part, prefix, TetgenFile::ele, ids);
-  place_tets(part, ele, node.base, prefix);
-  keep_faces(part, read_share(part, prefix, TetgenFile::face, ids), node.base, prefix);
+  SetIds ids;
+  const TetgenFileShare node = file_share(part, prefix, TetgenFile::node);
+  part.totals.points = static_cast<std::uint64_t>(node.layout.count);
+  part.block.points = place_file<Point3>(
+      part, node, TetgenFile::node, [](TetgenRowsRead& rows) { return std::move(rows.points); }, ids);
+  const TetgenFileShare ele = file_share(part, prefix, TetgenFile::ele);
+  part.totals.tets = static_cast<std::uint64_t>(ele.layout.count);
+  part.block.tets = place_file<std::array<Id, 4>>(
+      part, ele, TetgenFile::ele, [&](TetgenRowsRead& rows) { return rows_of_ids<4>(rows.values, node.base, false); },
+      ids);
+  keep_faces(part, file_share(part, prefix, TetgenFile::face), node.base, ids);
+  const TetgenFileShare neigh = file_share(part, prefix, TetgenFile::neigh);
+  if (neigh.layout.count != ele.layout.count)
+    throw InputError(neigh.path + ": " + std::to_string(neigh.layout.count) + " neighbour rows for " +
+                     std::to_string(ele.layout.count) + " tetrahedra");  // on every rank
+  // The neighbours' rows are tets, numbered as the .ele rows are.
   TetgenExtras extras;
-  extras.neighbours = place_neighbours(part, read_share(part, prefix, TetgenFile::neigh, ids), ele, prefix);
+  TetgenFileShare neigh_rows = neigh;
+  neigh_rows.base = ele.base;
+  extras.neighbours = place_file<std::array<Id, 4>>(
+      part, neigh_rows, TetgenFile::neigh,
+      [&](TetgenRowsRead& rows) { return rows_of_ids<4>(rows.values, ele.base, true); }, ids);
   extras.set_violation = check_set_id(ids);
   return extras;
 }
