@@ -287,10 +287,19 @@ int run_check_on_ranks(int argc, char** argv, const std::string& input, const st
   int code = 1;
   try {
     code = run_check_distributed(input, path, json);
-  } catch (const std::bad_alloc&) {
-    partet::log::error("out of memory: run the check on more ranks (mpirun -n N partet check ...)");
-  } catch (const std::exception& e) {
+  } catch (const partet::InputError& e) {
+    // Every rank throws it (the ranks agree on a file that cannot be read): the first says why.
     if (launched_rank() == 0) partet::log::error(e.what());
+  } catch (const std::exception& e) {
+    // This rank alone (out of memory in a check step, say): the others wait for it in the
+    // check's exchanges, so the job must end here, or it would wait forever.
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    partet::log::error(dynamic_cast<const std::bad_alloc*>(&e)
+                           ? "out of memory on rank " + std::to_string(rank) +
+                                 ": run the check on more ranks (mpirun -n N partet check ...)"
+                           : std::string(e.what()) + " (on rank " + std::to_string(rank) + ")");
+    MPI_Abort(MPI_COMM_WORLD, 1);
   }
   MPI_Finalize();
   return code;

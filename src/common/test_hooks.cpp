@@ -71,6 +71,10 @@ void share_stop(int rank) {
   if (rank == 2 && injected("worker:stop-before-findings")) ::raise(SIGSTOP);
 }
 
+void check_failure(int rank) {
+  if (rank == 1 && injected("check:out-of-memory")) throw std::bad_alloc();
+}
+
 double check_pass_bytes(double fallback) { return seconds_or("PARTET_TEST_CHECK_PASS_BYTES", fallback); }
 
 double verdict_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_VERDICT_WAIT_S", fallback); }

@@ -1,7 +1,8 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh,
-// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/check_tetgen_ranks.sh.
+// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/check_tetgen_ranks.sh (also
+// check_failure).
 #pragma once
 #include <cstddef>
 
@@ -28,6 +29,9 @@ void share_failure(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-before-findings": rank 2 stops itself (SIGSTOP) once it has
 // checked its share of the input, before it sends its findings to rank 1.
 void share_stop(int rank);
+// PARTET_INJECT_FAILURE="check:out-of-memory": in a check on several ranks, rank 1 runs out of
+// memory (std::bad_alloc) once the files are read, while the other ranks go on into the checks.
+void check_failure(int rank);
 // PARTET_TEST_CHECK_PASS_BYTES=B: the bytes the check on several ranks takes at a time (else
 // fallback): a rank's records per pass, and a TetGen file's text per read; so that small meshes
 // are checked in many passes and reads too.

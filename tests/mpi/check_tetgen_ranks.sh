@@ -3,7 +3,8 @@
 # 2, 3 and 4 ranks it must agree with the check in one process (vertices, tets, boundary faces,
 # volume, V-E+F-T), and on 2 ranks it must catch each kind of damage done to the text: an inverted
 # tet, a boundary face turned over, a wrong neighbour, a missing and a repeated row, files from
-# two runs, a set without partet's ID, a missing file; --report needs one process.
+# two runs, a set without partet's ID, a missing file; --report needs one process; a rank out of
+# memory in a check step ends the job.
 # Usage: check_tetgen_ranks.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2 tests=$(cd "$(dirname "$0")/.." && pwd)
@@ -54,6 +55,15 @@ damage "files of two runs" face "lines[-2] = lines[-2][:-4] + '0000'" "come from
 damage "a set without partet's ID" neigh "lines[-2] = '# written elsewhere'" "only sets partet wrote"
 rm d.neigh
 if "$mpiexec" -n 2 "$partet" check in.off d > out 2>&1; then echo "FAIL: a missing .neigh passed"; exit 1; fi
-grep -q "cannot open d.neigh" out && echo "ok: a missing file: $(grep -m 1 error out)"
+grep -q "cannot open d.neigh" out || { echo "FAIL: a missing .neigh:"; cat out; exit 1; }
+echo "ok: a missing file: $(grep -m 1 error out)"
 if "$mpiexec" -n 2 "$partet" check in.off m --report r.json > out 2>&1; then echo "FAIL: --report on ranks"; exit 1; fi
-grep -q "need the whole mesh in one process" out && echo "ok: --report needs one process"
+grep -q "need the whole mesh in one process" out || { echo "FAIL: --report on ranks:"; cat out; exit 1; }
+echo "ok: --report needs one process"
+# A rank out of memory in a check step (the others wait for it in the exchanges) ends the whole
+# job at once, saying which rank, instead of leaving the others waiting for ever.
+if PARTET_INJECT_FAILURE=check:out-of-memory timeout -k 10 60 "$mpiexec" -n 3 "$partet" check in.off m > out 2>&1; then
+  echo "FAIL: a rank out of memory passed the check"; exit 1
+fi
+grep -q "out of memory on rank 1" out || { echo "FAIL: no 'out of memory on rank 1' (still waiting?):"; cat out; exit 1; }
+echo "ok: a rank out of memory ends the job: $(grep -m 1 'out of memory' out)"
