@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # `partet check` on one output in one process and under mpirun on N ranks (each rank reading and
-# checking its part: an XDMF set, or an MSH file or partition set), alternating, R times each:
+# checking its part of any set partet writes), alternating, R times each:
 # the median wall time, the largest rank's peak memory and every rank's (medians over the runs,
 # GNU time per process), and the check's verdict line. Figures, not a test: run it on a quiet
 # machine. With -n 1 only the process alone is run.
 #
 # Usage: check_ranks.sh [-r R] [-n "2 4"] [-b BINARY] INPUT OUTPUT
-#   OUTPUT: TetGen prefix, PREFIX.msh, PREFIX_i.msh or PREFIX.xdmf, as `partet check` takes it
+#   OUTPUT: TetGen prefix, PREFIX.msh, PREFIX_i.msh, PREFIX.vtu, PREFIX.pvtu, PREFIX.mesh or
+#   PREFIX.xdmf, as `partet check` takes it
 set -euo pipefail
 source "$(dirname "$0")/../common.sh"
 runs=3 ranks="2 4" binary=partet
