@@ -75,6 +75,18 @@ KnownZones zone_quality(const partet::TetMesh& mesh, const std::optional<std::ve
   return planes ? KnownZones(partet::zone_quality(mesh, *planes)) : std::nullopt;
 }
 
+// The quality line and the dihedral angles' histogram.
+void print_quality(const partet::MeshQuality& quality) {
+  std::printf("quality: %s\n", partet::quality_line(quality).c_str());
+  std::printf("dihedral angles:");
+  double from = 0;
+  for (std::size_t i = 0; i < partet::kDihedralBins.size(); ++i) {
+    std::printf(" %g-%g: %lld%s", from, partet::kDihedralBins[i],
+                static_cast<long long>(quality.dihedral_histogram[i]), i + 1 < partet::kDihedralBins.size() ? "," : "\n");
+    from = partet::kDihedralBins[i];
+  }
+}
+
 void print_check(const partet::CheckReport& report, const KnownZones& zones) {
   std::printf("vertices %lld, tets %lld, boundary faces %lld\n", static_cast<long long>(report.vertices),
               static_cast<long long>(report.tets), static_cast<long long>(report.boundary_faces));
@@ -83,15 +95,7 @@ void print_check(const partet::CheckReport& report, const KnownZones& zones) {
                 static_cast<long long>(report.split_input_faces));
   std::printf("volume: tets %.17g, surface %.17g\n", report.tet_volume, report.surface_volume);
   std::printf("euler: mesh %ld, expected %ld\n", report.euler_mesh, report.euler_expected);
-  std::printf("quality: %s\n", partet::quality_line(report.quality).c_str());
-  std::printf("dihedral angles:");
-  double from = 0;
-  for (std::size_t i = 0; i < partet::kDihedralBins.size(); ++i) {
-    std::printf(" %g-%g: %lld%s", from, partet::kDihedralBins[i],
-                static_cast<long long>(report.quality.dihedral_histogram[i]),
-                i + 1 < partet::kDihedralBins.size() ? "," : "\n");
-    from = partet::kDihedralBins[i];
-  }
+  print_quality(report.quality);
   if (zones) {
     std::printf("seam zone (%lld tets): %s\n", static_cast<long long>(zones->seam.tets),
                 partet::quality_line(zones->seam).c_str());
@@ -205,7 +209,8 @@ int run_check_distributed(const std::string& input_path, const std::string& path
                                        {"tet_volume", report.tet_volume},
                                        {"surface_volume", report.surface_volume},
                                        {"euler_mesh", report.euler_mesh},
-                                       {"euler_expected", report.euler_expected}}
+                                       {"euler_expected", report.euler_expected},
+                                       {"quality", partet::quality_json(report.quality)}}
                                 .dump(2)
                                 .c_str());
   } else {
@@ -216,6 +221,7 @@ int run_check_distributed(const std::string& input_path, const std::string& path
                 static_cast<long long>(report.boundary_faces), ranks, ranks == 1 ? "" : "s");
     std::printf("volume %.17g (input encloses %.17g), V-E+F-T %ld (expected %ld)\n", report.tet_volume,
                 report.surface_volume, report.euler_mesh, report.euler_expected);
+    print_quality(report.quality);
     for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
     std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
   }
@@ -471,7 +477,7 @@ CLI::App* add_check_command(CLI::App& app, CommandLine& c) {
                     "prefix of the .node/.ele files; PREFIX.msh, or one file of an MSH partition set "
                     "(PREFIX_1.msh: the whole set is read); PREFIX.vtu, PREFIX.pvtu (the set), PREFIX.mesh "
                     "(MEDIT); or PREFIX.xdmf, the XDMF set. Under mpirun every rank reads and checks its part of any "
-                    "of them (no quality figures then), so a mesh too large for one process can be checked")
+                    "of them, so a mesh too large for one process can be checked")
       ->required();
   check->add_flag("--json", c.check_json, "print the result as JSON");
   check->add_flag("--allow-split-faces", c.check_split,

@@ -73,9 +73,9 @@ bool all_valid(const Part& part, const Row& row) {
 // ---------------------------------------------------------------------------------------------
 // The checks, one per step
 
-// Tets: orientation and volume (6x, long double). In runs of tets, one per pass, so that the ids
-// and points fetched for them stay within kPassBytes.
-long double check_tets(const Part& part, Counts& counts) {
+// Tets: orientation and volume (6x, long double), and their quality tallied. In runs of tets, one
+// per pass, so that the ids and points fetched for them stay within kPassBytes.
+long double check_tets(const Part& part, Counts& counts, QualityTally& quality) {
   std::vector<char> marked(part.block.points.size(), 0);  // this rank's points used by a tet
   const std::size_t tets = part.block.tets.size();
   const std::uint64_t passes = passes_for(part.comm, 4 * tets, sizeof(Id) + sizeof(Point3));
@@ -94,6 +94,7 @@ long double check_tets(const Part& part, Counts& counts) {
       if (orientation < 0) ++counts[inverted];
       if (orientation == 0) ++counts[flat];
       volume6 += tet_volume6(a, b, c, d);
+      quality.add(a, b, c, d);
     }
   }
   counts[used] = std::count(marked.begin(), marked.end(), 1);
@@ -394,6 +395,51 @@ std::int64_t check_neighbours(const Part& part, const std::vector<std::array<Id,
 }
 
 // ---------------------------------------------------------------------------------------------
+// Quality: every rank's tally combined
+
+// The k-th smallest (from 0) of every rank's values, exactly as one process's nth_element finds
+// it: non-negative floats sort as their bit patterns, which are chosen a byte at a time, the
+// highest first, by the counts of every rank.
+float kth_smallest(MPI_Comm comm, const std::vector<float>& values, std::uint64_t k) {
+  std::uint32_t prefix = 0, mask = 0;
+  for (int shift = 24; shift >= 0; shift -= 8) {
+    std::array<std::uint64_t, 256> counts{};
+    for (float v : values) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      if ((bits & mask) == prefix) ++counts[(bits >> shift) & 255];
+    }
+    MPI_Allreduce(MPI_IN_PLACE, counts.data(), 256, MPI_UINT64_T, MPI_SUM, comm);
+    std::uint32_t byte = 0;
+    while (byte < 255 && k >= counts[byte]) k -= counts[byte++];
+    prefix |= byte << shift, mask |= 0xFFu << shift;
+  }
+  float value;
+  std::memcpy(&value, &prefix, sizeof value);
+  return value;
+}
+
+MeshQuality quality_on_ranks(MPI_Comm comm, const QualityTally& tally) {
+  std::array<std::int64_t, 4 + kDihedralBins.size()> counts{tally.tets, tally.below_5deg, tally.above_175deg,
+                                                              tally.radius_edge_above_2};
+  std::copy(tally.dihedral_histogram.begin(), tally.dihedral_histogram.end(), counts.begin() + 4);
+  MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T, MPI_SUM, comm);
+  long double sums[2] = {tally.amips_sum, tally.radius_edge_sum};
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_LONG_DOUBLE, MPI_SUM, comm);
+  double highest[4] = {tally.amips_max, tally.radius_edge_max, tally.largest_cos, -tally.smallest_cos};
+  MPI_Allreduce(MPI_IN_PLACE, highest, 4, MPI_DOUBLE, MPI_MAX, comm);
+  QualityTally all;
+  all.tets = counts[0], all.below_5deg = counts[1], all.above_175deg = counts[2], all.radius_edge_above_2 = counts[3];
+  std::copy(counts.begin() + 4, counts.end(), all.dihedral_histogram.begin());
+  all.amips_sum = sums[0], all.radius_edge_sum = sums[1];
+  all.amips_max = highest[0], all.radius_edge_max = highest[1];
+  all.largest_cos = highest[2], all.smallest_cos = -highest[3];
+  const double p99 =
+      all.tets > 0 ? kth_smallest(comm, tally.amips, static_cast<std::uint64_t>(amips_p99_rank(all.tets))) : 0;
+  return all.figures(p99);
+}
+
+// ---------------------------------------------------------------------------------------------
 
 // The checks on the part every rank holds, their counts summed over the ranks, and the report.
 // `boundary` names the files that list the boundary faces; "" when none does (VTK files): the
@@ -401,7 +447,8 @@ std::int64_t check_neighbours(const Part& part, const std::vector<std::array<Id,
 DistributedCheckReport check_part(Part& part, const InputFigures& input, const std::string& boundary) {
   test_hooks::check_failure(part.rank);
   Counts counts{};
-  long double volume6 = check_tets(part, counts);
+  QualityTally quality;
+  long double volume6 = check_tets(part, counts, quality);
   if (boundary.empty()) {
     FreeFaces unlisted;
     check_faces(part, counts, &unlisted);
@@ -417,6 +464,7 @@ DistributedCheckReport check_part(Part& part, const InputFigures& input, const s
   MPI_Allreduce(MPI_IN_PLACE, &volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, part.comm);
 
   DistributedCheckReport report;
+  report.quality = quality_on_ranks(part.comm, quality);
   report.violations = violations_of(counts, boundary);
   report.vertices = static_cast<std::int64_t>(part.totals.points);
   report.tets = static_cast<std::int64_t>(part.totals.tets);

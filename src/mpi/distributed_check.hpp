@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "stages/quality.hpp"
+
 namespace partet {
 
 struct DistributedCheckReport {  // the same on every rank
@@ -21,6 +23,7 @@ struct DistributedCheckReport {  // the same on every rank
   std::int64_t vertices = 0, tets = 0, boundary_faces = 0;
   double tet_volume = 0, surface_volume = 0;
   long euler_mesh = 0, euler_expected = 0;
+  MeshQuality quality;  // as one process finds it (the averages summed in another order)
   bool ok() const { return violations.empty(); }
 };
 

@@ -66,17 +66,8 @@ double radius_edge_ratio(const Point3* p[4]) {
   return norm(center) / shortest;
 }
 
-TetMeasures measure(const TetMesh& mesh, const Tet& t) {
-  const Point3* p[4] = {&mesh.points[t[0]], &mesh.points[t[1]], &mesh.points[t[2]], &mesh.points[t[3]]};
-  TetMeasures m{};
-  m.amips = amips_energy(*p[0], *p[1], *p[2], *p[3]);
-  dihedral_cosines(p, m);
-  m.radius_edge = radius_edge_ratio(p);
-  return m;
-}
-
 // Bins by cosine (decreasing with the angle), without an acos per angle.
-void add_to_histogram(const TetMeasures& m, MeshQuality& q) {
+void add_to_histogram(const TetMeasures& m, std::array<std::int64_t, kDihedralBins.size()>& histogram) {
   static const auto kBinCos = [] {
     std::array<double, kDihedralBins.size()> c{};
     for (std::size_t i = 0; i < c.size(); ++i) c[i] = std::cos(kDihedralBins[i] * kPi / 180);
@@ -85,7 +76,7 @@ void add_to_histogram(const TetMeasures& m, MeshQuality& q) {
   for (double c : m.cos) {
     std::size_t bin = 0;
     while (bin + 1 < kBinCos.size() && c <= kBinCos[bin]) ++bin;
-    ++q.dihedral_histogram[bin];
+    ++histogram[bin];
   }
 }
 
@@ -125,37 +116,60 @@ double amips_lower_bound(double dihedral_deg) {
   return 1.5 * std::cbrt(2.0) * std::pow((k * k + 1) / k, 2.0 / 3.0);
 }
 
-MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size_t)>& include) {
+void QualityTally::add(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   static const double kCos5 = std::cos(5 * kPi / 180), kCos175 = std::cos(175 * kPi / 180);
+  const Point3* p[4] = {&a, &b, &c, &d};
+  TetMeasures m{};
+  m.amips = amips_energy(a, b, c, d);
+  dihedral_cosines(p, m);
+  m.radius_edge = radius_edge_ratio(p);
+  ++tets;
+  amips_sum += m.amips;
+  amips.push_back(m.amips < 3.0e38 ? static_cast<float>(m.amips) : 3.0e38f);  // NaN too
+  amips_max = std::max(amips_max, m.amips);
+  largest_cos = std::max(largest_cos, m.largest_cos);
+  smallest_cos = std::min(smallest_cos, m.smallest_cos);
+  if (m.largest_cos > kCos5) ++below_5deg;
+  if (m.smallest_cos < kCos175) ++above_175deg;
+  radius_edge_sum += m.radius_edge;
+  radius_edge_max = std::max(radius_edge_max, m.radius_edge);
+  if (m.radius_edge > 2) ++radius_edge_above_2;
+  add_to_histogram(m, dihedral_histogram);
+}
+
+MeshQuality QualityTally::figures(double amips_p99) const {
   MeshQuality q;
-  long double amips_sum = 0, radius_edge_sum = 0;
-  double largest_cos = -1, smallest_cos = 1;
-  std::vector<float> amips;  // for the 99th percentile
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    if (include && !include(t)) continue;
-    const TetMeasures m = measure(mesh, mesh.tets[t]);
-    ++q.tets;
-    amips_sum += m.amips;
-    amips.push_back(static_cast<float>(std::min(m.amips, 3.0e38)));
-    q.amips_max = std::max(q.amips_max, m.amips);
-    largest_cos = std::max(largest_cos, m.largest_cos);
-    smallest_cos = std::min(smallest_cos, m.smallest_cos);
-    if (m.largest_cos > kCos5) ++q.below_5deg;
-    if (m.smallest_cos < kCos175) ++q.above_175deg;
-    radius_edge_sum += m.radius_edge;
-    q.radius_edge_max = std::max(q.radius_edge_max, m.radius_edge);
-    if (m.radius_edge > 2) ++q.radius_edge_above_2;
-    add_to_histogram(m, q);
-  }
-  if (q.tets == 0) return q;
-  q.amips_avg = static_cast<double>(amips_sum / q.tets);
-  q.radius_edge_avg = static_cast<double>(radius_edge_sum / q.tets);
-  const std::size_t rank99 = static_cast<std::size_t>(0.99 * static_cast<double>(amips.size() - 1));
-  std::nth_element(amips.begin(), amips.begin() + static_cast<long>(rank99), amips.end());
-  q.amips_p99 = amips[rank99];
+  q.tets = tets;
+  if (tets == 0) return q;
+  q.amips_avg = static_cast<double>(amips_sum / tets);
+  q.amips_p99 = amips_p99;
+  q.amips_max = amips_max;
   q.min_dihedral_deg = std::acos(largest_cos) * 180 / kPi;
   q.max_dihedral_deg = std::acos(smallest_cos) * 180 / kPi;
+  q.below_5deg = below_5deg;
+  q.above_175deg = above_175deg;
+  q.radius_edge_avg = static_cast<double>(radius_edge_sum / tets);
+  q.radius_edge_max = radius_edge_max;
+  q.radius_edge_above_2 = radius_edge_above_2;
+  q.dihedral_histogram = dihedral_histogram;
   return q;
+}
+
+std::int64_t amips_p99_rank(std::int64_t tets) {
+  return tets > 0 ? static_cast<std::int64_t>(0.99 * static_cast<double>(tets - 1)) : 0;
+}
+
+MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size_t)>& include) {
+  QualityTally tally;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (include && !include(t)) continue;
+    const Tet& tet = mesh.tets[t];
+    tally.add(mesh.points[tet[0]], mesh.points[tet[1]], mesh.points[tet[2]], mesh.points[tet[3]]);
+  }
+  if (tally.tets == 0) return tally.figures(0);
+  const auto rank99 = static_cast<std::size_t>(amips_p99_rank(tally.tets));
+  std::nth_element(tally.amips.begin(), tally.amips.begin() + static_cast<long>(rank99), tally.amips.end());
+  return tally.figures(tally.amips[rank99]);
 }
 
 std::vector<char> seam_zone(const TetMesh& mesh, const std::vector<CutPlane>& planes) {

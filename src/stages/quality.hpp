@@ -28,6 +28,24 @@ struct MeshQuality {
 // The quality of the tets for which `include(t)` holds (all when empty).
 MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size_t)>& include = {});
 
+// The same figures, tallied one tet at a time: for a mesh held in parts (the check on several
+// ranks tallies each rank's tets, then adds the counts and sums, takes the extremes, and finds the
+// 99th percentile among every rank's AMIPS values).
+struct QualityTally {
+  std::int64_t tets = 0, below_5deg = 0, above_175deg = 0, radius_edge_above_2 = 0;
+  std::array<std::int64_t, kDihedralBins.size()> dihedral_histogram{};
+  long double amips_sum = 0, radius_edge_sum = 0;
+  double amips_max = 0, radius_edge_max = 0;
+  double largest_cos = -1, smallest_cos = 1;  // of the dihedral angles seen
+  std::vector<float> amips;                   // every tet's (flat and inverted ones: 3e38), for the percentile
+
+  void add(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+  // The figures, given the 99th percentile of the AMIPS values (the amips_p99_rank-th smallest).
+  MeshQuality figures(double amips_p99) const;
+};
+// Which of `tets` sorted values is the 99th percentile (from 0).
+std::int64_t amips_p99_rank(std::int64_t tets);
+
 // Conformal AMIPS energy tr(J^T J) / det(J)^(2/3) of one tet (3 for a regular tet, +inf for a
 // flat or inverted one).
 double amips_energy(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
