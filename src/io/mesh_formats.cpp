@@ -21,6 +21,7 @@
 #include "io/msh.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/xdmf.hpp"
+#include "io/xml_text.hpp"
 #include "partet/errors.hpp"
 #include "stages/info.hpp"
 #include "stages/topology.hpp"
@@ -280,7 +281,7 @@ void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<st
       "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n"
       "<PCellData Scalars=\"piece\">\n<PDataArray type=\"Int32\" Name=\"piece\"/>\n"
       "<PDataArray type=\"Int32\" Name=\"region\"/>\n</PCellData>\n";
-  for (const std::string& file : piece_files) xml += "<Piece Source=\"" + file + "\"/>\n";
+  for (const std::string& file : piece_files) xml += "<Piece Source=\"" + xml_escaped(file) + "\"/>\n";
   xml += "</PUnstructuredGrid>\n</VTKFile>\n";
   BufferedFile out(path);
   out.bytes(xml.data(), xml.size());

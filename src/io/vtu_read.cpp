@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "io/mesh_formats.hpp"
+#include "io/xml_text.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -172,7 +173,7 @@ std::vector<std::string> pvtu_files(const std::string& path) {
     fail(path, "is not a .pvtu index (a PUnstructuredGrid)");
   std::vector<std::string> files{path};
   for (std::string_view piece : tags_named(text, "Piece")) {
-    const std::string source = attribute(piece, "Source");
+    const std::string source = xml_unescaped(attribute(piece, "Source"));
     if (source.empty()) fail(path, "has a piece without a Source");
     files.push_back(source[0] == '/' ? source : directory_of(path) + source);
   }

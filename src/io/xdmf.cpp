@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "io/buffered_file.hpp"
+#include "io/xml_text.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -20,7 +21,7 @@ namespace {
 std::string data_item(const std::string& dims, const char* number_type, int precision, const std::string& h5_name,
                       const char* dataset) {
   return "<DataItem Dimensions=\"" + dims + "\" NumberType=\"" + number_type + "\" Precision=\"" +
-         std::to_string(precision) + "\" Format=\"HDF\">" + h5_name + ":" + dataset + "</DataItem>";
+         std::to_string(precision) + "\" Format=\"HDF\">" + xml_escaped(h5_name) + ":" + dataset + "</DataItem>";
 }
 
 std::string xdmf_document(const std::string& grid) {

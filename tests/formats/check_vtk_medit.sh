@@ -4,7 +4,8 @@
 # some of the files), must agree with the check of the TetGen files of the same run (vertices,
 # tets, boundary faces, volume, V-E+F-T). Damage must fail it, in one process and on 2 ranks: a
 # tet turned inside out, a point moved in one piece file only, a tet missing, a piece file missing
-# or without GlobalPointIds, a file cut short, a MEDIT triangle turned over.
+# or without GlobalPointIds, a file cut short, a MEDIT triangle turned over. A prefix with & < " is
+# escaped in the .pvtu and .xdmf files, which VTK and meshio then read.
 # Usage: check_vtk_medit.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2 tests=$(cd "$(dirname "$0")/.." && pwd)
@@ -64,3 +65,20 @@ v = lines[t].split(); v[0], v[1] = v[1], v[0]; lines[t] = ' '.join(v)
 open('d/m.mesh', 'w').write('\n'.join(lines))"
 damaged "a MEDIT triangle turned over" m.mesh "MEDIT triangles do not list exactly the outward" \
   "triangles of the MEDIT file face into their tet"
+
+# A prefix with XML's special characters: the .pvtu index and the .xdmf file name their files
+# escaped, so VTK and meshio read them (before, VTK read no cells) and so does partet check.
+"$mpiexec" -n 2 "$partet" mesh in.off -o 'r&d<"x' --pieces 4 --format pvtu,xdmf --quiet
+for set in 'r&d<"x.pvtu' 'r&d<"x.xdmf'; do
+  "$partet" check in.off "$set" --json > special.json
+  same_as_tetgen_files special.json "$set"
+done
+/usr/bin/python3 -c "
+import json, meshio, vtk
+tets = json.load(open('serial.json'))['tets']
+reader = vtk.vtkXMLPUnstructuredGridReader()
+reader.SetFileName('r&d<\"x.pvtu')
+reader.Update()
+assert reader.GetOutput().GetNumberOfCells() == tets, reader.GetOutput().GetNumberOfCells()
+assert len(meshio.read('r&d<\"x.xdmf').cells[0].data) == tets
+print('ok: VTK reads the .pvtu and meshio the .xdmf at a prefix with & < \"')"
