@@ -2,9 +2,9 @@
 
 #include <cctype>
 #include <charconv>
-#include <fstream>
 #include <string_view>
 
+#include "io/file_text.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -14,12 +14,7 @@ namespace {
 // white space; '#' starts a comment line).
 class MeditWords {
  public:
-  explicit MeditWords(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw InputError("cannot open '" + path + "'");
-    text_.resize(static_cast<std::size_t>(in.tellg()));
-    if (!in.seekg(0).read(text_.data(), static_cast<std::streamsize>(text_.size()))) fail("cannot be read");
-  }
+  explicit MeditWords(const std::string& path) : path_(path), text_(file_text(path)) {}
 
   bool done() {
     skip_space();

@@ -95,9 +95,9 @@ bool reads_mesh_file(const std::string& path) {
   return format_of(path, format);
 }
 
-bool lists_boundary(const std::string& path) {
+std::string boundary_list(const std::string& path) {
   const MeshFormat format = named_format(path);
-  return format == MeshFormat::msh || format == MeshFormat::medit;
+  return format == MeshFormat::msh ? "the MSH files" : format == MeshFormat::medit ? "the MEDIT file" : "";
 }
 
 std::vector<std::string> read_named_mesh_file(const std::string& path, MeshSink& sink) {

@@ -15,9 +15,11 @@ namespace partet {
 // the set), PREFIX.vtu, PREFIX.pvtu (the set) or PREFIX.mesh.
 bool reads_mesh_file(const std::string& path);
 
-// Whether the format PATH names lists the boundary triangles (MSH and MEDIT do). VTK files hold
-// only the tets: the boundary is then the faces in one tet, checked against the input.
-bool lists_boundary(const std::string& path);
+// The files that list the boundary triangles of the set PATH names, as messages call them ("the
+// MSH files", "the MEDIT file"); "" when its format lists none: VTK files hold only the tets, and
+// the boundary is then the faces in one tet, checked against the input.
+std::string boundary_list(const std::string& path);
+inline bool lists_boundary(const std::string& path) { return !boundary_list(path).empty(); }
 
 // Reads what PATH itself holds into sink (a .pvtu index holds no cells) and returns the files of
 // its set: PATH first, then the others in order (an MSH partition set's other files, a .pvtu

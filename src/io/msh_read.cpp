@@ -4,9 +4,9 @@
 #include <charconv>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <vector>
 
+#include "io/file_text.hpp"
 #include "io/mesh_formats.hpp"
 #include "partet/errors.hpp"
 
@@ -17,11 +17,7 @@ namespace {
 // (size_t 8 bytes, int 4 bytes, double 8 bytes, this machine's byte order as partet writes it).
 class MshCursor {
  public:
-  explicit MshCursor(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw InputError("cannot open '" + path + "'");
-    text_.resize(static_cast<std::size_t>(in.tellg()));
-    if (!in.seekg(0).read(text_.data(), static_cast<std::streamsize>(text_.size()))) fail("cannot be read");
+  explicit MshCursor(const std::string& path) : path_(path), text_(file_text(path)) {
     const std::string head = "$MeshFormat\n";
     if (text_.compare(0, head.size(), head) != 0) fail("does not start with $MeshFormat");
     at_ = head.size();

@@ -5,9 +5,11 @@
 #include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string_view>
 
+#include "io/file_text.hpp"
 #include "io/mesh_formats.hpp"
 #include "io/xml_text.hpp"
 #include "partet/errors.hpp"
@@ -160,14 +162,10 @@ std::string directory_of(const std::string& path) {
 }  // namespace
 
 std::vector<std::string> pvtu_files(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open '" + path + "'");
-  std::string text;
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
-    text.append(chunk, static_cast<std::size_t>(in.gcount()));
-    if (text.size() > (std::size_t(1) << 26)) fail(path, "is too large for a .pvtu index");
-  }
+  std::error_code no_size;  // a missing file: file_text says so
+  if (std::filesystem::file_size(path, no_size) > (std::uintmax_t(1) << 26) && !no_size)
+    fail(path, "is too large for a .pvtu index");
+  const std::string text = file_text(path);
   const std::vector<std::string_view> file = tags_named(text, "VTKFile");
   if (file.empty() || attribute(file[0], "type") != "PUnstructuredGrid")
     fail(path, "is not a .pvtu index (a PUnstructuredGrid)");

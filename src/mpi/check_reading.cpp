@@ -220,10 +220,13 @@ std::vector<std::array<Id, N>> rows_of_ids(const std::vector<std::int64_t>& valu
   return rows;
 }
 
+// Set IDs of the files read so far, as (file, ID).
+using SetIds = std::vector<std::pair<std::string, std::string>>;
+
 // The set's ID: every file's "# partet mesh ID" line (found by whichever rank reads the file's
 // end) must be there and the same. Without one the set is not partet's, and its .face file
 // does not promise outward faces: that is for the check in one process.
-std::string check_set_id(const std::vector<std::pair<std::string, std::string>>& ids) {
+std::string check_set_id(const SetIds& ids) {
   for (const auto& [file, id] : ids)
     if (id.empty())
       throw InputError(file +
@@ -232,18 +235,15 @@ std::string check_set_id(const std::vector<std::pair<std::string, std::string>>&
   return set_id_violation(ids);
 }
 
-// Set IDs of the files read so far, as (file, ID), for check_set_id.
-using SetIds = std::vector<std::pair<std::string, std::string>>;
-
 // A file whose rows go to the owners of their index: .node (points), .ele (tets), .neigh (a tet's
-// neighbours), numbered with `values_base` (the file's own rows' base for .neigh). The rows
-// arrive in id order on their owners.
+// neighbours); a row's id is its index less index_base (the .ele rows' base for .neigh, whose rows
+// are tets), and convert gives its values. The rows arrive in id order on their owners.
 template <class Values, class Convert>
-std::vector<Values> place_file(const Part& part, const TetgenFileShare& share, TetgenFile file, Convert convert,
-                               SetIds& ids) {
+std::vector<Values> place_file(const Part& part, const TetgenFileShare& share, TetgenFile file, std::int64_t index_base,
+                               Convert convert, SetIds& ids) {
   RowPlacer<Values> placer(part, static_cast<std::uint64_t>(share.layout.count), Repeats::refused, share.path);
   const std::string id = read_in_rounds(
-      part, share, file, [&](TetgenRowsRead& rows) { placer.add(row_ids(rows.index, share.base), convert(rows)); });
+      part, share, file, [&](TetgenRowsRead& rows) { placer.add(row_ids(rows.index, index_base), convert(rows)); });
   ids.push_back({share.path, first_nonempty(part.comm, id)});
   return placer.finish();
 }
@@ -282,12 +282,12 @@ TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
   const TetgenFileShare node = file_share(part, prefix, TetgenFile::node);
   part.totals.points = static_cast<std::uint64_t>(node.layout.count);
   part.block.points = place_file<Point3>(
-      part, node, TetgenFile::node, [](TetgenRowsRead& rows) { return std::move(rows.points); }, ids);
+      part, node, TetgenFile::node, node.base, [](TetgenRowsRead& rows) { return std::move(rows.points); }, ids);
   const TetgenFileShare ele = file_share(part, prefix, TetgenFile::ele);
   part.totals.tets = static_cast<std::uint64_t>(ele.layout.count);
   part.block.tets = place_file<std::array<Id, 4>>(
-      part, ele, TetgenFile::ele, [&](TetgenRowsRead& rows) { return rows_of_ids<4>(rows.values, node.base, false); },
-      ids);
+      part, ele, TetgenFile::ele, ele.base,
+      [&](TetgenRowsRead& rows) { return rows_of_ids<4>(rows.values, node.base, false); }, ids);
   keep_faces(part, file_share(part, prefix, TetgenFile::face), node.base, ids);
   const TetgenFileShare neigh = file_share(part, prefix, TetgenFile::neigh);
   if (neigh.layout.count != ele.layout.count)
@@ -295,10 +295,8 @@ TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
                      std::to_string(ele.layout.count) + " tetrahedra");  // on every rank
   // The neighbours' rows are tets, numbered as the .ele rows are.
   TetgenExtras extras;
-  TetgenFileShare neigh_rows = neigh;
-  neigh_rows.base = ele.base;
   extras.neighbours = place_file<std::array<Id, 4>>(
-      part, neigh_rows, TetgenFile::neigh,
+      part, neigh, TetgenFile::neigh, ele.base,
       [&](TetgenRowsRead& rows) { return rows_of_ids<4>(rows.values, ele.base, true); }, ids);
   extras.set_violation = check_set_id(ids);
   return extras;

@@ -7,7 +7,7 @@
 #include <tuple>
 
 #include "common/test_hooks.hpp"
-#include "io/mesh_formats.hpp"
+#include "io/mesh_read.hpp"
 #include "io/parallel_hdf5.hpp"
 #include "mpi/check_exchange.hpp"
 #include "mpi/check_reading.hpp"
@@ -530,13 +530,7 @@ DistributedCheckReport check_mesh_file_set(MPI_Comm comm, const std::string& inp
   // 2. Every rank its files of the set; the points to their owners (runs of ids).
   read_mesh_part(part, path);
   // 3. The checks, their counts summed over the ranks.
-  MeshFormat format;
-  std::string prefix;
-  split_format_extension(path, format, prefix);
-  return check_part(part, input,
-                    format == MeshFormat::msh     ? "the MSH files"
-                    : format == MeshFormat::medit ? "the MEDIT file"
-                                                  : "");
+  return check_part(part, input, boundary_list(path));
 }
 
 }  // namespace partet
