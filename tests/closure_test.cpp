@@ -435,5 +435,60 @@ TEST(BuildCaps, PlaneBetweenTwoShellsNeedsNoCap) {
   for (const auto& piece : assemble_pieces(split, caps)) EXPECT_NO_THROW(check_piece_topology(piece));
 }
 
+TEST(BuildCaps, ACapBuiltFromItsBorderAloneIsTheSameCap) {
+  // Another rank builds a cap from its border only (CapBorder: its chords and their points); the
+  // cap placed from that shape must be the one built with the whole split surface at hand, with
+  // the same interior points and numbering, whatever order the shapes were triangulated in.
+  const SurfaceMesh s = generate_surface("torus", 4000);
+  const auto planes = choose_cut_planes(s, 4);
+  SplitSurface here = split_at_planes(s, planes);
+  SplitSurface elsewhere = here;
+  const std::vector<Cap> built = build_caps(here, planes, 1.5);
+  CapBuilder builder(elsewhere, planes, 1.5);
+  std::vector<CapShape> shapes(planes.size());
+  for (std::size_t j = planes.size(); j-- > 0;) {  // triangulated in reverse: out of order
+    const CapBorder border = builder.border(static_cast<int>(j));
+    EXPECT_TRUE(std::is_sorted(border.global_ids.begin(), border.global_ids.end()));
+    EXPECT_EQ(border.points.size(), border.global_ids.size());
+    shapes[j] = triangulate_cap(border);
+  }
+  ASSERT_EQ(planes.size(), 3u);
+  for (std::size_t j = 0; j < planes.size(); ++j) {
+    const Cap cap = builder.place(static_cast<int>(j), std::move(shapes[j]));
+    EXPECT_EQ(cap.triangles, built[j].triangles) << "plane " << j;
+    EXPECT_EQ(cap.interior_point_count, built[j].interior_point_count) << "plane " << j;
+    EXPECT_GT(cap.interior_point_count, 0);
+  }
+  EXPECT_EQ(elsewhere.points, here.points);
+  EXPECT_EQ(elsewhere.cap_point_plane, here.cap_point_plane);
+}
+
+TEST(BuildCaps, AShapeThatDoesNotFitItsPlaneIsRefused) {
+  const SurfaceMesh s = generate_surface("sphere", 2000);
+  const auto planes = choose_cut_planes(s, 3);
+  SplitSurface split = split_at_planes(s, planes);
+  CapBuilder builder(split, planes, 1.0);
+  EXPECT_THROW(builder.place(1, triangulate_cap(builder.border(0))), InternalError);
+  CapShape wrong = triangulate_cap(builder.border(0));
+  wrong.triangles.push_back({0, 1, 1 << 20});  // a point the border does not have
+  EXPECT_THROW(builder.place(0, std::move(wrong)), InternalError);
+}
+
+TEST(BuildCaps, CrossingLoopsThrowFromTheBorderAlone) {
+  SurfaceMesh s;
+  add_box(s, {0, 0, 0}, {4, 1, 1});
+  add_box(s, {0, 0.3, 0.6}, {4, 1.3, 1.6});
+  const auto planes = choose_cut_planes(s, 2);
+  SplitSurface split = split_at_planes(s, planes);
+  const CapBorder border = CapBuilder(split, planes, 1.0).border(0);
+  try {
+    triangulate_cap(border);
+    ADD_FAILURE() << "crossing loops accepted";
+  } catch (const PartitionError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::self_intersection);
+    EXPECT_NE(e.failure.message.find("cut plane 0"), std::string::npos) << e.failure.message;
+  }
+}
+
 }  // namespace
 }  // namespace partet

@@ -195,5 +195,55 @@ TEST(Serialize, FailuresAndOutcomesRoundTrip) {
   EXPECT_THROW(deserialize_outcome("X123"), InternalError);
 }
 
+TEST(Serialize, CapTasksAndShapesRoundTrip) {
+  // A cap's border goes to a worker and its shape comes back: the shape built from the border
+  // that crossed is the one built from the border itself, bit for bit.
+  const SurfaceMesh s = generate_surface("torus", 3000);
+  const auto planes = choose_cut_planes(s, 3);
+  SplitSurface split = split_at_planes(s, planes);
+  const CapBorder border = CapBuilder(split, planes, 2.0).border(1);
+  const std::string task = serialize_cap_task(border);
+  ASSERT_EQ(task_kind(task), TaskKind::cap);
+  const CapBorder sent = deserialize_cap_task(task);
+  EXPECT_EQ(sent.plane, 1);
+  EXPECT_EQ(sent.cut.normal, border.cut.normal);
+  EXPECT_EQ(sent.cut.offset, border.cut.offset);
+  EXPECT_EQ(sent.density, 2.0);
+  EXPECT_EQ(sent.global_ids, border.global_ids);
+  EXPECT_EQ(sent.points, border.points);
+  EXPECT_EQ(sent.chords, border.chords);
+
+  CapOutcome outcome;
+  outcome.shape = triangulate_cap(sent);
+  outcome.seconds = 0.75;
+  const std::string reply = serialize_cap_outcome(outcome);
+  ASSERT_TRUE(is_cap_outcome(reply));
+  const CapOutcome back = deserialize_cap_outcome(reply);
+  const CapShape local = triangulate_cap(border);
+  EXPECT_FALSE(back.failure);
+  EXPECT_EQ(back.seconds, 0.75);
+  EXPECT_EQ(back.shape.plane, 1);
+  EXPECT_EQ(back.shape.triangles, local.triangles);
+  EXPECT_EQ(back.shape.interior_points, local.interior_points);
+
+  CapOutcome failed;
+  failed.failure = Failure{FailureKind::self_intersection, -1, {}, "cut plane 1: the loops cross"};
+  const CapOutcome f = deserialize_cap_outcome(serialize_cap_outcome(failed));
+  ASSERT_TRUE(f.failure);
+  EXPECT_EQ(f.failure->kind, FailureKind::self_intersection);
+  EXPECT_EQ(f.failure->message, "cut plane 1: the loops cross");
+
+  // Tasks and replies of the two kinds are told apart, never misread.
+  const Real r = real_pieces();
+  const std::string piece_task = piece_bytes_of(r.prepared.pieces[0]);
+  EXPECT_EQ(task_kind(piece_task), TaskKind::piece);
+  EXPECT_THROW(deserialize_cap_task(piece_task), InternalError);
+  TetgenOptions ignored;
+  EXPECT_THROW(deserialize_task(task, ignored), InternalError);
+  EXPECT_THROW(task_kind("Z"), InternalError);
+  EXPECT_FALSE(is_cap_outcome(serialize_outcome(PieceOutcome{})));
+  EXPECT_THROW(deserialize_outcome(reply), InternalError);
+}
+
 }  // namespace
 }  // namespace partet

@@ -51,6 +51,12 @@ void piece_failure(int piece, int rank) {
   throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
+void worker_cap_failure(int plane) {
+  if (injected("worker:cap-error"))
+    throw PartitionError(FailureKind::other, -1,
+                         "cut plane " + std::to_string(plane) + ": injected cap failure (PARTET_INJECT_FAILURE)");
+}
+
 bool every_cut_fails(std::size_t pieces) { return pieces > 1 && injected("cuts"); }
 
 bool input_needs_surface_points() { return injected("surface"); }

@@ -2,7 +2,7 @@
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh,
 // tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/check_tetgen_ranks.sh (also
-// check_failure).
+// check_failure), tests/mpi/cap_failure.sh.
 #pragma once
 #include <cstddef>
 
@@ -17,6 +17,9 @@ bool every_cut_fails(std::size_t pieces);
 // PARTET_INJECT_FAILURE="surface": every partition fails on an input triangle, as TetGen does on an
 // input it cannot mesh without points on its surface (whatever the cuts). True then.
 bool input_needs_surface_points();
+// PARTET_INJECT_FAILURE="worker:cap-error": every cap a rank other than 0 triangulates fails (a
+// PartitionError, as when the loops on its plane cross), so rank 0 must take that failure as its own.
+void worker_cap_failure(int plane);
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);

@@ -79,11 +79,17 @@ class ClosureStream {
     prepared_.split = split_at_planes(input_, prepared_.planes);
   }
 
-  // 2. Closure, piece by piece; `ready` gets each piece as soon as it is closed.
+  // 2. Closure, piece by piece; `ready` gets each piece as soon as it is closed. The caps come
+  // from the scheduler when there is one (it may build them on other ranks), else from here.
   template <class Ready>
-  void close(Ready ready) {
+  void close(Ready ready, PieceScheduler* scheduler = nullptr) {
     const int k = prepared_.split.piece_count;
     CapBuilder builder(prepared_.split, prepared_.planes, options_.density);
+    if (scheduler) {
+      std::vector<CapBorder> borders;
+      for (int p = 0; p + 1 < k; ++p) borders.push_back(builder.border(p));
+      scheduler->share_caps(std::move(borders));
+    }
     PieceAssembler assembler(prepared_.split);
     // The builder and the assembler hold what they need of the split's triangles now; seam
     // healing needs only those with a cut vertex. Freed before the pieces are meshed, while
@@ -94,7 +100,7 @@ class ClosureStream {
     prepared_.pieces.reserve(static_cast<std::size_t>(k));  // submitted pieces must not move
     for (int p = 0; p < k; ++p) {
       if (p + 1 < k) {
-        caps[p] = builder.build(p);
+        caps[p] = scheduler ? builder.place(p, scheduler->cap(p)) : builder.build(p);
         prepared_.cap_triangles += static_cast<std::int64_t>(caps[p].triangles.size());
       }
       prepared_.pieces.push_back(assembler.assemble(p, p > 0 ? &caps[p - 1] : nullptr, p + 1 < k ? &caps[p] : nullptr));
@@ -135,15 +141,17 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   std::vector<int> submitted;                                    // the piece of each submission
   scheduler.begin_round(options.tetgen);
   try {
-    stream.close([&](const PieceSurface& piece) {
-      if (auto cached = cache.find(piece)) {
-        reused.push_back(std::move(*cached));
-      } else {
-        scheduler.submit(piece);
-        submitted.push_back(piece.index);
-      }
-      scheduler.progress();
-    });
+    stream.close(
+        [&](const PieceSurface& piece) {
+          if (auto cached = cache.find(piece)) {
+            reused.push_back(std::move(*cached));
+          } else {
+            scheduler.submit(piece);
+            submitted.push_back(piece.index);
+          }
+          scheduler.progress();
+        },
+        &scheduler);
   } catch (...) {
     scheduler.end_round_all();
     throw;

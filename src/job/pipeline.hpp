@@ -112,6 +112,12 @@ class PieceScheduler {
   virtual bool confirm_input() { return false; }
   // A round meshes with these TetGen options (a retry may change them).
   virtual void begin_round(const TetgenOptions& tetgen) = 0;
+  // The caps of the round's closure: share_caps hands over every border before the first cap
+  // is needed (so other ranks may triangulate them meanwhile), cap(plane) returns each shape, in
+  // plane order, built elsewhere or here. Throws the PartitionError of a cap that cannot close
+  // its border.
+  virtual void share_caps(std::vector<CapBorder> borders) { cap_borders_ = std::move(borders); }
+  virtual CapShape cap(int plane) { return triangulate_cap(cap_borders_.at(static_cast<std::size_t>(plane))); }
   // The piece stays alive and unchanged until end_round returns.
   virtual void submit(const PieceSurface& piece) = 0;
   // Hands out work and takes in results without waiting.
@@ -130,6 +136,9 @@ class PieceScheduler {
     });
     return outcomes;
   }
+
+ protected:
+  std::vector<CapBorder> cap_borders_;  // this round's, by plane
 };
 
 // Meshes every piece with the runner, one after another.

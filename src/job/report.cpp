@@ -110,6 +110,8 @@ std::string report_json(const JobSummary& s) {
                               {"input_check_seconds", stats.input_check_seconds},
                               {"write_seconds", stats.write_seconds},
                               {"piece_files_written", stats.piece_files_written},
+                              {"caps", stats.caps},
+                              {"cap_seconds", stats.cap_seconds},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();

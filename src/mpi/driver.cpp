@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -187,6 +188,8 @@ class RootScheduler : public PieceScheduler {
     queue_.clear();
     outcomes_.clear();
     arrived_.clear();
+    cap_queue_.clear();
+    caps_.clear();
     idle_.clear();
     for (int w = 1; w < size_; ++w) idle_.push_back(w);
     remaining_ = 0;
@@ -201,6 +204,46 @@ class RootScheduler : public PieceScheduler {
     dispatch();
   }
 
+  // Every cap goes to a queue in plane order. A free worker takes a piece when one is waiting and
+  // else the next cap (which brings the next pieces closer), so no rank idles while either kind
+  // of work is there; this rank builds the next queued cap itself while it waits for one that
+  // another rank builds.
+  void share_caps(std::vector<CapBorder> borders) override {
+    cap_borders_ = std::move(borders);
+    for (const CapBorder& border : cap_borders_)
+      if (!border.chords.empty()) cap_queue_.push_back(border.plane);
+    dispatch();
+  }
+
+  CapShape cap(int plane) override {
+    const CapBorder& border = cap_borders_.at(static_cast<std::size_t>(plane));
+    if (border.chords.empty()) return triangulate_cap(border);  // nothing to close on this plane
+    std::chrono::microseconds idle = kShortestIdle;
+    for (;;) {
+      bool replied = false;
+      while (receive_reply()) replied = true;
+      dispatch();
+      if (auto done = caps_.find(plane); done != caps_.end()) {
+        CapOutcome outcome = std::move(done->second);
+        caps_.erase(done);
+        if (outcome.failure) throw PartitionError(*outcome.failure);
+        return std::move(outcome.shape);
+      }
+      // Not handed out yet: build it here. Being built elsewhere: build the next one meanwhile.
+      auto queued = std::find(cap_queue_.begin(), cap_queue_.end(), plane);
+      if (queued == cap_queue_.end()) queued = cap_queue_.begin();
+      if (queued != cap_queue_.end()) {
+        const int here = *queued;
+        cap_queue_.erase(queued);
+        build_cap_here(here);
+        idle = kShortestIdle;
+      } else {
+        check_workers_answer();
+        idle = replied ? kShortestIdle : sleep_idle(idle);
+      }
+    }
+  }
+
   void progress() override {
     while (receive_reply()) {
     }
@@ -210,12 +253,13 @@ class RootScheduler : public PieceScheduler {
   }
 
   void end_round(const Arrived& arrived) override {
+    cap_queue_.clear();  // after a closure that failed: the caps not handed out are not needed
     std::stable_sort(queue_.begin(), queue_.end(), [&](std::size_t a, std::size_t b) {
       return pieces_[a]->triangles.size() > pieces_[b]->triangles.size();
     });
     const bool root_meshes = runner_.runs_in_background() || size_ == 1;
     std::chrono::microseconds idle = kShortestIdle;
-    while (remaining_ > 0) {
+    while (remaining_ > 0 || caps_out_ > 0) {
       dispatch();
       if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
       deliver(arrived);  // once every free rank (this one too) has its next piece
@@ -244,10 +288,44 @@ class RootScheduler : public PieceScheduler {
   }
 
   void dispatch() {
-    while (!idle_.empty() && !queue_.empty()) {
+    while (!idle_.empty() && (!cap_queue_.empty() || !queue_.empty())) {
       const int worker = idle_.back();
       idle_.pop_back();
-      send_piece(worker, pieces_[take_next()]);
+      if (!queue_.empty()) {
+        send_piece(worker, pieces_[take_next()]);
+      } else {
+        const int plane = cap_queue_.front();
+        cap_queue_.pop_front();
+        send_cap(worker, plane);
+      }
+    }
+  }
+
+  void build_cap_here(int plane) {
+    const double start = now_seconds();
+    CapOutcome outcome;
+    try {
+      outcome.shape = triangulate_cap(cap_borders_.at(static_cast<std::size_t>(plane)));
+    } catch (const PartitionError& e) {
+      outcome.failure = e.failure;
+    }
+    outcome.seconds = now_seconds() - start;
+    stats_.cap_seconds += outcome.seconds;
+    stats_.caps += 1;
+    caps_[plane] = std::move(outcome);
+  }
+
+  void send_cap(int worker, int plane) {
+    AddSeconds timer{stats_.send_seconds};
+    const std::string bytes = serialize_cap_task(cap_borders_.at(static_cast<std::size_t>(plane)));
+    busy_[worker] = {now_seconds() + kWorkerSeconds, plane, true};
+    ++caps_out_;
+    try {
+      stats_.bytes_sent +=
+          static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, kWorkerSeconds));
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(worker) + " did not take the cap of plane " + std::to_string(plane) +
+                " within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
     }
   }
 
@@ -276,7 +354,7 @@ class RootScheduler : public PieceScheduler {
     if (piece) {
       record(*piece, worker);
       bytes = serialize_task(*piece, runner_.tetgen());
-      busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index};
+      busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index, false};
       account_meshing();
     }
     // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
@@ -299,7 +377,8 @@ class RootScheduler : public PieceScheduler {
     const double now = now_seconds();
     for (const auto& [worker, busy] : busy_)
       if (now > busy.deadline)
-        abort_job("rank " + std::to_string(worker) + " has not answered for piece " + std::to_string(busy.piece) +
+        abort_job("rank " + std::to_string(worker) + " has not answered for " +
+                  (busy.cap ? "the cap of plane " : "piece ") + std::to_string(busy.piece) +
                   " within its time limit (stopped or dead?)");
   }
 
@@ -361,6 +440,17 @@ class RootScheduler : public PieceScheduler {
       AddSeconds timer{stats_.receive_seconds};
       const std::string reply = recv_bytes(worker, kTagReply, job_comm());
       stats_.bytes_received += static_cast<double>(reply.size());
+      if (is_cap_outcome(reply)) {
+        CapOutcome outcome = deserialize_cap_outcome(reply);
+        const int plane = busy_.at(worker).piece;
+        if (outcome.failure ? false : outcome.shape.plane != plane)
+          throw InternalError("rank " + std::to_string(worker) + " sent the cap of another plane");
+        caps_[plane] = std::move(outcome);
+        --caps_out_;
+        idle_.push_back(worker);
+        busy_.erase(worker);
+        return true;
+      }
       PieceOutcome outcome = deserialize_outcome(reply);
       position = position_.at(outcome.failure ? outcome.failure->piece : outcome.result.index);
       store(position, std::move(outcome));
@@ -410,10 +500,14 @@ class RootScheduler : public PieceScheduler {
   std::vector<int> idle_;                    // workers without a piece
   struct Busy {
     double deadline;  // when its answer is overdue
-    int piece;
+    int piece;        // or plane, for a cap
+    bool cap;
   };
   std::map<int, Busy> busy_;  // workers with a piece
   std::size_t remaining_ = 0;
+  std::deque<int> cap_queue_;       // planes whose caps nobody builds yet
+  std::map<int, CapOutcome> caps_;  // by plane: built, not yet taken by cap()
+  std::size_t caps_out_ = 0;        // caps other ranks are building
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
   double own_start_ = 0;
@@ -426,7 +520,28 @@ class RootScheduler : public PieceScheduler {
   std::size_t done_ = 0;      // pieces or regions finished this round
 };
 
-// A worker: in each round, mesh the pieces rank 0 hands out until it sends an empty message.
+// A worker's part of the closure: triangulates the cap and sends rank 0 its shape, or the failure.
+void build_cap_for_root(const std::string& task, RankStats& stats) {
+  const double start = now_seconds();
+  CapOutcome outcome;
+  const CapBorder border = deserialize_cap_task(task);
+  try {
+    test_hooks::worker_cap_failure(border.plane);
+    outcome.shape = triangulate_cap(border);
+  } catch (const PartitionError& e) {
+    outcome.failure = e.failure;
+  }
+  outcome.seconds = now_seconds() - start;
+  stats.cap_seconds += outcome.seconds;
+  stats.caps += 1;
+  const std::string reply = serialize_cap_outcome(outcome);
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent += static_cast<double>(
+      bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
+// A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
+// empty message.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   while (receive_command() == kMeshPieces) {
     for (;;) {
@@ -437,6 +552,10 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       }
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
+      if (task_kind(bytes) == TaskKind::cap) {
+        build_cap_for_root(bytes, stats);
+        continue;
+      }
       TetgenOptions tetgen;
       const PieceSurface piece = deserialize_task(bytes, tetgen);
       const PieceRunner runner(tetgen, job.options.run);

@@ -116,22 +116,64 @@ std::size_t piece_bytes(const PieceSurface& piece) {
 
 }  // namespace
 
+constexpr char kPieceTaskTag = 'P', kCapTaskTag = 'K';
+
+TaskKind task_kind(std::string_view bytes) {
+  if (!bytes.empty() && bytes[0] == kPieceTaskTag) return TaskKind::piece;
+  if (!bytes.empty() && bytes[0] == kCapTaskTag) return TaskKind::cap;
+  throw InternalError("a task has no valid tag");
+}
+
 std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
   const std::size_t bytes = piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
-  return encode(bytes, [&](auto& ar) {
-    save_piece(ar, piece);
-    const std::int32_t seam_region = piece.seam_region ? 1 : 0, boundary_points = tetgen.boundary_points ? 1 : 0;
-    ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region << boundary_points;
-  });
+  return encode(
+      bytes,
+      [&](auto& ar) {
+        save_piece(ar, piece);
+        const std::int32_t seam_region = piece.seam_region ? 1 : 0, boundary_points = tetgen.boundary_points ? 1 : 0;
+        ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region << boundary_points;
+      },
+      std::string_view(&kPieceTaskTag, 1));
 }
 
 PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
+  if (task_kind(bytes) != TaskKind::piece) throw InternalError("a cap task was read as a piece");
+  bytes.remove_prefix(1);
   return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
     load_piece(ar, piece);
     std::int32_t seam_region = 0, boundary_points = 0;
     ar >> tetgen.quality >> tetgen.tolerance >> tetgen.optimization >> seam_region >> boundary_points;
     piece.seam_region = seam_region != 0;
     tetgen.boundary_points = boundary_points != 0;
+  });
+}
+
+std::string serialize_cap_task(const CapBorder& border) {
+  const std::size_t bytes = 64 + border.global_ids.size() * 28 + border.chords.size() * 8;
+  return encode(
+      bytes,
+      [&](auto& ar) {
+        const std::int32_t plane = border.plane;
+        ar << plane << border.cut.offset << border.density;
+        ar << boost::serialization::make_array(border.cut.normal.data(), 3);
+        save_block(ar, border.global_ids);
+        save_block(ar, border.points);
+        save_block(ar, border.chords);
+      },
+      std::string_view(&kCapTaskTag, 1));
+}
+
+CapBorder deserialize_cap_task(std::string_view bytes) {
+  if (task_kind(bytes) != TaskKind::cap) throw InternalError("a piece task was read as a cap");
+  bytes.remove_prefix(1);
+  return decode<CapBorder>(bytes, [](auto& ar, CapBorder& border) {
+    std::int32_t plane = 0;
+    ar >> plane >> border.cut.offset >> border.density;
+    ar >> boost::serialization::make_array(border.cut.normal.data(), 3);
+    border.plane = plane;
+    load_block(ar, border.global_ids);
+    load_block(ar, border.points);
+    load_block(ar, border.chords);
   });
 }
 
@@ -202,6 +244,51 @@ std::string serialize_outcome(const PieceOutcome& outcome) {
   std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
   const std::string_view head(prefix, sizeof prefix);
   return outcome.failure ? encode_failure(*outcome.failure, head) : encode_result(outcome.result, head);
+}
+
+namespace {
+constexpr char kCapShapeTag = 'C', kCapFailureTag = 'E';
+constexpr std::size_t kCapHead = 1 + sizeof(double);
+}  // namespace
+
+std::string serialize_cap_outcome(const CapOutcome& outcome) {
+  char prefix[kCapHead];
+  prefix[0] = outcome.failure ? kCapFailureTag : kCapShapeTag;
+  std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
+  const std::string_view head(prefix, sizeof prefix);
+  if (outcome.failure) return encode_failure(*outcome.failure, head);
+  const CapShape& shape = outcome.shape;
+  return encode(
+      64 + shape.interior_points.size() * 24 + shape.triangles.size() * 12,
+      [&](auto& ar) {
+        const std::int32_t plane = shape.plane;
+        ar << plane;
+        save_block(ar, shape.interior_points);
+        save_block(ar, shape.triangles);
+      },
+      head);
+}
+
+bool is_cap_outcome(std::string_view reply) {
+  return !reply.empty() && (reply[0] == kCapShapeTag || reply[0] == kCapFailureTag);
+}
+
+CapOutcome deserialize_cap_outcome(std::string_view bytes) {
+  if (bytes.size() < kCapHead || !is_cap_outcome(bytes)) throw InternalError("a cap reply has no valid tag");
+  CapOutcome outcome;
+  std::memcpy(&outcome.seconds, bytes.data() + 1, sizeof(double));
+  if (bytes[0] == kCapFailureTag) {
+    outcome.failure = deserialize_failure(bytes.substr(kCapHead));
+    return outcome;
+  }
+  outcome.shape = decode<CapShape>(bytes.substr(kCapHead), [](auto& ar, CapShape& shape) {
+    std::int32_t plane = 0;
+    ar >> plane;
+    shape.plane = plane;
+    load_block(ar, shape.interior_points);
+    load_block(ar, shape.triangles);
+  });
+  return outcome;
 }
 
 PieceOutcome deserialize_outcome(std::string_view bytes) {

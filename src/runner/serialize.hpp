@@ -2,19 +2,38 @@
 // failures (Boost.Serialization binary archives, flat arrays as single blocks).
 #pragma once
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "partet/errors.hpp"
 #include "partet/mesh_types.hpp"
+#include "stages/closure.hpp"
 #include "stages/piece.hpp"
 #include "mesher/tetgen_mesher.hpp"
 
 namespace partet {
 
-// A piece and the TetGen options to mesh it with, as a worker receives it.
+// What a worker receives: a piece and the TetGen options to mesh it with, or a cap's border to
+// triangulate (one tag byte tells which).
+enum class TaskKind { piece, cap };
+// Throws InternalError on bytes that are no task.
+TaskKind task_kind(std::string_view bytes);
 std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen);
 PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen);
+std::string serialize_cap_task(const CapBorder& border);
+CapBorder deserialize_cap_task(std::string_view bytes);
+
+// A cap triangulated elsewhere: its shape, or why its border cannot be closed (the failure of the
+// PartitionError it threw), and the seconds it took.
+struct CapOutcome {
+  CapShape shape;
+  std::optional<Failure> failure;
+  double seconds = 0;
+};
+std::string serialize_cap_outcome(const CapOutcome& outcome);
+bool is_cap_outcome(std::string_view reply);
+CapOutcome deserialize_cap_outcome(std::string_view bytes);
 
 // A meshing run's reply: one tag byte ('R' result, 'F' failure), the seconds and memory it took,
 // then the result or failure. (A piece travels as a task, a result or failure as an outcome:

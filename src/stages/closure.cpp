@@ -10,7 +10,6 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <map>
 #include <unordered_map>
 #include <string>
 
@@ -121,30 +120,26 @@ std::vector<std::vector<Chord>> border_chords(const SplitSurface& split, std::si
   return chords;
 }
 
-// Inserts the border vertices (sorted by id, so the triangulation is built the same way every
-// time) and the chords as constraints. Returns the border's total length.
-double insert_border(CDT& cdt, const std::vector<Chord>& chords, const std::vector<Point3>& points,
-                     const PlaneFrame& frame, std::size_t j) {
-  std::vector<std::int32_t> ids;
-  for (const auto& c : chords) ids.insert(ids.end(), {c[0], c[1]});
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  std::map<std::int32_t, CDT::Vertex_handle> handle;
+// Inserts the border vertices (by local id, which follows the global id, so the triangulation is
+// built the same way every time) and the chords as constraints. Returns the border's total length.
+double insert_border(CDT& cdt, const CapBorder& border, const PlaneFrame& frame) {
+  const int j = border.plane;
+  std::vector<CDT::Vertex_handle> handle(border.points.size());
   double border_length = 0;
   try {
-    for (auto id : ids) {
+    for (std::size_t id = 0; id < border.points.size(); ++id) {
       const auto before = cdt.number_of_vertices();
-      auto vh = cdt.insert(to_2d(frame, points[id]));
+      auto vh = cdt.insert(to_2d(frame, border.points[id]));
       if (cdt.number_of_vertices() == before)
         throw PartitionError(
             FailureKind::other, -1,
             "cut plane " + std::to_string(j) + ": two border points coincide in the plane (near-degenerate crossing)");
-      vh->info() = id;
+      vh->info() = static_cast<std::int32_t>(id);
       handle[id] = vh;
     }
-    for (const auto& c : chords) {
-      cdt.insert_constraint(handle[c[0]], handle[c[1]]);
-      border_length += distance(points[c[0]], points[c[1]]);
+    for (const auto& c : border.chords) {
+      cdt.insert_constraint(handle.at(c[0]), handle.at(c[1]));
+      border_length += distance(border.points[c[0]], border.points[c[1]]);
     }
   } catch (const CDT::Intersection_of_constraints_exception&) {
     throw PartitionError(FailureKind::self_intersection, -1,
@@ -171,10 +166,10 @@ bool encroaches(const CDT& cdt, CDT::Face_handle g, const K::Point_2& p) {
 }
 
 // Inserts p into the domain unless it falls outside, encroaches or coincides; the new point is
-// appended to `points` (so it gets a global id). `hint` is a face near p (walks start there).
+// appended to `points` (its id: the border's point count + its position there). `hint` is a face near p (walks start there).
 // Returns the new vertex, or a null handle.
 CDT::Vertex_handle insert_interior_point(CDT& cdt, const K::Point_2& p, CDT::Face_handle hint, const PlaneFrame& frame,
-                                         std::vector<Point3>& points) {
+                                         std::size_t first_id, std::vector<Point3>& points) {
   const CDT::Face_handle g = cdt.locate(p, hint);
   if (g == CDT::Face_handle() || !in_domain(cdt, g) || encroaches(cdt, g, p)) return {};
   const int nesting = g->info().nesting;
@@ -186,7 +181,7 @@ CDT::Vertex_handle insert_interior_point(CDT& cdt, const K::Point_2& p, CDT::Fac
   do {
     fc->info().nesting = nesting;
   } while (++fc != done);
-  vh->info() = static_cast<std::int32_t>(points.size());
+  vh->info() = static_cast<std::int32_t>(first_id + points.size());
   points.push_back(lift(frame, p));
   return vh;
 }
@@ -331,13 +326,15 @@ std::vector<K::Point_2> graded_cap_points(const CDT& cdt, double base, std::size
 // Fills the cap's interior with a graded triangular lattice (graded_cap_points), joined to the
 // border by the constrained triangulation. The lattice spacing next to the border is the mean
 // border edge length / density.
-void refine_cap(CDT& cdt, std::size_t chord_count, double border_length, double density, const PlaneFrame& frame,
+void refine_cap(CDT& cdt, const CapBorder& border, double border_length, const PlaneFrame& frame,
                 std::vector<Point3>& points) {
-  const double base = border_length / static_cast<double>(chord_count) / density;
+  const std::size_t chord_count = border.chords.size();
+  const double base = border_length / static_cast<double>(chord_count) / border.density;
   const std::size_t budget = 50 * chord_count + 1000;  // bounds the work on odd inputs
   CDT::Face_handle hint = cdt.infinite_face()->neighbor(0);
   for (const K::Point_2& p : graded_cap_points(cdt, base, budget))
-    if (auto v = insert_interior_point(cdt, p, hint, frame, points); v != CDT::Vertex_handle()) hint = v->face();
+    if (auto v = insert_interior_point(cdt, p, hint, frame, border.points.size(), points); v != CDT::Vertex_handle())
+      hint = v->face();
 }
 
 // The domain's triangles in a deterministic order, independent of CGAL's internal face order.
@@ -370,28 +367,71 @@ void check_cap_closes_loops(const std::vector<Triangle>& cap, const std::vector<
 
 }  // namespace
 
+CapShape triangulate_cap(const CapBorder& border) {
+  CapShape shape;
+  shape.plane = border.plane;
+  if (border.chords.empty()) return shape;  // the plane passes between shells: both sides are closed already
+  const PlaneFrame frame = frame_of(border.cut);
+  CDT cdt;
+  const double border_length = insert_border(cdt, border, frame);
+  mark_nesting(cdt);
+  if (border.density > 0) refine_cap(cdt, border, border_length, frame, shape.interior_points);
+  shape.triangles = domain_triangles(cdt);
+  check_cap_closes_loops(shape.triangles, border.chords, static_cast<std::size_t>(border.plane));
+  return shape;
+}
+
 CapBuilder::CapBuilder(SplitSurface& split, const std::vector<CutPlane>& planes, double density)
     : split_(split), planes_(planes), density_(density) {
   if (!(density >= 0) || !std::isfinite(density)) throw OptionError("the cap density must be a finite number >= 0");
   chords_ = border_chords(split, planes.size());
 }
 
-Cap CapBuilder::build(int plane) {
+std::vector<std::int32_t> CapBuilder::border_ids(int plane) const {
+  std::vector<std::int32_t> ids;
+  for (const auto& c : chords_.at(static_cast<std::size_t>(plane))) ids.insert(ids.end(), {c[0], c[1]});
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+CapBorder CapBuilder::border(int plane) const {
   const auto j = static_cast<std::size_t>(plane);
-  const std::vector<Chord>& chords = chords_[j];
+  CapBorder border;
+  border.plane = plane;
+  border.cut = planes_.at(j);
+  border.density = density_;
+  border.global_ids = border_ids(plane);
+  const auto local = [&](std::int32_t id) {
+    return static_cast<std::int32_t>(std::lower_bound(border.global_ids.begin(), border.global_ids.end(), id) -
+                                     border.global_ids.begin());
+  };
+  border.points.reserve(border.global_ids.size());
+  for (auto id : border.global_ids) border.points.push_back(split_.points[id]);
+  border.chords.reserve(chords_[j].size());
+  for (const auto& c : chords_[j]) border.chords.push_back({local(c[0]), local(c[1])});
+  return border;
+}
+
+Cap CapBuilder::place(int plane, CapShape&& shape) {
+  if (shape.plane != plane)
+    throw InternalError("the cap of plane " + std::to_string(shape.plane) + " was placed as plane " + std::to_string(plane));
+  const std::vector<std::int32_t> global_ids = border_ids(plane);
+  const auto border_count = static_cast<std::int32_t>(global_ids.size());
+  const auto interior_count = static_cast<std::int32_t>(shape.interior_points.size());
   Cap cap;
   cap.plane = plane;
-  if (chords.empty()) return cap;  // the plane passes between shells: both sides are closed already
-  const PlaneFrame frame = frame_of(planes_[j]);
-  CDT cdt;
-  const double border_length = insert_border(cdt, chords, split_.points, frame, j);
-  mark_nesting(cdt);
   const auto first_interior = static_cast<std::int32_t>(split_.points.size());
-  if (density_ > 0) refine_cap(cdt, chords.size(), border_length, density_, frame, split_.points);
-  cap.interior_point_count = static_cast<std::int32_t>(split_.points.size()) - first_interior;
-  split_.cap_point_plane.insert(split_.cap_point_plane.end(), static_cast<std::size_t>(cap.interior_point_count), plane);
-  cap.triangles = domain_triangles(cdt);
-  check_cap_closes_loops(cap.triangles, chords, j);
+  cap.triangles = std::move(shape.triangles);
+  for (Triangle& t : cap.triangles)
+    for (auto& v : t) {
+      if (v < 0 || v >= border_count + interior_count)
+        throw InternalError("the cap of plane " + std::to_string(plane) + " names a point it does not have");
+      v = v < border_count ? global_ids[static_cast<std::size_t>(v)] : first_interior + (v - border_count);
+    }
+  split_.points.insert(split_.points.end(), shape.interior_points.begin(), shape.interior_points.end());
+  cap.interior_point_count = interior_count;
+  split_.cap_point_plane.insert(split_.cap_point_plane.end(), static_cast<std::size_t>(interior_count), plane);
   return cap;
 }
 
