@@ -26,6 +26,10 @@ print(f"{report['counts']['input_faces']} faces, {measured_ranks} ranks, {report
       f"total {report['total_seconds']:.1f} s")
 print("serial stages (rank 0): " + ", ".join(f"{k} {v:.2f}" for k, v in serial.items()) + f"; sum {serial_total:.1f} s")
 print(f"meshing rounds {stages.get('tetgen', 0):.1f} s wall, {work:.1f} s of TetGen work over the ranks")
+region_work = sum(r.get("region_seconds", 0) for r in report["rank"])
+if region_work > 0:
+    print(f"seam and polish regions: {region_work:.2f} s of TetGen work over the ranks (inside the seam healing and "
+          f"polish stages, which the projection counts as serial)")
 if cap_work > 0:
     print(f"caps: {cap_work:.2f} s of triangulation over the ranks (" +
           ", ".join(f"rank {r['rank']} {r['cap_seconds']:.2f} s / {r['caps']:.0f}" for r in report["rank"]) +

@@ -30,7 +30,7 @@ struct MeshJob {
 
 // What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.
 struct RankStats {
-  double tetgen_seconds = 0;
+  double tetgen_seconds = 0;  // meshing pieces
   double peak_rss_mb = 0;
   double bytes_sent = 0, bytes_received = 0;
   double pieces = 0;
@@ -43,8 +43,9 @@ struct RankStats {
   double write_seconds = 0;        // in the check-and-write step (rank 0 checks the mesh first; the others wait)
   double piece_files_written = 0;  // a .pvtu set's piece files this rank wrote
   double caps = 0, cap_seconds = 0;  // caps this rank triangulated, and the time it took
+  double region_seconds = 0;         // meshing the regions seam healing and the polish re-mesh
 };
-constexpr int kRankStatsDoubles = 14;
+constexpr int kRankStatsDoubles = 15;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -112,6 +112,7 @@ std::string report_json(const JobSummary& s) {
                               {"piece_files_written", stats.piece_files_written},
                               {"caps", stats.caps},
                               {"cap_seconds", stats.cap_seconds},
+                              {"region_seconds", stats.region_seconds},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();

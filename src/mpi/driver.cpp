@@ -222,13 +222,15 @@ class RootScheduler : public PieceScheduler {
     for (;;) {
       bool replied = false;
       while (receive_reply()) replied = true;
-      dispatch();
+      // Returned before any dispatch: a rank freed just now takes the piece this cap completes,
+      // not another cap.
       if (auto done = caps_.find(plane); done != caps_.end()) {
         CapOutcome outcome = std::move(done->second);
         caps_.erase(done);
         if (outcome.failure) throw PartitionError(*outcome.failure);
         return std::move(outcome.shape);
       }
+      dispatch();
       // Not handed out yet: build it here. Being built elsewhere: build the next one meanwhile.
       auto queued = std::find(cap_queue_.begin(), cap_queue_.end(), plane);
       if (queued == cap_queue_.end()) queued = cap_queue_.begin();
@@ -398,7 +400,7 @@ class RootScheduler : public PieceScheduler {
     store(own_position_, deserialize_outcome(own_->take_reply()));
     own_.reset();
     account_meshing();
-    stats_.tetgen_seconds += now_seconds() - own_start_;
+    (pieces_[own_position_]->seam_region ? stats_.region_seconds : stats_.tetgen_seconds) += now_seconds() - own_start_;
     if (!pieces_[own_position_]->seam_region) stats_.pieces += 1;
     report_progress(own_position_, 0);
     return true;
@@ -564,7 +566,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       if (!region) dump_piece(job, piece);
       std::string reply;
       {
-        AddSeconds timer{stats.tetgen_seconds};
+        AddSeconds timer{region ? stats.region_seconds : stats.tetgen_seconds};
         reply = runner.mesh_to_reply(piece, [&piece, rank, region] {
           if (!region) test_hooks::piece_failure(piece.index, rank);
         });
