@@ -65,6 +65,10 @@ void worker_stop(int rank) {
   if (rank == 1 && injected("worker:stop-when-idle")) ::raise(SIGSTOP);
 }
 
+void cap_stop(int rank) {
+  if (rank == 1 && injected("worker:stop-on-cap")) ::raise(SIGSTOP);
+}
+
 void verdict_stop(int rank) {
   if (rank == 1 && injected("worker:stop-before-verdict")) ::raise(SIGSTOP);
 }

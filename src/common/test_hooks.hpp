@@ -1,6 +1,6 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
-// tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict mode too), tests/cli/outputs.sh,
+// tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict and cap modes too), tests/cli/outputs.sh,
 // tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/check_tetgen_ranks.sh (also
 // check_failure), tests/mpi/cap_failure.sh.
 #pragma once
@@ -20,6 +20,9 @@ bool input_needs_surface_points();
 // PARTET_INJECT_FAILURE="worker:cap-error": every cap a rank other than 0 triangulates fails (a
 // PartitionError, as when the loops on its plane cross), so rank 0 must take that failure as its own.
 void worker_cap_failure(int plane);
+// PARTET_INJECT_FAILURE="worker:stop-on-cap": rank 1 stops itself (SIGSTOP) when it is given a
+// cap to triangulate, so rank 0 waits for a cap that never comes.
+void cap_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);

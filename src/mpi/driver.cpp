@@ -317,17 +317,24 @@ class RootScheduler : public PieceScheduler {
     caps_[plane] = std::move(outcome);
   }
 
+  // A cap takes far less than a piece: a rank that has not answered within a piece's time limit
+  // (when one is set) or kWorkerSeconds is stopped or dead.
+  double cap_limit() const {
+    const double piece_limit = job_.options.run.timeout_seconds;
+    return piece_limit > 0 ? std::min(kWorkerSeconds, piece_limit + kReplyGraceSeconds) : kWorkerSeconds;
+  }
+
   void send_cap(int worker, int plane) {
     AddSeconds timer{stats_.send_seconds};
     const std::string bytes = serialize_cap_task(cap_borders_.at(static_cast<std::size_t>(plane)));
-    busy_[worker] = {now_seconds() + kWorkerSeconds, plane, true};
+    busy_[worker] = {now_seconds() + cap_limit(), plane, true};
     ++caps_out_;
     try {
       stats_.bytes_sent +=
-          static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, kWorkerSeconds));
+          static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, cap_limit()));
     } catch (const Stalled&) {
       abort_job("rank " + std::to_string(worker) + " did not take the cap of plane " + std::to_string(plane) +
-                " within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+                " within " + std::to_string(static_cast<int>(cap_limit())) + " s (stopped or dead?)");
     }
   }
 
@@ -523,7 +530,8 @@ class RootScheduler : public PieceScheduler {
 };
 
 // A worker's part of the closure: triangulates the cap and sends rank 0 its shape, or the failure.
-void build_cap_for_root(const std::string& task, RankStats& stats) {
+void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
+  test_hooks::cap_stop(rank);
   const double start = now_seconds();
   CapOutcome outcome;
   const CapBorder border = deserialize_cap_task(task);
@@ -555,7 +563,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
       if (task_kind(bytes) == TaskKind::cap) {
-        build_cap_for_root(bytes, stats);
+        build_cap_for_root(bytes, rank, stats);
         continue;
       }
       TetgenOptions tetgen;

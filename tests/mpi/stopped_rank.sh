@@ -13,7 +13,9 @@
 #            3 s), before rank 0's longer wait could blame rank 1.
 #   share-oom: 4 ranks; rank 2 runs out of memory checking its share (worker:share-out-of-memory):
 #            the job ends at once with rank 2's own message.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom]
+#   cap:     rank 1 stops itself when it is given a cap (worker:stop-on-cap): rank 0 must name
+#            it and the cap's plane within the piece time limit plus the grace period.
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -24,6 +26,7 @@ trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 inject=() ranks=(-n 2) fault="" check_waits=0
 case $mode in
   idle) fault=worker:stop-when-idle ;;
+  cap) fault=worker:stop-on-cap ;;
   verdict) fault=worker:stop-before-verdict check_waits=1 ;;
   share) fault=worker:stop-before-findings check_waits=1 ranks=(-n 4 --oversubscribe) ;;
   share-oom) fault=worker:share-out-of-memory check_waits=1 ranks=(-n 4 --oversubscribe) ;;
@@ -59,6 +62,7 @@ case $mode in
   verdict) expected="rank 1 has not reported its check of the input within 3 s" ;;
   share) expected="rank 2 has not reported its share of the input check within 3 s" ;;
   share-oom) expected="rank 2 ran out of memory" ;;
+  cap) expected="rank 1 has not answered for the cap of plane 0" ;;
   *) expected="rank 1 has not answered" ;;
 esac
 grep -q "$expected" "$work/log" || fail "no message '$expected'"
