@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -131,6 +132,23 @@ struct AddSeconds {
 };
 
 // Writes the piece's closed surface as DIR/piece_<i>.off, for looking at a failing piece.
+// Triangulates a cap on this rank, its PartitionError kept as the outcome's failure, and counts
+// it in stats. `before` runs first, inside the same handling (a test hook).
+CapOutcome triangulated(const CapBorder& border, RankStats& stats, const std::function<void()>& before = {}) {
+  const double start = now_seconds();
+  CapOutcome outcome;
+  try {
+    if (before) before();
+    outcome.shape = triangulate_cap(border);
+  } catch (const PartitionError& e) {
+    outcome.failure = e.failure;
+  }
+  outcome.seconds = now_seconds() - start;
+  stats.cap_seconds += outcome.seconds;
+  stats.caps += 1;
+  return outcome;
+}
+
 void dump_piece(const MeshJob& job, const PieceSurface& piece) {
   if (job.dump_pieces_dir.empty()) return;
   write_off(SurfaceMesh{piece.points, piece.triangles},
@@ -261,7 +279,7 @@ class RootScheduler : public PieceScheduler {
     });
     const bool root_meshes = runner_.runs_in_background() || size_ == 1;
     std::chrono::microseconds idle = kShortestIdle;
-    while (remaining_ > 0 || caps_out_ > 0) {
+    while (remaining_ > 0 || caps_out() > 0) {
       dispatch();
       if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
       deliver(arrived);  // once every free rank (this one too) has its next piece
@@ -304,17 +322,13 @@ class RootScheduler : public PieceScheduler {
   }
 
   void build_cap_here(int plane) {
-    const double start = now_seconds();
-    CapOutcome outcome;
-    try {
-      outcome.shape = triangulate_cap(cap_borders_.at(static_cast<std::size_t>(plane)));
-    } catch (const PartitionError& e) {
-      outcome.failure = e.failure;
-    }
-    outcome.seconds = now_seconds() - start;
-    stats_.cap_seconds += outcome.seconds;
-    stats_.caps += 1;
-    caps_[plane] = std::move(outcome);
+    caps_[plane] = triangulated(cap_borders_.at(static_cast<std::size_t>(plane)), stats_);
+  }
+
+  // Caps other ranks are building.
+  std::size_t caps_out() const {
+    return static_cast<std::size_t>(
+        std::count_if(busy_.begin(), busy_.end(), [](const auto& worker) { return worker.second.cap; }));
   }
 
   // A cap takes far less than a piece: a rank that has not answered within a piece's time limit
@@ -328,7 +342,6 @@ class RootScheduler : public PieceScheduler {
     AddSeconds timer{stats_.send_seconds};
     const std::string bytes = serialize_cap_task(cap_borders_.at(static_cast<std::size_t>(plane)));
     busy_[worker] = {now_seconds() + cap_limit(), plane, true};
-    ++caps_out_;
     try {
       stats_.bytes_sent +=
           static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, cap_limit()));
@@ -452,10 +465,9 @@ class RootScheduler : public PieceScheduler {
       if (is_cap_outcome(reply)) {
         CapOutcome outcome = deserialize_cap_outcome(reply);
         const int plane = busy_.at(worker).piece;
-        if (outcome.failure ? false : outcome.shape.plane != plane)
+        if (!outcome.failure && outcome.shape.plane != plane)
           throw InternalError("rank " + std::to_string(worker) + " sent the cap of another plane");
         caps_[plane] = std::move(outcome);
-        --caps_out_;
         idle_.push_back(worker);
         busy_.erase(worker);
         return true;
@@ -516,7 +528,6 @@ class RootScheduler : public PieceScheduler {
   std::size_t remaining_ = 0;
   std::deque<int> cap_queue_;       // planes whose caps nobody builds yet
   std::map<int, CapOutcome> caps_;  // by plane: built, not yet taken by cap()
-  std::size_t caps_out_ = 0;        // caps other ranks are building
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
   double own_start_ = 0;
@@ -532,18 +543,8 @@ class RootScheduler : public PieceScheduler {
 // A worker's part of the closure: triangulates the cap and sends rank 0 its shape, or the failure.
 void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
   test_hooks::cap_stop(rank);
-  const double start = now_seconds();
-  CapOutcome outcome;
   const CapBorder border = deserialize_cap_task(task);
-  try {
-    test_hooks::worker_cap_failure(border.plane);
-    outcome.shape = triangulate_cap(border);
-  } catch (const PartitionError& e) {
-    outcome.failure = e.failure;
-  }
-  outcome.seconds = now_seconds() - start;
-  stats.cap_seconds += outcome.seconds;
-  stats.caps += 1;
+  const CapOutcome outcome = triangulated(border, stats, [&border] { test_hooks::worker_cap_failure(border.plane); });
   const std::string reply = serialize_cap_outcome(outcome);
   AddSeconds timer{stats.send_seconds};
   stats.bytes_sent += static_cast<double>(

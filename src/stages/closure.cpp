@@ -166,8 +166,8 @@ bool encroaches(const CDT& cdt, CDT::Face_handle g, const K::Point_2& p) {
 }
 
 // Inserts p into the domain unless it falls outside, encroaches or coincides; the new point is
-// appended to `points` (its id: the border's point count + its position there). `hint` is a face near p (walks start there).
-// Returns the new vertex, or a null handle.
+// appended to `points` (its id: first_id + its position there). `hint` is a face near p (walks
+// start there). Returns the new vertex, or a null handle.
 CDT::Vertex_handle insert_interior_point(CDT& cdt, const K::Point_2& p, CDT::Face_handle hint, const PlaneFrame& frame,
                                          std::size_t first_id, std::vector<Point3>& points) {
   const CDT::Face_handle g = cdt.locate(p, hint);
