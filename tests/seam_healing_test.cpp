@@ -24,28 +24,13 @@ namespace {
 
 using namespace partet::test;
 
-struct Stage {
-  MeshOptions options;
-  PreparedPieces prepared;
-  std::vector<PieceTetMesh> results;
-};
+using Stage = MeshedPieces;
 
 Stage prepare(const SurfaceMesh& input, int k, double density = 1.0, const std::string& quality = "") {
-  Stage s;
-  s.options.pieces = k;
-  s.options.density = density;
-  s.options.tetgen.quality = quality;
-  s.options.run.isolate = false;
-  s.prepared = prepare_pieces(input, s.options);
-  for (const auto& piece : s.prepared.pieces) s.results.push_back(tetrahedralize_piece(piece, s.options.tetgen));
-  return s;
+  return mesh_pieces_in_batch(input, k, density, quality);
 }
 
-RegionMesher here(const MeshOptions& options) {
-  return [options](const std::vector<PieceSurface>& regions) {
-    return mesh_pieces_here(regions, PieceRunner(options.tetgen, options.run));
-  };
-}
+RegionMesher here(const MeshOptions& options) { return regions_here(options); }
 
 std::string violations(const CheckReport& r) {
   std::string text;

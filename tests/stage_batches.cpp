@@ -49,4 +49,21 @@ void validate_surface(const SurfaceMesh& surface) {
                                 : std::string("input encloses no volume (enclosed volume 0)"));
 }
 
+MeshedPieces mesh_pieces_in_batch(const SurfaceMesh& input, int k, double density, const std::string& quality) {
+  MeshedPieces s;
+  s.options.pieces = k;
+  s.options.density = density;
+  s.options.tetgen.quality = quality;
+  s.options.run.isolate = false;
+  s.prepared = prepare_pieces(input, s.options);
+  for (const auto& piece : s.prepared.pieces) s.results.push_back(tetrahedralize_piece(piece, s.options.tetgen));
+  return s;
+}
+
+RegionMesher regions_here(const MeshOptions& options) {
+  return [options](const std::vector<PieceSurface>& regions) {
+    return mesh_pieces_here(regions, PieceRunner(options.tetgen, options.run));
+  };
+}
+
 }  // namespace partet

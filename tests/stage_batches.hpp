@@ -1,6 +1,7 @@
 // The stages in one batch each, for the unit tests: the pipeline streams the same steps (each
 // piece handed out as soon as it is closed), so partet itself has no use for these forms.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "job/pipeline.hpp"
@@ -18,5 +19,17 @@ std::vector<PieceSurface> assemble_pieces(const SplitSurface& split, const std::
 PreparedPieces prepare_pieces(const SurfaceMesh& input, const MeshOptions& options);
 // Closed, manifold, oriented, free of self-intersections and enclosing a positive volume.
 void validate_surface(const SurfaceMesh& surface);
+
+// An input's pieces meshed one after another in this process (no child processes), with the
+// options that made them.
+struct MeshedPieces {
+  MeshOptions options;
+  PreparedPieces prepared;
+  std::vector<PieceTetMesh> results;
+};
+MeshedPieces mesh_pieces_in_batch(const SurfaceMesh& input, int k, double density = 1.0,
+                                  const std::string& quality = "");
+// Meshes the regions of seam healing in this process, one after another.
+RegionMesher regions_here(const MeshOptions& options);
 
 }  // namespace partet

@@ -1,16 +1,33 @@
 #!/usr/bin/env bash
 # Whether two partet binaries write the same bytes: every model in a directory (default: the
 # shared models) at each K, with and without --quality, compared file by file (TetGen files).
+# With -s, the same mesh in another tet order: the same .node and .face rows and the same tets
+# (the .ele rows without their numbers, as a multiset); .neigh and the comments (the set ID
+# names the order) are not compared.
 # Prints one line per difference and a count; exit 0 when every output is identical.
-# Usage: same_output.sh OLD_PARTET NEW_PARTET [-d DIR] [-k "2 4 8"] [-q "none 1.414"]
+# Usage: same_output.sh OLD_PARTET NEW_PARTET [-d DIR] [-k "2 4 8"] [-q "none 1.414"] [-s]
 set -uo pipefail
 source "$(dirname "$0")/../common.sh"
 old=$(realpath "$1") new=$(realpath "$2")
 shift 2
-dir=$here/../../shared/meshes ks="2 4 8" qualities="none 1.414"
-while getopts "d:k:q:" opt; do
-  case $opt in d) dir=$OPTARG ;; k) ks=$OPTARG ;; q) qualities=$OPTARG ;; *) sed -n '2,5p' "$0"; exit 2 ;; esac
+dir=$here/../../shared/meshes ks="2 4 8" qualities="none 1.414" as_sets=0
+while getopts "d:k:q:s" opt; do
+  case $opt in
+    d) dir=$OPTARG ;; k) ks=$OPTARG ;; q) qualities=$OPTARG ;; s) as_sets=1 ;;
+    *) sed -n '2,7p' "$0"; exit 2 ;;
+  esac
 done
+# The .ele rows without their numbers (and comments), sorted.
+tet_rows() { grep -v '^#' "$1" | tail -n +2 | awk '{$1 = ""; print}' | sort; }
+same() {
+  if [ "$as_sets" = 1 ] && [ "$1" = ele ]; then
+    cmp -s <(tet_rows "$work/old.ele") <(tet_rows "$work/new.ele")
+  elif [ "$as_sets" = 1 ]; then
+    cmp -s <(grep -v '^#' "$work/old.$1") <(grep -v '^#' "$work/new.$1")
+  else
+    cmp -s "$work/old.$1" "$work/new.$1"
+  fi
+}
 make_work_dir
 runs=0 different=0 failed=0
 for model in "$dir"/*.off; do
@@ -24,8 +41,10 @@ for model in "$dir"/*.off; do
          ! "$new" mesh "$model" -o "$work/new" "${args[@]}" > /dev/null 2>&1; then
         echo "FAILED: $name k=$k q=$q"; failed=$((failed + 1)); continue
       fi
-      for ext in node ele face neigh; do
-        if ! cmp -s "$work/old.$ext" "$work/new.$ext"; then
+      exts="node ele face neigh"
+      [ "$as_sets" = 1 ] && exts="node ele face"
+      for ext in $exts; do
+        if ! same "$ext"; then
           echo "DIFFERENT: $name k=$k q=$q .$ext"; different=$((different + 1)); break
         fi
       done

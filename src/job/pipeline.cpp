@@ -326,34 +326,46 @@ void add_split_faces(MeshResult& result) {
 
 }  // namespace
 
-MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
-                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
-  StageTimer timer(times);
-  MeshResult result;
-  result.mesh = std::move(welded);
-  // The regions around the seams and the polish's neighbourhoods are meshed like pieces, on
-  // every rank.
-  auto mesh_regions = [&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
-    scheduler.begin_round(tetgen);
-    for (const auto& region : regions) scheduler.submit(region);
-    return scheduler.end_round_all();
-  };
-  // Regions keep their surfaces whole, whatever the pieces were allowed.
-  TetgenOptions region_tetgen = options.tetgen;
-  region_tetgen.boundary_points = false;
-  const RegionMesher mesher = [&](const std::vector<PieceSurface>& regions) {
-    return mesh_regions(regions, region_tetgen);
-  };
-  const HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
-  result.seam = heal_seams(result.mesh, input, prepared.split, heal, mesher);
-  timer.lap("seam_healing");
-  if (polishes(options)) {
-    const PolishMesher polisher = [&](const std::vector<PieceSurface>& regions, const std::string& optimization) {
-      TetgenOptions tetgen = region_tetgen;
+namespace {
+
+// The regions around the seams and the polish's neighbourhoods are meshed like pieces, on every
+// rank; they keep their surfaces whole, whatever the pieces were allowed.
+class RegionMeshers {
+ public:
+  RegionMeshers(const MeshOptions& options, PieceScheduler& scheduler)
+      : scheduler_(scheduler), tetgen_(options.tetgen) {
+    tetgen_.boundary_points = false;
+  }
+  RegionMesher seams() {
+    return [this](const std::vector<PieceSurface>& regions) { return mesh(regions, tetgen_); };
+  }
+  PolishMesher polish() {
+    return [this](const std::vector<PieceSurface>& regions, const std::string& optimization) {
+      TetgenOptions tetgen = tetgen_;
       tetgen.optimization = optimization;
-      return mesh_regions(regions, tetgen);
+      return mesh(regions, tetgen);
     };
-    result.polish = polish_poor_tets(result.mesh, PolishOptions(), polisher);
+  }
+
+ private:
+  std::vector<PieceOutcome> mesh(const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+    scheduler_.begin_round(tetgen);
+    for (const auto& region : regions) scheduler_.submit(region);
+    return scheduler_.end_round_all();
+  }
+  PieceScheduler& scheduler_;
+  TetgenOptions tetgen_;
+};
+
+HealOptions heal_options(const MeshOptions& options) {
+  return HealOptions{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
+}
+
+// 6. After healing: the polish, and what the result tells about the partition.
+void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, const MeshOptions& options,
+                   RegionMeshers& meshers, StageTimer& timer, MeshResult& result) {
+  if (polishes(options)) {
+    result.polish = polish_poor_tets(result.mesh, PolishOptions(), meshers.polish());
     timer.lap("polish");
   }
   result.boundary_faces = input_in_output_numbering(input, options.tetgen.boundary_points);
@@ -363,18 +375,78 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   result.cap_triangles = prepared.cap_triangles;
   result.pieces = static_cast<int>(prepared.pieces.size());
   result.axis = options.axis;
+}
+
+// 5. Heals the band alone; a part that failed (other than by running out of time or refining
+// without end) may have needed to grow past the band's edge, so the seams heal on over the whole
+// mesh, from the last round that ended, as far as they need to grow.
+TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& welder, TetMesh&& band,
+                  const HealOptions& options, const RegionMesher& mesher, SeamStats& stats) {
+  const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + band.tets.size());
+  HealOptions on_band = options;
+  on_band.drop_points = false;
+  try {
+    stats = heal_seams(band, input, split, on_band, mesher);
+    return welder.assemble(std::move(band));
+  } catch (const MeshingError& error) {
+    const FailureKind kind = error.failure.kind;
+    if (kind == FailureKind::runaway || kind == FailureKind::timed_out) throw;
+    log::debug(std::string("seam healing goes on over the whole mesh: ") + error.what());
+  }
+  TetMesh mesh = welder.assemble(std::move(band), false);
+  stats = heal_seams(mesh, input, split, options, mesher);
+  stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
+  stats.tets_in = welded_tets - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
+  return mesh;
+}
+
+}  // namespace
+
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
+  StageTimer timer(times);
+  MeshResult result;
+  result.mesh = std::move(welded);
+  RegionMeshers meshers(options, scheduler);
+  result.seam = heal_seams(result.mesh, input, prepared.split, heal_options(options), meshers.seams());
+  timer.lap("seam_healing");
+  finish_healed(input, prepared, options, meshers, timer, result);
   return result;
+}
+
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, Welder& welder, TetMesh&& band,
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
+  StageTimer timer(times);
+  MeshResult result;
+  RegionMeshers meshers(options, scheduler);
+  result.mesh =
+      heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(), result.seam);
+  timer.lap("seam_healing");
+  finish_healed(input, prepared, options, meshers, timer, result);
+  return result;
+}
+
+TetMesh weld_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& options) {
+  const BandSpec spec = seam_band_spec(prepared.split, heal_options(options));
+  for (PieceSurface& piece : prepared.pieces) std::vector<std::int32_t>().swap(piece.global_ids);
+  TetMesh band = welder.finish_band(std::move(prepared.split.points), spec);
+  log::debug("seam bands: " + std::to_string(band.tets.size()) + " of " +
+             std::to_string(band.tets.size() + welder.bulk_tet_count()) + " tets");
+  return band;
 }
 
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
                        const MeshOptions& options, StageTimes* times) {
   StageTimer timer(times);
-  TetMesh welded = weld(prepared.split, prepared.pieces, std::move(results));
+  PreparedPieces bands = prepared;  // its split's points move into the band mesh
+  Welder welder(bands.split, bands.pieces);
+  for (auto& result : results) welder.add(std::move(result));
+  TetMesh band = weld_bands(welder, bands, options);
   timer.lap("merge");
   BatchScheduler here([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
     return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
   });
-  return finish_mesh(input, prepared, std::move(welded), options, here, times);
+  return finish_mesh(input, prepared, welder, std::move(band), options, here, times);
 }
 
 std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner) {
@@ -448,15 +520,18 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
       if (failed.failure.message.empty()) {
         cache.clear();
         StageTimer timer(times);
-        TetMesh welded = weld_attempt(attempt.welder, prepared);
-        timer.lap("merge");
         if (plan.diagnosing()) {  // kept, in case the other partitions fail too
+          TetMesh welded = weld_attempt(attempt.welder, prepared);
+          timer.lap("merge");
           one_piece = OnePieceMesh{std::move(prepared), std::move(welded), attempt_options};
           plan.diagnosis_passed();
           last.reset();
           continue;
         }
-        MeshResult result = finish_mesh(input, prepared, std::move(welded), attempt_options, scheduler, times);
+        TetMesh band = weld_bands(attempt.welder, prepared, attempt_options);
+        timer.lap("merge");
+        MeshResult result =
+            finish_mesh(input, prepared, attempt.welder, std::move(band), attempt_options, scheduler, times);
         result.retries = plan.take_records();
         result.merge_seconds_overlapped = attempt.weld_seconds;
         return result;

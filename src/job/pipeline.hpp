@@ -11,6 +11,7 @@
 #include "partet/mesh_types.hpp"
 #include "runner/piece_runner.hpp"
 #include "stages/closure.hpp"
+#include "stages/merge.hpp"
 #include "stages/partition.hpp"
 #include "stages/piece.hpp"
 #include "stages/polish.hpp"
@@ -166,6 +167,12 @@ class BatchScheduler : public PieceScheduler {
 // 5. Heal the seams of the welded mesh, the regions around them meshed by the scheduler (in
 // parallel).
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
+                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
+// 4. Welds the pieces' bands alone (seam_band.hpp), every piece in: the pieces' global ids go, and
+// the split's points move into the band mesh.
+TetMesh weld_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& options);
+// 5. Heal the seams on the band alone, then join it to the bulks the welder kept.
+MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, Welder& welder, TetMesh&& band,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
 // 4-5. Weld the pieces' meshes (consumed: each is freed once welded; ordered by piece index) and
 // heal the seams, the regions meshed in this process, one after another.

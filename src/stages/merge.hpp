@@ -1,9 +1,11 @@
 // Merge: weld the pieces' tet meshes at the caps into one mesh with global numbering.
 #pragma once
+#include <utility>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
 #include "stages/piece.hpp"
+#include "stages/seam_band.hpp"
 
 namespace partet {
 
@@ -30,17 +32,37 @@ class Welder {
   // held once); its arrays have room for what seam healing adds (see kHealingRoom).
   TetMesh finish(std::vector<Point3> split_points);
 
+  // Once every piece is in, instead of finish: splits each piece into its band (seam_band.hpp;
+  // spec.split_point_count is set here) and its bulk, and welds the bands alone. The band mesh is
+  // numbered as the whole welded mesh would be, except that only the bands' Steiner points follow
+  // the split surface's. Its tets are the bands' in piece order.
+  TetMesh finish_band(std::vector<Point3> split_points, BandSpec spec);
+  // After the band was healed with its points kept: the mesh of every bulk in piece order, then
+  // the healed band, joined across the caps and the bands' edges. Points: the split surface's,
+  // every piece's Steiner points in piece order, then those healing added; those no tet uses are
+  // dropped (as healing the whole welded mesh drops them), keeping order.
+  // (drop_unused false: no point is dropped, so the mesh is numbered as the whole welded mesh
+  // would be, and healing can go on over it.)
+  TetMesh assemble(TetMesh&& healed_band, bool drop_unused = true);
+  // The tets the bulks hold (after finish_band).
+  std::size_t bulk_tet_count() const;
+
  private:
   struct Block {
     bool in = false;
     std::vector<Point3> steiner_points;
-    std::vector<Tet> tets;        // global ids; Steiner point s of the piece is first_steiner_ + s
-    std::vector<Tet> neighbours;  // local tet ids
+    std::vector<Tet> tets;                   // global ids; Steiner point s of the piece is first_steiner_ + s
+    std::vector<Tet> neighbours;             // local tet ids
+    std::vector<std::uint64_t> rim;          // a bulk's faces towards its band (4 * tet + j)
+    std::vector<std::int32_t> band_steiner;  // a band's Steiner points: their index in the piece
   };
+  TetMesh weld_blocks(std::vector<Point3> split_points, std::vector<Block>& blocks) const;
+  std::pair<Block, Block> split_block(Block&& block, const std::vector<std::int8_t>& depth) const;
   const SplitSurface& split_;
   const std::vector<PieceSurface>& pieces_;
   std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point
   std::vector<Block> blocks_;
+  std::vector<Block> bulks_;  // after finish_band
 };
 
 // All at once: results ordered by piece index. Each piece's arrays are freed as soon as they

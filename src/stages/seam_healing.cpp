@@ -229,10 +229,10 @@ void grow_region(const TetMesh& mesh, const std::vector<std::int32_t>& region, c
       in_region);
 }
 
-// Counts the removed vertices gone from the mesh and drops them (and input vertices no
-// triangle uses), keeping order.
-void drop_removed_points(TetMesh& mesh, const Removed& removed, SeamStats& stats) {
-  const std::vector<char> used = drop_unused_points(mesh);
+// Counts the removed vertices gone from the mesh and, with `drop`, drops them (and input vertices
+// no triangle uses), keeping order.
+void drop_removed_points(TetMesh& mesh, const Removed& removed, bool drop, SeamStats& stats) {
+  const std::vector<char> used = drop ? drop_unused_points(mesh) : used_vertices(mesh.points.size(), mesh.tets);
   for (std::size_t v = 0; v < used.size(); ++v) {
     const auto id = static_cast<std::int32_t>(v);
     if (used[v] && removed.contains(id)) throw InternalError("seam healing left a vertex it had to remove in the mesh");
@@ -411,8 +411,19 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
   stats.tets_in = tets_before - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
   if (!had_pieces) std::vector<std::int32_t>().swap(mesh.piece);
-  drop_removed_points(mesh, all, stats);
+  drop_removed_points(mesh, all, options.drop_points, stats);
   return stats;
+}
+
+BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options) {
+  BandSpec spec;
+  spec.input_vertex_count = split.input_vertex_count;
+  // split_point_count: the welder's (the split's points may have moved into a mesh by now)
+  spec.first_removed = split.input_vertex_count;
+  spec.end_removed = split.input_vertex_count + split.cut_vertex_count() +
+                     (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0);
+  spec.layers = options.layers + 1;
+  return spec;
 }
 
 }  // namespace partet

@@ -10,6 +10,7 @@
 #include "partet/mesh_types.hpp"
 #include "stages/partition.hpp"
 #include "stages/piece.hpp"
+#include "stages/seam_band.hpp"
 
 namespace partet {
 
@@ -29,6 +30,9 @@ struct HealOptions {
   // the seam zone's AMIPS average is then within 1% of TetGen's own mesh there; one layer of tets
   // sharing a vertex costs as much and leaves fertility's 2% worse).
   int layers = 0;
+  // Drop the points no tet uses afterwards (the whole mesh); a band keeps them all (its points are
+  // numbered as in the whole mesh, and the bulks use most of them).
+  bool drop_points = true;
 };
 
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
@@ -42,10 +46,16 @@ using RegionMesher = std::function<std::vector<PieceOutcome>(const std::vector<P
 // parts heal in parallel, on any rank, in rounds planned on the mesh as it stands (parts where
 // neighbouring cuts meet may take turns; see seam_rounds.hpp). A part that fails grows by a layer
 // of tets (up to three times) first.
-// Afterwards the mesh has none of the removed vertices and no unused points; input vertices
-// keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
+// Afterwards the mesh has none of the removed vertices and (with options.drop_points) no unused
+// points; input vertices keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
 // MeshingError of the region that failed, with the cut planes of that region.
 SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
                      const RegionMesher& mesher);
+
+// The band healing with these options needs (seam_band.hpp): the stars of the vertices it
+// removes, grown by the layers its first round adds and one more, so that a later round's region
+// (grown from new tets) or a failed part's growth rarely meets the band's edge. Where one does,
+// the edge's faces stay fixed, as the faces around any region do.
+BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options);
 
 }  // namespace partet

@@ -1,0 +1,218 @@
+// Seam bands: healing the bands alone, gathered from the pieces, gives the mesh that healing the
+// whole welded mesh gives; the bands' layers cross the caps as a breadth-first search over the
+// whole mesh does.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "job/pipeline.hpp"
+#include "stage_batches.hpp"
+#include "stage_helpers.hpp"
+#include "stages/check.hpp"
+#include "stages/generate.hpp"
+#include "stages/merge.hpp"
+#include "stages/seam_band.hpp"
+#include "stages/seam_healing.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+using namespace partet::test;
+
+// The vertices healing removes: [first, end) of the split surface's ids.
+std::pair<std::int32_t, std::int32_t> removed_ids(const SplitSurface& split, bool caps) {
+  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
+  return {split.input_vertex_count, first_cap + (caps ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0)};
+}
+
+// Every tet as its sorted ids, sorted: the same set of tets whatever their order and rotation.
+std::vector<Tet> tet_set(const std::vector<Tet>& tets) {
+  std::vector<Tet> set = tets;
+  for (auto& t : set) std::sort(t.begin(), t.end());
+  std::sort(set.begin(), set.end());
+  return set;
+}
+
+BandSpec band_spec(const SplitSurface& split, bool caps, int layers) {
+  const auto [first, end] = removed_ids(split, caps);
+  return BandSpec{split.input_vertex_count, static_cast<std::int32_t>(split.points.size()), first, end, layers};
+}
+
+// The band path, in one process: weld the bands alone, heal them, assemble.
+TetMesh heal_by_bands(const SurfaceMesh& input, const MeshedPieces& s, HealOptions options, std::size_t* band_tets = nullptr) {
+  const SplitSurface& split = s.prepared.split;
+  Welder welder(split, s.prepared.pieces);
+  for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+  TetMesh band = welder.finish_band(split.points, band_spec(split, options.remove_cap_points, options.layers + 1));
+  if (band_tets) *band_tets = band.tets.size();
+  options.drop_points = false;
+  heal_seams(band, input, split, options, regions_here(s.options));
+  return welder.assemble(std::move(band));
+}
+
+// A piece's tets in global ids (Steiner point s as split point count + s), as the welder keeps them.
+std::vector<Tet> global_tets(const PieceTetMesh& result, const PieceSurface& piece, std::int32_t split_points) {
+  std::vector<Tet> tets = result.mesh.tets;
+  for (auto& t : tets)
+    for (auto& v : t)
+      v = v < result.surface_point_count ? piece.global_ids[v] : split_points + (v - result.surface_point_count);
+  return tets;
+}
+
+TEST(SeamBand, HealingTheBandsGivesTheMeshHealingTheWholeGives) {
+  for (const char* name : {"sphere", "torus", "genus3", "nested"})
+    for (int k : {2, 3, 4})
+      for (const bool caps : {false, true}) {
+        SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (caps ? " caps healed" : " cut vertices only"));
+        const SurfaceMesh input = generate_surface(name, 1500);
+        const MeshedPieces s = mesh_pieces_in_batch(input, k);
+        const HealOptions options{caps, 0};
+        TetMesh whole = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+        const std::size_t tets_welded = whole.tets.size();
+        heal_seams(whole, input, s.prepared.split, options, regions_here(s.options));
+        std::size_t band_tets = 0;
+        const TetMesh banded = heal_by_bands(input, s, options, &band_tets);
+        EXPECT_LE(band_tets, tets_welded);
+        if (!caps) EXPECT_LT(band_tets, tets_welded);
+        EXPECT_EQ(banded.points, whole.points);
+        EXPECT_EQ(tet_set(banded.tets), tet_set(whole.tets));
+        EXPECT_EQ(banded.neighbours, compute_neighbours(banded.tets));
+        EXPECT_EQ(banded.piece.size(), banded.tets.size());
+        const CheckReport report = check_mesh(input, banded);
+        EXPECT_TRUE(report.ok());
+      }
+}
+
+// The bands of `name` in 4 pieces against a breadth-first search over the welded mesh.
+void check_layers(const char* name, bool caps) {
+  const SurfaceMesh input = generate_surface(name, 1500);
+  const MeshedPieces s = mesh_pieces_in_batch(input, 4);
+  const SplitSurface& split = s.prepared.split;
+  for (int layers : {1, 3, 5}) {
+    SCOPED_TRACE(std::string(name) + (caps ? " caps" : " cuts") + " layers " + std::to_string(layers));
+    const auto [first, end] = removed_ids(split, caps);
+    const BandSpec spec = band_spec(split, caps, layers);
+    std::vector<std::vector<Tet>> tets;
+    std::vector<const std::vector<Tet>*> tet_lists, neighbour_lists;
+    for (std::size_t p = 0; p < s.results.size(); ++p)
+      tets.push_back(global_tets(s.results[p], s.prepared.pieces[p], spec.split_point_count));
+    for (std::size_t p = 0; p < s.results.size(); ++p) {
+      tet_lists.push_back(&tets[p]);
+      neighbour_lists.push_back(&s.results[p].mesh.neighbours);
+    }
+    const auto depths = mark_bands(tet_lists, neighbour_lists, spec);
+    const TetMesh whole = weld(split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+    std::vector<int> expected(whole.tets.size(), -1);
+    std::vector<std::int32_t> queue;
+    for (std::size_t t = 0; t < whole.tets.size(); ++t)
+      for (auto v : whole.tets[t])
+        if (v >= first && v < end) {
+          expected[t] = 0;
+          queue.push_back(static_cast<std::int32_t>(t));
+          break;
+        }
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+      const auto t = queue[i];
+      if (expected[t] == layers) continue;
+      for (auto nb : whole.neighbours[t])
+        if (nb >= 0 && expected[nb] < 0) expected[nb] = expected[t] + 1, queue.push_back(nb);
+    }
+    std::vector<int> found;
+    std::size_t crossing_piece = 0;
+    for (std::size_t p = 0; p < depths.size(); ++p)
+      for (auto d : depths[p]) found.push_back(d);
+    ASSERT_EQ(found, expected);
+    // Some tet of a piece is in the band only through a neighbouring piece (it reaches no removed
+    // vertex of its own piece within the layers): the trade across the caps was needed.
+    for (std::size_t p = 0; p < depths.size(); ++p) {
+      const auto own = mark_bands({tet_lists[p]}, {neighbour_lists[p]}, spec);
+      if (own[0] != depths[p]) ++crossing_piece;
+    }
+    // (On the sphere and the torus cut at their cut vertices alone, with three layers or more.)
+    const bool crosses = !caps && layers >= 3 && (std::string(name) == "sphere" || std::string(name) == "torus");
+    if (crosses) EXPECT_GT(crossing_piece, 0u);
+  }
+}
+
+// With a quality bound healing grows the stars by two layers, so the bands reach across the caps
+// into the neighbouring pieces: the pieces trade the cap faces they reached until the bands match a
+// breadth-first search over the welded mesh, depth for depth.
+TEST(SeamBand, LayersCrossTheCapsAsOverTheWholeMesh) {
+  for (const char* name : {"sphere", "torus", "genus3", "nested"})
+    for (bool caps : {false, true}) check_layers(name, caps);
+}
+
+TEST(SeamBand, WithLayersTheBandsStillHealAsTheWhole) {
+  const SurfaceMesh input = generate_surface("sphere", 4000);
+  const MeshedPieces s = mesh_pieces_in_batch(input, 3, 1.0, "1.414");
+  const HealOptions options{true, 2};
+  TetMesh whole = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+  heal_seams(whole, input, s.prepared.split, options, regions_here(s.options));
+  const TetMesh banded = heal_by_bands(input, s, options);
+  EXPECT_EQ(banded.points, whole.points);
+  EXPECT_EQ(tet_set(banded.tets), tet_set(whole.tets));
+  EXPECT_EQ(banded.neighbours, compute_neighbours(banded.tets));
+  EXPECT_TRUE(check_mesh(input, banded).ok());
+}
+
+// Split into bands and bulks and put together again with nothing healed, the pieces give the
+// welded mesh: the same points in the same order, the same tets, every neighbour joined.
+TEST(SeamBand, BandsAndBulksAssembleIntoTheWeldedMesh) {
+  for (const char* name : {"torus", "nested"})
+    for (int layers : {1, 3}) {
+      SCOPED_TRACE(std::string(name) + " layers " + std::to_string(layers));
+      const SurfaceMesh input = generate_surface(name, 1500);
+      const MeshedPieces s = mesh_pieces_in_batch(input, 3);
+      const SplitSurface& split = s.prepared.split;
+      const TetMesh whole = weld(split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+      Welder welder(split, s.prepared.pieces);
+      for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+      TetMesh band = welder.finish_band(split.points, band_spec(split, false, layers));
+      EXPECT_GT(band.tets.size(), 0u);
+      EXPECT_LT(band.tets.size(), whole.tets.size());
+      const TetMesh again = welder.assemble(std::move(band));
+      EXPECT_EQ(again.points, whole.points);
+      EXPECT_EQ(tet_set(again.tets), tet_set(whole.tets));
+      EXPECT_EQ(again.tets.size(), whole.tets.size());
+      EXPECT_EQ(again.neighbours, compute_neighbours(again.tets));
+      // Each tet keeps its piece.
+      std::vector<std::pair<Tet, std::int32_t>> a, b;
+      for (std::size_t t = 0; t < whole.tets.size(); ++t) a.push_back({whole.tets[t], whole.piece[t]});
+      for (std::size_t t = 0; t < again.tets.size(); ++t) b.push_back({again.tets[t], again.piece[t]});
+      std::sort(a.begin(), a.end());
+      std::sort(b.begin(), b.end());
+      EXPECT_EQ(a, b);
+    }
+}
+
+// A region that keeps failing cannot grow past the band's edge: after its growths fail, the seams
+// heal on over the whole mesh (where it grows as far as it needs) and the result is clean.
+TEST(SeamBand, ARegionFailingInTheBandHealsOverTheWholeMesh) {
+  const SurfaceMesh input = generate_surface("torus", 1500);
+  const MeshedPieces s = mesh_pieces_in_batch(input, 4);
+  const std::size_t welded = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results)).tets.size();
+  PreparedPieces prepared = s.prepared;
+  Welder welder(prepared.split, prepared.pieces);
+  for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+  TetMesh band = weld_bands(welder, prepared, s.options);
+  int batches = 0;
+  BatchScheduler failing([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+    std::vector<PieceOutcome> outcomes = mesh_pieces_here(regions, PieceRunner(tetgen, s.options.run));
+    if (++batches <= 4) outcomes.front().failure = Failure(FailureKind::changed_boundary, -1, {}, "refused by the test");
+    return outcomes;
+  });
+  const MeshResult result = finish_mesh(input, s.prepared, welder, std::move(band), s.options, failing);
+  EXPECT_GE(batches, 5);
+  EXPECT_EQ(result.seam.cut_vertices_removed, s.prepared.split.cut_vertex_count());
+  EXPECT_GT(result.seam.tets_in, 0);
+  EXPECT_EQ(static_cast<std::int64_t>(result.mesh.tets.size()),
+            static_cast<std::int64_t>(welded) - result.seam.tets_in + result.seam.tets_out);
+  EXPECT_EQ(result.mesh.neighbours, compute_neighbours(result.mesh.tets));
+  EXPECT_TRUE(check_mesh(input, result.mesh).ok());
+}
+
+}  // namespace
+}  // namespace partet
