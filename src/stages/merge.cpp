@@ -12,13 +12,16 @@ namespace {
 // The tets with a face that may lie on a cap: three vertices that are not input vertices (no cut
 // plane passes through an input vertex). The input's own boundary faces, most of the open faces,
 // need no matching.
+bool may_touch_cap(const Tet& t, std::int32_t input_vertex_count) {
+  int on_planes = 0;
+  for (auto v : t) on_planes += v >= input_vertex_count;
+  return on_planes >= 3;
+}
+
 std::vector<std::int32_t> tets_touching_caps(const TetMesh& mesh, std::int32_t input_vertex_count) {
   std::vector<std::int32_t> touching;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    int on_planes = 0;
-    for (auto v : mesh.tets[t]) on_planes += v >= input_vertex_count;
-    if (on_planes >= 3) touching.push_back(static_cast<std::int32_t>(t));
-  }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    if (may_touch_cap(mesh.tets[t], input_vertex_count)) touching.push_back(static_cast<std::int32_t>(t));
   return touching;
 }
 
@@ -155,10 +158,7 @@ TetMesh Welder::weld_blocks(std::vector<Point3> split_points, std::vector<Block>
       mesh.neighbours.push_back(nb);
     }
     mesh.piece.resize(mesh.tets.size(), pieces_[p].index);
-    // Welded: free it now (a band keeps the index of its Steiner points, for the assembly).
-    std::vector<std::int32_t> band_steiner = std::move(block.band_steiner);
-    block = Block();
-    block.band_steiner = std::move(band_steiner);
+    block = Block();  // welded: free it now
   }
   // A cap face is open in the two pieces it separates.
   const std::vector<std::int32_t> touching = tets_touching_caps(mesh, split_.input_vertex_count);
@@ -169,8 +169,8 @@ TetMesh Welder::weld_blocks(std::vector<Point3> split_points, std::vector<Block>
 // A piece's band (depth >= 0) and bulk, in piece order each, their neighbours renumbered on their
 // side (-1 across). The band's Steiner points are the ones its tets use, numbered anew in the
 // piece's order (first_steiner_ + their rank); the bulk keeps all of them and their ids.
-std::pair<Welder::Block, Welder::Block> Welder::split_block(Block&& block,
-                                                            const std::vector<std::int8_t>& depth) const {
+std::pair<Welder::Block, Welder::Block> Welder::split_block(Block&& block, const std::vector<std::int8_t>& depth,
+                                                            std::vector<std::int32_t>& band_steiner) const {
   if (depth.size() != block.tets.size()) throw InternalError("a piece's band marks do not match its tets");
   std::vector<std::int32_t> side_id(block.tets.size());
   std::int32_t in_band = 0, in_bulk = 0;
@@ -184,8 +184,8 @@ std::pair<Welder::Block, Welder::Block> Welder::split_block(Block&& block,
         if (v >= first_steiner_) band_id[v - first_steiner_] = 0;
   for (std::size_t s = 0; s < band_id.size(); ++s)
     if (band_id[s] == 0) {
-      band_id[s] = static_cast<std::int32_t>(band.band_steiner.size());
-      band.band_steiner.push_back(static_cast<std::int32_t>(s));
+      band_id[s] = static_cast<std::int32_t>(band_steiner.size());
+      band_steiner.push_back(static_cast<std::int32_t>(s));
       band.steiner_points.push_back(block.steiner_points[s]);
     }
   band.tets.reserve(static_cast<std::size_t>(in_band));
@@ -234,8 +234,9 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   reserve_with_room(split_points, split_points.size() + steiner_total);
   std::vector<std::vector<std::int8_t>> depths = mark_bands(tets, neighbours, spec);
   bulks_.clear();
+  band_steiner_.assign(blocks_.size(), {});
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
-    auto [band, bulk] = split_block(std::move(blocks_[p]), depths[p]);
+    auto [band, bulk] = split_block(std::move(blocks_[p]), depths[p], band_steiner_[p]);
     std::vector<std::int8_t>().swap(depths[p]);
     blocks_[p] = std::move(band);
     bulks_.push_back(std::move(bulk));
@@ -258,7 +259,7 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   std::size_t tet_total = healed_band.tets.size();
   for (std::size_t p = 0; p < k; ++p) {
     steiner_before[p + 1] = steiner_before[p] + static_cast<std::int64_t>(bulks_[p].steiner_points.size());
-    band_before[p + 1] = band_before[p] + static_cast<std::int64_t>(blocks_[p].band_steiner.size());
+    band_before[p + 1] = band_before[p] + static_cast<std::int64_t>(band_steiner_[p].size());
     tet_total += bulks_[p].tets.size();
   }
   const std::int64_t healing_first = S + band_before[k];
@@ -272,7 +273,7 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
     const std::int64_t b = v - S;
     const auto p =
         static_cast<std::size_t>(std::upper_bound(band_before.begin(), band_before.end(), b) - band_before.begin() - 1);
-    return static_cast<std::int32_t>(S + steiner_before[p] + blocks_[p].band_steiner[b - band_before[p]]);
+    return static_cast<std::int32_t>(S + steiner_before[p] + band_steiner_[p][b - band_before[p]]);
   };
   TetMesh mesh;
   // 1. Points: the split surface's, every piece's Steiner points, those healing added.
@@ -295,12 +296,9 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
     const auto base = static_cast<std::int32_t>(mesh.tets.size());
     const auto shift = static_cast<std::int32_t>(steiner_before[p]);
     for (Tet t : bulk.tets) {
-      int on_planes = 0;
-      for (auto& v : t) {
-        on_planes += v >= split_.input_vertex_count && v < S;
+      for (auto& v : t)
         if (v >= S) v += shift;
-      }
-      if (on_planes >= 3) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
+      if (may_touch_cap(t, split_.input_vertex_count)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
       mesh.tets.push_back(t);
     }
     for (Tet nb : bulk.neighbours) {
@@ -318,12 +316,8 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   const auto band_base = static_cast<std::int32_t>(mesh.tets.size());
   for (std::size_t t = 0; t < healed_band.tets.size(); ++t) {
     Tet tet = healed_band.tets[t];
-    int on_planes = 0;
-    for (auto& v : tet) {
-      on_planes += v >= split_.input_vertex_count && v < S;
-      v = band_point(v);
-    }
-    if (on_planes >= 3) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
+    for (auto& v : tet) v = band_point(v);
+    if (may_touch_cap(tet, split_.input_vertex_count)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
     mesh.tets.push_back(tet);
     Tet nb = healed_band.neighbours[t];
     for (auto& n : nb)
@@ -334,6 +328,7 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   healed_band = TetMesh();
   blocks_.assign(k, Block());
   bulks_.clear();
+  band_steiner_.clear();
   // 3. Each bulk's rim to the band (healing left those faces as they were), then across the caps.
   join_rim(mesh, band_base, std::move(rim));
   connect_open_faces(mesh.tets, mesh.neighbours, &on_caps);

@@ -51,18 +51,21 @@ class Welder {
   struct Block {
     bool in = false;
     std::vector<Point3> steiner_points;
-    std::vector<Tet> tets;                   // global ids; Steiner point s of the piece is first_steiner_ + s
-    std::vector<Tet> neighbours;             // local tet ids
-    std::vector<std::uint64_t> rim;          // a bulk's faces towards its band (4 * tet + j)
-    std::vector<std::int32_t> band_steiner;  // a band's Steiner points: their index in the piece
+    std::vector<Tet> tets;           // global ids; Steiner point s of the piece is first_steiner_ + s
+    std::vector<Tet> neighbours;     // local tet ids
+    std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
   };
   TetMesh weld_blocks(std::vector<Point3> split_points, std::vector<Block>& blocks) const;
-  std::pair<Block, Block> split_block(Block&& block, const std::vector<std::int8_t>& depth) const;
+  // band_steiner receives each of the band's Steiner points' index in the piece.
+  std::pair<Block, Block> split_block(Block&& block, const std::vector<std::int8_t>& depth,
+                                      std::vector<std::int32_t>& band_steiner) const;
   const SplitSurface& split_;
   const std::vector<PieceSurface>& pieces_;
   std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point
   std::vector<Block> blocks_;
   std::vector<Block> bulks_;  // after finish_band
+  // After finish_band, per piece: the index in the piece of each of its band's Steiner points.
+  std::vector<std::vector<std::int32_t>> band_steiner_;
 };
 
 // All at once: results ordered by piece index. Each piece's arrays are freed as soon as they
