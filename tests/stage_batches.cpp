@@ -60,6 +60,17 @@ MeshedPieces mesh_pieces_in_batch(const SurfaceMesh& input, int k, double densit
   return s;
 }
 
+MeshedPieces mesh_pieces_isolated(const SurfaceMesh& input, int k) {
+  MeshedPieces s;
+  s.options.pieces = k;
+  s.prepared = prepare_pieces(input, s.options);
+  for (PieceOutcome& outcome : mesh_pieces_here(s.prepared.pieces, PieceRunner(s.options.tetgen, s.options.run))) {
+    if (outcome.failure) throw MeshingError(*outcome.failure);
+    s.results.push_back(std::move(outcome.result));
+  }
+  return s;
+}
+
 RegionMesher regions_here(const MeshOptions& options) {
   return [options](const std::vector<PieceSurface>& regions) {
     return mesh_pieces_here(regions, PieceRunner(options.tetgen, options.run));

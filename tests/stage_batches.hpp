@@ -29,6 +29,9 @@ struct MeshedPieces {
 };
 MeshedPieces mesh_pieces_in_batch(const SurfaceMesh& input, int k, double density = 1.0,
                                   const std::string& quality = "");
+// The same in child processes, as partet meshes them (on real models TetGen may abort); throws
+// the first piece's failure.
+MeshedPieces mesh_pieces_isolated(const SurfaceMesh& input, int k);
 // Meshes the regions of seam healing in this process, one after another.
 RegionMesher regions_here(const MeshOptions& options);
 

@@ -56,6 +56,14 @@ inline std::multiset<Triangle> canonical_set(const std::vector<Triangle>& tris) 
   return s;
 }
 
+// Every tet as its sorted ids, sorted: the same set of tets whatever their order and rotation.
+inline std::vector<Tet> tet_set(const std::vector<Tet>& tets) {
+  std::vector<Tet> set = tets;
+  for (auto& t : set) std::sort(t.begin(), t.end());
+  std::sort(set.begin(), set.end());
+  return set;
+}
+
 // Empty when every directed edge occurs exactly once and its reverse exactly once (closed,
 // edge-manifold, consistently oriented); otherwise a description of the first problem.
 inline std::string closed_oriented_problem(const std::vector<Triangle>& tris) {

@@ -62,51 +62,65 @@ std::size_t position_in(const std::vector<std::int32_t>& region, std::int32_t t)
   return static_cast<std::size_t>(std::lower_bound(region.begin(), region.end(), t) - region.begin());
 }
 
-// Splits the region into parts, numbered in tet order; part_of gets each region tet's part, by
-// its position in the region. Removed vertices that share a tet are in
-// one part (a vertex's whole star must be re-meshed at once); tets without a removed vertex join
-// the part of a neighbour. Tets of different cuts that merely touch stay in different parts (with
-// the faces between them fixed), so a solid whose interior tets span two cuts still heals as
-// several regions, on several ranks. Returns the number of parts.
+// Splits the region into parts; part_of gets each region tet's part, by its position in the
+// region. Removed vertices that share a tet are in one part (a vertex's whole star must be
+// re-meshed at once); tets without a removed vertex join the part of a neighbour. Tets of
+// different cuts that merely touch stay in different parts (with the faces between them fixed),
+// so a solid whose interior tets span two cuts still heals as several regions, on several ranks.
+// Nothing here depends on the order of the tets (the band path and the whole mesh order them
+// differently, and the parts' order numbers healing's new points): parts are numbered by their
+// lowest removed vertex, and a tet reached from two parts at once joins the lower. Returns the
+// number of parts.
 std::int32_t label_parts(const TetMesh& mesh, const std::vector<std::int32_t>& region,
                          const std::vector<char>& in_region, const Removed& removed,
                          std::vector<std::int32_t>& part_of) {
   DisjointSets sets(removed.first, removed.size());
+  std::vector<char> present(removed.size(), 0);
   for (auto t : region) {
     std::int32_t first = -1;
     for (auto v : mesh.tets[t])
       if (removed.contains(v)) {
+        present[v - removed.first] = 1;
         if (first < 0)
           first = v;
         else
           sets.join(v, first);
       }
   }
-  // Parts of the tets with removed vertices, then the others by breadth-first search (the
-  // frontier holds positions in the region).
-  part_of.assign(region.size(), -1);
   std::vector<std::int32_t> number(sets.size(), -1);
-  std::vector<std::size_t> frontier;
   std::int32_t count = 0;
+  for (std::size_t i = 0; i < present.size(); ++i)
+    if (present[i]) {
+      std::int32_t& n = number[sets.find(removed.first + static_cast<std::int32_t>(i))];
+      if (n < 0) n = count++;
+    }
+  // The tets with removed vertices, then the others layer by layer (positions in the region).
+  part_of.assign(region.size(), -1);
+  std::vector<std::size_t> layer;
   for (std::size_t i = 0; i < region.size(); ++i)
     for (auto v : mesh.tets[region[i]])
       if (removed.contains(v)) {
-        std::int32_t& n = number[sets.find(v)];
-        if (n < 0) n = count++;
-        part_of[i] = n;
-        frontier.push_back(i);
+        part_of[i] = number[sets.find(v)];
+        layer.push_back(i);
         break;
       }
-  for (std::size_t i = 0; i < frontier.size(); ++i)
-    for (auto nb : mesh.neighbours[region[frontier[i]]]) {
-      if (nb < 0 || !in_region[nb]) continue;
-      const std::size_t at = position_in(region, nb);
-      if (part_of[at] < 0) {
-        part_of[at] = part_of[frontier[i]];
-        frontier.push_back(at);
+  std::size_t labelled = layer.size();
+  std::vector<std::int32_t> claim(region.size(), -1);  // the lowest part reaching a tet in this layer
+  while (!layer.empty()) {
+    std::vector<std::size_t> next;
+    for (std::size_t i : layer)
+      for (auto nb : mesh.neighbours[region[i]]) {
+        if (nb < 0 || !in_region[nb]) continue;
+        const std::size_t at = position_in(region, nb);
+        if (part_of[at] >= 0) continue;
+        if (claim[at] < 0) next.push_back(at);
+        if (claim[at] < 0 || part_of[i] < claim[at]) claim[at] = part_of[i];
       }
-    }
-  if (frontier.size() != region.size()) throw InternalError("seam healing: a region tet reaches no removed vertex");
+    for (std::size_t at : next) part_of[at] = claim[at];
+    labelled += next.size();
+    layer = std::move(next);
+  }
+  if (labelled != region.size()) throw InternalError("seam healing: a region tet reaches no removed vertex");
   return count;
 }
 
@@ -146,10 +160,15 @@ void sort_unique(std::vector<T>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-// Closes a part's boundary with its input triangles; its surface for TetGen.
+// Closes a part's boundary with its input triangles; its surface for TetGen. TetGen fills a
+// region differently when its faces come in another order, so they go each from its lowest
+// vertex, in ascending order: the result depends on the part alone, not on the order of the tets
+// it was cut from.
 PieceSurface close_part(Part& part, const TetMesh& mesh, const SurfaceMesh& input, int index) {
   sort_unique(part.parents);
   for (auto f : part.parents) part.faces.push_back(input.triangles[f]);
+  for (Triangle& f : part.faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+  std::sort(part.faces.begin(), part.faces.end());
   sort_unique(part.planes);
   return region_surface(part.faces, mesh, index, part.remeshed.ids);
 }

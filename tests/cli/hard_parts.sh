@@ -53,10 +53,12 @@ else
   "$partet" check torus.off one > check.log 2>&1 || fail "every cut failing: the one-piece mesh fails its check"
 fi
 
-# 3. A quality bound TetGen cannot meet (its refinement runs away): a clear failure, soon.
-"$partet" generate sphere --faces 1280 -o sphere.off > /dev/null || exit 1
+# 3. A quality bound TetGen cannot meet (its refinement runs away): a clear failure, soon. (On a
+# sphere the pieces without cap points mesh, and whether a seam region or the polish runs away
+# first is TetGen's luck; the polish only warns. A torus's pieces run away in every partition.)
+"$partet" generate torus --faces 800 -o torus800.off > /dev/null || exit 1
 start=$(date +%s)
-timeout 120 "${launch[@]}" "$partet" mesh sphere.off -o q -q 1/20 --pieces 4 > log 2>&1
+timeout 120 "${launch[@]}" "$partet" mesh torus800.off -o q -q 1/20 --pieces 4 > log 2>&1
 code=$?
 elapsed=$(($(date +%s) - start))
 [ "$code" = 1 ] || fail "-q 1/20: exit code $code (want 1)"
