@@ -12,6 +12,7 @@
 #include "job/pipeline.hpp"
 #include "stage_batches.hpp"
 #include "stage_helpers.hpp"
+#include "test_support.hpp"
 #include "stages/check.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
@@ -216,6 +217,54 @@ TEST(SeamBand, BandsAndBulksAssembleIntoTheWeldedMesh) {
       std::sort(b.begin(), b.end());
       EXPECT_EQ(a, b);
     }
+}
+
+// Split as each piece arrives (one layer: a piece alone decides its band), the pieces give the same
+// band mesh as split all at once at the end, and the same mesh when joined again.
+TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
+  for (const char* name : {"torus", "nested"})
+    for (const int k : {3, 12})  // 12: thin pieces, whose tets reach from one cap to the other
+      for (const bool caps : {false, true}) {
+        SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (caps ? " caps" : " cuts"));
+        const SurfaceMesh input = generate_surface(name, 1500);
+        const MeshedPieces s = mesh_pieces_in_batch(input, k);
+        const SplitSurface& split = s.prepared.split;
+        const BandSpec spec = band_spec(split, caps, 1);
+        Welder at_end(split, s.prepared.pieces), on_arrival(split, s.prepared.pieces);
+        on_arrival.split_on_arrival(spec);
+        for (const auto& result : s.results) at_end.add(PieceTetMesh(result)), on_arrival.add(PieceTetMesh(result));
+        TetMesh a = at_end.finish_band(split.points, spec), b = on_arrival.finish_band(split.points, spec);
+        EXPECT_GT(a.tets.size(), 0u);
+        expect_same_tet_mesh(b, a);
+        EXPECT_EQ(b.piece, a.piece);
+        EXPECT_EQ(on_arrival.bulk_tet_count(), at_end.bulk_tet_count());
+        expect_same_tet_mesh(on_arrival.assemble(std::move(b)), at_end.assemble(std::move(a)));
+      }
+}
+
+// A retry keeps the results of the pieces that did not fail: split on arrival, each comes back
+// exactly as it was added (the same tets in the same order, neighbours, Steiner points).
+TEST(SeamBand, APieceSplitOnArrivalComesBackAsItWasAdded) {
+  const SurfaceMesh input = generate_surface("genus3", 1500);
+  const MeshedPieces s = mesh_pieces_in_batch(input, 4);
+  Welder welder(s.prepared.split, s.prepared.pieces);
+  welder.split_on_arrival(band_spec(s.prepared.split, true, 1));
+  std::size_t steiner_points = 0;  // a band's Steiner points are numbered anew: some must be there
+  for (const auto& result : s.results) {
+    welder.add(PieceTetMesh(result));
+    steiner_points += result.mesh.steiner_points.size();
+  }
+  EXPECT_GT(steiner_points, 0u);
+  for (std::size_t p = 0; p < s.results.size(); ++p) {
+    SCOPED_TRACE("piece " + std::to_string(p));
+    const PieceTetMesh back = welder.take_back(static_cast<int>(p));
+    EXPECT_EQ(back.index, s.results[p].index);
+    EXPECT_EQ(back.surface_point_count, s.results[p].surface_point_count);
+    EXPECT_EQ(back.mesh.tets, s.results[p].mesh.tets);
+    EXPECT_EQ(back.mesh.neighbours, s.results[p].mesh.neighbours);
+    EXPECT_EQ(back.mesh.steiner_points, s.results[p].mesh.steiner_points);
+    EXPECT_FALSE(welder.has(static_cast<int>(p)));
+  }
 }
 
 // A region that keeps failing cannot grow past the band's edge: after its growths fail, the seams

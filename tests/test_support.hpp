@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include "partet/mesh_types.hpp"
+
 namespace partet::test {
 
 // A fresh empty directory under the build tree's temp area, removed at exit of the process.
@@ -15,5 +17,12 @@ std::string temp_dir(const std::string& name);
 
 // The message of the InputError that action throws, or "(no InputError thrown)".
 std::string input_error(const std::function<void()>& action);
+
+// The same points, tets and neighbours, in the same order.
+inline void expect_same_tet_mesh(const TetMesh& a, const TetMesh& b) {
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.tets, b.tets);
+  EXPECT_EQ(a.neighbours, b.neighbours);
+}
 
 }  // namespace partet::test

@@ -60,6 +60,10 @@ class ResultCache {
   std::unordered_map<std::uint64_t, Entry> entries_;
 };
 
+HealOptions heal_options(const MeshOptions& options) {
+  return HealOptions{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
+}
+
 // The planes around piece p (p-1 below it, p above it) among piece_count pieces.
 void add_planes_around(int p, std::size_t piece_count, std::vector<int>& planes) {
   if (p > 0) planes.push_back(p - 1);
@@ -159,6 +163,8 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   timer.lap("closure");
   MeshedAttempt attempt{Welder(prepared.split, prepared.pieces),
                         std::vector<std::optional<Failure>>(prepared.pieces.size())};
+  if (prepared.pieces.size() > 1)
+    attempt.welder.split_on_arrival(seam_band_spec(prepared.split, heal_options(options)));
   std::exception_ptr weld_error;
   auto take = [&](int piece, PieceOutcome&& outcome) {
     if (outcome.failure) {
@@ -357,10 +363,6 @@ class RegionMeshers {
   TetgenOptions tetgen_;
 };
 
-HealOptions heal_options(const MeshOptions& options) {
-  return HealOptions{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
-}
-
 // 6. After healing: the polish, and what the result tells about the partition.
 void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, const MeshOptions& options,
                    RegionMeshers& meshers, StageTimer& timer, MeshResult& result) {
@@ -440,6 +442,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   StageTimer timer(times);
   PreparedPieces bands = prepared;  // its split's points move into the band mesh
   Welder welder(bands.split, bands.pieces);
+  if (bands.pieces.size() > 1) welder.split_on_arrival(seam_band_spec(bands.split, heal_options(options)));
   for (auto& result : results) welder.add(std::move(result));
   TetMesh band = weld_bands(welder, bands, options);
   timer.lap("merge");

@@ -76,7 +76,18 @@ Welder::Welder(const SplitSurface& split, const std::vector<PieceSurface>& piece
     : split_(split),
       pieces_(pieces),
       first_steiner_(static_cast<std::int32_t>(split.points.size())),
-      blocks_(pieces.size()) {}
+      blocks_(pieces.size()),
+      bulks_(pieces.size()),
+      band_steiner_(pieces.size()),
+      band_tets_(pieces.size()),
+      crossings_(pieces.size()),
+      bulk_cap_faces_(pieces.size()) {}
+
+void Welder::split_on_arrival(const BandSpec& spec) {
+  if (spec.layers > 1) return;
+  split_on_arrival_ = spec;
+  split_on_arrival_->split_point_count = first_steiner_;
+}
 
 bool Welder::has(int piece) const {
   return piece >= 0 && static_cast<std::size_t>(piece) < blocks_.size() && blocks_[piece].in;
@@ -98,10 +109,42 @@ void Welder::add(PieceTetMesh&& result) {
   block.steiner_points = std::move(result.mesh.steiner_points);
   block.in = true;
   result.mesh = LocalTetMesh();
+  if (split_on_arrival_) {
+    BandMarks marks(block.tets, block.neighbours, *split_on_arrival_);
+    crossings_[p] = marks.crossings();
+    bulk_cap_faces_[p] = marks.cap_faces_outside();
+    split_piece(static_cast<std::size_t>(p), marks.take_depth());
+  }
+}
+
+// The pieces split on arrival take their neighbours' crossings: a piece whose bulk has an open cap
+// face a neighbour's band reached is split again with the tets across added (one exchange does:
+// with one layer, the tets a crossing reaches are the last layer).
+void Welder::take_crossings() {
+  const std::size_t k = blocks_.size();
+  for (std::size_t p = 0; p < k; ++p) {
+    const std::vector<CapCrossing>* from[2] = {p > 0 ? &crossings_[p - 1] : nullptr,
+                                               p + 1 < k ? &crossings_[p + 1] : nullptr};
+    const std::vector<FaceKey>& outside = bulk_cap_faces_[p];
+    bool grows = false;
+    for (const auto* crossings : from)
+      if (crossings)
+        for (const CapCrossing& c : *crossings)
+          grows = grows || std::binary_search(outside.begin(), outside.end(), c.key);
+    if (!grows) continue;
+    rejoin(p);
+    BandMarks marks(blocks_[p].tets, blocks_[p].neighbours, *split_on_arrival_);
+    for (const auto* crossings : from)
+      if (crossings) marks.enter(*crossings);
+    split_piece(p, marks.take_depth());
+  }
+  crossings_.assign(k, {});
+  bulk_cap_faces_.assign(k, {});
 }
 
 PieceTetMesh Welder::take_back(int p) {
   if (!has(p)) mismatch(p, "was never welded");
+  if (bulks_[p].in) rejoin(static_cast<std::size_t>(p));
   Block& block = blocks_[p];
   const std::vector<std::int32_t>& global_ids = pieces_[p].global_ids;
   const auto surface_count = static_cast<std::int32_t>(global_ids.size());
@@ -120,7 +163,11 @@ PieceTetMesh Welder::take_back(int p) {
   return result;
 }
 
-TetMesh Welder::finish(std::vector<Point3> split_points) { return weld_blocks(std::move(split_points), blocks_); }
+TetMesh Welder::finish(std::vector<Point3> split_points) {
+  for (std::size_t p = 0; p < blocks_.size(); ++p)
+    if (bulks_[p].in) rejoin(p);
+  return weld_blocks(std::move(split_points), blocks_);
+}
 
 TetMesh Welder::weld_blocks(std::vector<Point3> split_points, std::vector<Block>& blocks) const {
   if (split_points.size() != static_cast<std::size_t>(first_steiner_))
@@ -169,27 +216,35 @@ TetMesh Welder::weld_blocks(std::vector<Point3> split_points, std::vector<Block>
 // A piece's band (depth >= 0) and bulk, in piece order each, their neighbours renumbered on their
 // side (-1 across). The band's Steiner points are the ones its tets use, numbered anew in the
 // piece's order (first_steiner_ + their rank); the bulk keeps all of them and their ids.
-std::pair<Welder::Block, Welder::Block> Welder::split_block(Block&& block, const std::vector<std::int8_t>& depth,
-                                                            std::vector<std::int32_t>& band_steiner) const {
+void Welder::split_piece(std::size_t p, const std::vector<std::int8_t>& depth) {
+  Block& block = blocks_[p];
   if (depth.size() != block.tets.size()) throw InternalError("a piece's band marks do not match its tets");
+  std::vector<std::int32_t>& band_steiner = band_steiner_[p];
+  std::vector<std::int32_t>& band_tets = band_tets_[p];
+  band_steiner.clear(), band_tets.clear();
   std::vector<std::int32_t> side_id(block.tets.size());
-  std::int32_t in_band = 0, in_bulk = 0;
-  for (std::size_t t = 0; t < depth.size(); ++t) side_id[t] = depth[t] >= 0 ? in_band++ : in_bulk++;
+  std::int32_t in_bulk = 0;
+  for (std::size_t t = 0; t < depth.size(); ++t)
+    if (depth[t] >= 0) {
+      side_id[t] = static_cast<std::int32_t>(band_tets.size());
+      band_tets.push_back(static_cast<std::int32_t>(t));
+    } else {
+      side_id[t] = in_bulk++;
+    }
   Block band, bulk;
   band.in = bulk.in = true;
   std::vector<std::int32_t> band_id(block.steiner_points.size(), -1);
-  for (std::size_t t = 0; t < depth.size(); ++t)
-    if (depth[t] >= 0)
-      for (auto v : block.tets[t])
-        if (v >= first_steiner_) band_id[v - first_steiner_] = 0;
+  for (auto t : band_tets)
+    for (auto v : block.tets[t])
+      if (v >= first_steiner_) band_id[v - first_steiner_] = 0;
   for (std::size_t s = 0; s < band_id.size(); ++s)
     if (band_id[s] == 0) {
       band_id[s] = static_cast<std::int32_t>(band_steiner.size());
       band_steiner.push_back(static_cast<std::int32_t>(s));
       band.steiner_points.push_back(block.steiner_points[s]);
     }
-  band.tets.reserve(static_cast<std::size_t>(in_band));
-  band.neighbours.reserve(static_cast<std::size_t>(in_band));
+  band.tets.reserve(band_tets.size());
+  band.neighbours.reserve(band_tets.size());
   bulk.tets.reserve(static_cast<std::size_t>(in_bulk));
   bulk.neighbours.reserve(static_cast<std::size_t>(in_bulk));
   for (std::size_t t = 0; t < depth.size(); ++t) {
@@ -214,33 +269,83 @@ std::pair<Welder::Block, Welder::Block> Welder::split_block(Block&& block, const
     }
   }
   bulk.steiner_points = std::move(block.steiner_points);
-  block = Block();
-  return {std::move(band), std::move(bulk)};
+  block = std::move(band);
+  bulks_[p] = std::move(bulk);
+}
+
+void Welder::rejoin(std::size_t p) {
+  Block& band = blocks_[p];
+  Block& bulk = bulks_[p];
+  const std::vector<std::int32_t>& band_tets = band_tets_[p];
+  const std::size_t count = band.tets.size() + bulk.tets.size();
+  // Where each bulk tet was: the places the band's tets did not take, in order.
+  std::vector<std::int32_t> bulk_tets;
+  bulk_tets.reserve(bulk.tets.size());
+  for (std::size_t t = 0, next_band = 0; t < count; ++t)
+    if (next_band < band_tets.size() && band_tets[next_band] == static_cast<std::int32_t>(t))
+      ++next_band;
+    else
+      bulk_tets.push_back(static_cast<std::int32_t>(t));
+  Block whole;
+  whole.in = true;
+  whole.tets.resize(count);
+  whole.neighbours.resize(count);
+  auto place = [&](const Block& side, const std::vector<std::int32_t>& at, bool banded) {
+    for (std::size_t i = 0; i < side.tets.size(); ++i) {
+      Tet tet = side.tets[i];
+      if (banded)
+        for (auto& v : tet)
+          if (v >= first_steiner_) v = first_steiner_ + band_steiner_[p][v - first_steiner_];
+      Tet nbs = side.neighbours[i];
+      for (auto& nb : nbs)
+        if (nb >= 0) nb = at[nb];
+      whole.tets[at[i]] = tet;
+      whole.neighbours[at[i]] = nbs;
+    }
+  };
+  place(band, band_tets, true);
+  place(bulk, bulk_tets, false);
+  // The faces between band and bulk (open on both sides): the band's tets and the rim's.
+  std::vector<std::int32_t> across = band_tets;
+  for (auto slot : bulk.rim) across.push_back(bulk_tets[slot / 4]);
+  std::sort(across.begin(), across.end());
+  across.erase(std::unique(across.begin(), across.end()), across.end());
+  connect_open_faces(whole.tets, whole.neighbours, &across);
+  whole.steiner_points = std::move(bulk.steiner_points);
+  band = std::move(whole);
+  bulk = Block();
+  std::vector<std::int32_t>().swap(band_steiner_[p]);
+  std::vector<std::int32_t>().swap(band_tets_[p]);
 }
 
 TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   for (std::size_t p = 0; p < blocks_.size(); ++p)
     if (!blocks_[p].in) mismatch(static_cast<int>(p), "is missing");
   spec.split_point_count = first_steiner_;
-  std::vector<const std::vector<Tet>*> tets, neighbours;
+  if (split_on_arrival_ &&
+      (spec.layers != split_on_arrival_->layers || spec.first_removed != split_on_arrival_->first_removed ||
+       spec.end_removed != split_on_arrival_->end_removed))
+    throw InternalError("the pieces were split on arrival for other bands");
   std::size_t steiner_total = 0;
-  for (const Block& block : blocks_) {
-    tets.push_back(&block.tets);
-    neighbours.push_back(&block.neighbours);
-    steiner_total += block.steiner_points.size();
-  }
+  for (std::size_t p = 0; p < blocks_.size(); ++p)
+    steiner_total += (bulks_[p].in ? bulks_[p] : blocks_[p]).steiner_points.size();
   // Room for every piece's Steiner points, which the assembly adds: growing the array then would
   // copy every point while the old array still exists (270 MB at 22.1M input faces).
   reserve_with_room(split_points, split_points.size() + steiner_total);
-  std::vector<std::vector<std::int8_t>> depths = mark_bands(tets, neighbours, spec);
-  bulks_.clear();
-  band_steiner_.assign(blocks_.size(), {});
-  for (std::size_t p = 0; p < blocks_.size(); ++p) {
-    auto [band, bulk] = split_block(std::move(blocks_[p]), depths[p], band_steiner_[p]);
-    std::vector<std::int8_t>().swap(depths[p]);
-    blocks_[p] = std::move(band);
-    bulks_.push_back(std::move(bulk));
+  if (std::all_of(bulks_.begin(), bulks_.end(), [](const Block& b) { return b.in; })) {
+    take_crossings();
+  } else {
+    for (std::size_t p = 0; p < blocks_.size(); ++p)
+      if (bulks_[p].in) rejoin(p);
+    std::vector<const std::vector<Tet>*> tets, neighbours;
+    for (const Block& block : blocks_) tets.push_back(&block.tets), neighbours.push_back(&block.neighbours);
+    std::vector<std::vector<std::int8_t>> depths = mark_bands(tets, neighbours, spec);
+    for (std::size_t p = 0; p < blocks_.size(); ++p) {
+      split_piece(p, depths[p]);
+      std::vector<std::int8_t>().swap(depths[p]);
+    }
   }
+  band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
   return weld_blocks(std::move(split_points), blocks_);
 }
 
@@ -252,7 +357,8 @@ std::size_t Welder::bulk_tet_count() const {
 
 TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   const std::size_t k = bulks_.size();
-  if (k != blocks_.size()) throw InternalError("the welder assembles only after finish_band");
+  if (!std::all_of(bulks_.begin(), bulks_.end(), [](const Block& b) { return b.in; }))
+    throw InternalError("the welder assembles only after finish_band");
   const std::int32_t S = first_steiner_;
   // Where each piece's Steiner points go, and where each band's were in the band mesh.
   std::vector<std::int64_t> steiner_before(k + 1, 0), band_before(k + 1, 0);
@@ -327,8 +433,9 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   }
   healed_band = TetMesh();
   blocks_.assign(k, Block());
-  bulks_.clear();
-  band_steiner_.clear();
+  bulks_.assign(k, Block());
+  band_steiner_.assign(k, {});
+  band_tets_.assign(k, {});
   // 3. Each bulk's rim to the band (healing left those faces as they were), then across the caps.
   join_rim(mesh, band_base, std::move(rim));
   connect_open_faces(mesh.tets, mesh.neighbours, &on_caps);

@@ -1,5 +1,6 @@
 // Merge: weld the pieces' tet meshes at the caps into one mesh with global numbering.
 #pragma once
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,12 +20,19 @@ class Welder {
   // Both must outlive the welder; the pieces are ordered by index.
   Welder(const SplitSurface& split, const std::vector<PieceSurface>& pieces);
 
+  // Before the first add: each piece is split into its band and its bulk as it arrives (while
+  // other pieces are still being meshed) rather than all at once in finish_band, which then only
+  // moves the tets its neighbours' crossings reach into the band. Only with one layer (the
+  // default: the tets a crossing reaches are the band's last layer and reach no further);
+  // otherwise this does nothing.
+  void split_on_arrival(const BandSpec& spec);
   // Renumbers a piece's mesh into global vertex ids (its Steiner points provisionally: they
   // are numbered after all earlier pieces' at the end) and frees its arrays. Throws
   // InternalError when it does not match its piece or arrives twice.
   void add(PieceTetMesh&& result);
   bool has(int piece) const;
-  // Gives a piece's mesh back in its local numbering (a retry keeps the pieces it does not change).
+  // Gives a piece's mesh back in its local numbering, as it was added (a retry keeps the pieces it
+  // does not change).
   PieceTetMesh take_back(int piece);
 
   // Once every piece is in: the welded mesh (the welder is then empty). Its first points are
@@ -56,16 +64,25 @@ class Welder {
     std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
   };
   TetMesh weld_blocks(std::vector<Point3> split_points, std::vector<Block>& blocks) const;
-  // band_steiner receives each of the band's Steiner points' index in the piece.
-  std::pair<Block, Block> split_block(Block&& block, const std::vector<std::int8_t>& depth,
-                                      std::vector<std::int32_t>& band_steiner) const;
+  // Splits piece p's block (blocks_[p]) into its band (left in blocks_[p]) and its bulk (bulks_[p]).
+  void split_piece(std::size_t p, const std::vector<std::int8_t>& depth);
+  // Piece p's band and bulk joined again into its block as it was added.
+  void rejoin(std::size_t p);
+  // After pieces were split on arrival: each band grows by the tets its neighbours' crossings reach.
+  void take_crossings();
   const SplitSurface& split_;
   const std::vector<PieceSurface>& pieces_;
   std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point
-  std::vector<Block> blocks_;
-  std::vector<Block> bulks_;  // after finish_band
-  // After finish_band, per piece: the index in the piece of each of its band's Steiner points.
+  std::optional<BandSpec> split_on_arrival_;
+  std::vector<Block> blocks_;  // per piece: its mesh, or once split its band
+  std::vector<Block> bulks_;   // per piece, once split (in = true)
+  // Per split piece: the index in the piece of each of its band's Steiner points, and the place
+  // in the piece of each band tet (to rejoin it, until finish_band).
   std::vector<std::vector<std::int32_t>> band_steiner_;
+  std::vector<std::vector<std::int32_t>> band_tets_;
+  // Per piece split on arrival: the cap faces its band reached, and its bulk's open cap faces.
+  std::vector<std::vector<CapCrossing>> crossings_;
+  std::vector<std::vector<FaceKey>> bulk_cap_faces_;
 };
 
 // All at once: results ordered by piece index. Each piece's arrays are freed as soon as they

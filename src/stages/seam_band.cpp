@@ -55,6 +55,13 @@ std::vector<CapCrossing> BandMarks::crossings() const {
   return out;
 }
 
+std::vector<FaceKey> BandMarks::cap_faces_outside() const {
+  std::vector<FaceKey> out;
+  for (const auto& face : cap_faces_)
+    if (depth_[face.tet] < 0) out.push_back(face.key);
+  return out;
+}
+
 bool BandMarks::enter(const std::vector<CapCrossing>& from_neighbour) {
   std::vector<std::int32_t> entered;
   for (const auto& crossing : from_neighbour) {
@@ -77,8 +84,9 @@ std::vector<std::vector<std::int8_t>> mark_bands(const std::vector<const std::ve
   std::vector<BandMarks> marks;
   marks.reserve(tets.size());
   for (std::size_t p = 0; p < tets.size(); ++p) marks.emplace_back(*tets[p], *neighbours[p], spec);
-  // (A star tet's cap face holds its removed vertex, so the tet across is a star tet too: with one
-  // layer nothing crosses, and the first pass ends the loop.)
+  // (Where a piece is thicker than a tet, a star tet's cap face holds its removed vertex and the
+  // tet across is a star tet too; a tet of a thin piece may have its cap face on one plane and its
+  // removed vertex on the other.)
   for (bool grew = true; grew;) {
     grew = false;
     for (std::size_t p = 0; p < marks.size(); ++p) {

@@ -40,6 +40,9 @@ class BandMarks {
   // Goes on from the cap faces a neighbour reached (one layer further on this side). Returns
   // whether the band grew.
   bool enter(const std::vector<CapCrossing>& from_neighbour);
+  // The keys of the open cap faces whose tets are outside the band, ascending: where a
+  // neighbour's crossings would make it grow.
+  std::vector<FaceKey> cap_faces_outside() const;
   // Per tet: -1 outside the band, else its layer (0: it has a removed vertex).
   const std::vector<std::int8_t>& depth() const { return depth_; }
   std::vector<std::int8_t> take_depth() { return std::move(depth_); }
