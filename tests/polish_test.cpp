@@ -101,6 +101,23 @@ TEST(Polish, NeverWorseAndKeepsTheSolid) {
   }
 }
 
+// The polish gives the same mesh whatever the order of the tets it is given: the same points in
+// the same order, the same tets.
+TEST(Polish, TheOrderOfTheTetsChangesNothing) {
+  for (const char* name : {"genus3", "nested", "torus"}) {
+    SCOPED_TRACE(name);
+    TetMesh mesh = whole_mesh(generate_surface(name, 3000), "1.414");
+    TetMesh other = shuffled(mesh, 11);
+    const PolishStats a = polish_poor_tets(mesh, strict(), here("1.414"));
+    const PolishStats b = polish_poor_tets(other, strict(), here("1.414"));
+    EXPECT_GT(a.improved, 0);
+    EXPECT_EQ(b.improved, a.improved);
+    EXPECT_EQ(other.points, mesh.points);
+    EXPECT_EQ(tet_set(other.tets), tet_set(mesh.tets));
+    EXPECT_EQ(other.neighbours, compute_neighbours(other.tets));
+  }
+}
+
 TEST(Polish, FailedNeighbourhoodsKeepTheirTets) {
   const SurfaceMesh input = generate_surface("genus3", 3000);
   TetMesh mesh = whole_mesh(input, "1.414");

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
-#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -107,23 +105,6 @@ TEST(HealSeams, DirectCallOnWeldedMesh) {
   EXPECT_TRUE(report.ok()) << violations(report);
   const double volume = enclosed_volume(input);
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
-}
-
-// The welded mesh with its tets in another order (neighbours and pieces following them).
-TetMesh shuffled(const TetMesh& mesh, unsigned seed) {
-  std::vector<std::int32_t> slot(mesh.tets.size());  // old tet -> new slot
-  std::iota(slot.begin(), slot.end(), 0);
-  std::shuffle(slot.begin(), slot.end(), std::mt19937(seed));
-  TetMesh out = mesh;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    out.tets[slot[t]] = mesh.tets[t];
-    out.piece[slot[t]] = mesh.piece[t];
-    for (int j = 0; j < 4; ++j) {
-      const std::int32_t nb = mesh.neighbours[t][j];
-      out.neighbours[slot[t]][j] = nb < 0 ? -1 : slot[nb];
-    }
-  }
-  return out;
 }
 
 // Healing gives the same mesh whatever the order of the tets it is given (the band path orders

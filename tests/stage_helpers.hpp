@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <numeric>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -62,6 +63,23 @@ inline std::vector<Tet> tet_set(const std::vector<Tet>& tets) {
   for (auto& t : set) std::sort(t.begin(), t.end());
   std::sort(set.begin(), set.end());
   return set;
+}
+
+// The mesh with its tets in another order (a fixed shuffle), neighbours and pieces following them.
+inline TetMesh shuffled(const TetMesh& mesh, unsigned seed) {
+  std::vector<std::int32_t> slot(mesh.tets.size());  // old tet -> new slot
+  std::iota(slot.begin(), slot.end(), 0);
+  std::shuffle(slot.begin(), slot.end(), std::mt19937(seed));
+  TetMesh out = mesh;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    out.tets[slot[t]] = mesh.tets[t];
+    if (!mesh.piece.empty()) out.piece[slot[t]] = mesh.piece[t];
+    for (int j = 0; j < 4; ++j) {
+      const std::int32_t nb = mesh.neighbours[t][j];
+      out.neighbours[slot[t]][j] = nb < 0 ? -1 : slot[nb];
+    }
+  }
+  return out;
 }
 
 // Empty when every directed edge occurs exactly once and its reverse exactly once (closed,

@@ -1,6 +1,8 @@
 #include "stages/polish.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <numeric>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -106,6 +108,38 @@ struct Neighbourhood {
   RegionMesh remeshed;
 };
 
+// Numbers the neighbourhoods by their lowest tet (as sorted ids) and puts each one's faces from
+// their lowest vertex in ascending order: what TetGen is given, and so the polished mesh, then
+// depends on the neighbourhoods alone, not on the order of the tets (which differs between the
+// band path and the whole mesh, and will between the ranks that keep their pieces).
+void put_in_canonical_order(const TetMesh& mesh, std::vector<Neighbourhood>& parts,
+                            std::vector<std::int32_t>& part_of) {
+  constexpr std::int32_t kMax = std::numeric_limits<std::int32_t>::max();
+  std::vector<Tet> lowest(parts.size(), Tet{kMax, kMax, kMax, kMax});
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    if (part_of[t] >= 0) {
+      Tet sorted = mesh.tets[t];
+      std::sort(sorted.begin(), sorted.end());
+      lowest[part_of[t]] = std::min(lowest[part_of[t]], sorted);
+    }
+  std::vector<std::int32_t> order(parts.size()), rank(parts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) { return lowest[a] < lowest[b]; });
+  std::vector<Neighbourhood> ordered;
+  ordered.reserve(parts.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    rank[order[i]] = static_cast<std::int32_t>(i);
+    ordered.push_back(std::move(parts[order[i]]));
+  }
+  for (auto& p : part_of)
+    if (p >= 0) p = rank[p];
+  for (Neighbourhood& part : ordered) {
+    for (Triangle& f : part.faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    std::sort(part.faces.begin(), part.faces.end());
+  }
+  parts = std::move(ordered);
+}
+
 // The face-connected parts of the region, each with its boundary: faces towards tets outside
 // it and faces on the mesh boundary.
 std::vector<Neighbourhood> neighbourhoods(const TetMesh& mesh, const std::vector<char>& in_region,
@@ -124,6 +158,7 @@ std::vector<Neighbourhood> neighbourhoods(const TetMesh& mesh, const std::vector
       if (nb < 0 || part_of[nb] != part_of[t]) part.faces.push_back(outward_face(mesh.tets[t], j));
     }
   }
+  put_in_canonical_order(mesh, parts, part_of);
   return parts;
 }
 
