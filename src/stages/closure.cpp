@@ -14,6 +14,7 @@
 #include <string>
 
 #include "stages/geometry.hpp"
+#include "stages/topology.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -345,8 +346,7 @@ std::vector<Triangle> domain_triangles(const CDT& cdt) {
     if (!in_domain(cdt, f)) continue;
     triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   }
-  for (auto& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-  std::sort(triangles.begin(), triangles.end());
+  sort_triangles(triangles);
   return triangles;
 }
 

@@ -332,7 +332,7 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   // Room for every piece's Steiner points, which the assembly adds: growing the array then would
   // copy every point while the old array still exists (270 MB at 22.1M input faces).
   reserve_with_room(split_points, split_points.size() + steiner_total);
-  if (std::all_of(bulks_.begin(), bulks_.end(), [](const Block& b) { return b.in; })) {
+  if (all_split()) {
     take_crossings();
   } else {
     for (std::size_t p = 0; p < blocks_.size(); ++p)
@@ -349,6 +349,10 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   return weld_blocks(std::move(split_points), blocks_);
 }
 
+bool Welder::all_split() const {
+  return std::all_of(bulks_.begin(), bulks_.end(), [](const Block& b) { return b.in; });
+}
+
 std::size_t Welder::bulk_tet_count() const {
   std::size_t count = 0;
   for (const Block& bulk : bulks_) count += bulk.tets.size();
@@ -357,8 +361,7 @@ std::size_t Welder::bulk_tet_count() const {
 
 TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   const std::size_t k = bulks_.size();
-  if (!std::all_of(bulks_.begin(), bulks_.end(), [](const Block& b) { return b.in; }))
-    throw InternalError("the welder assembles only after finish_band");
+  if (!all_split()) throw InternalError("the welder assembles only after finish_band");
   const std::int32_t S = first_steiner_;
   // Where each piece's Steiner points go, and where each band's were in the band mesh.
   std::vector<std::int64_t> steiner_before(k + 1, 0), band_before(k + 1, 0);

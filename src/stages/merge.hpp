@@ -70,6 +70,8 @@ class Welder {
   void rejoin(std::size_t p);
   // After pieces were split on arrival: each band grows by the tets its neighbours' crossings reach.
   void take_crossings();
+  // Whether every piece is split into band and bulk.
+  bool all_split() const;
   const SplitSurface& split_;
   const std::vector<PieceSurface>& pieces_;
   std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point

@@ -133,10 +133,7 @@ void put_in_canonical_order(const TetMesh& mesh, std::vector<Neighbourhood>& par
   }
   for (auto& p : part_of)
     if (p >= 0) p = rank[p];
-  for (Neighbourhood& part : ordered) {
-    for (Triangle& f : part.faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-    std::sort(part.faces.begin(), part.faces.end());
-  }
+  for (Neighbourhood& part : ordered) sort_triangles(part.faces);
   parts = std::move(ordered);
 }
 

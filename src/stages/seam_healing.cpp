@@ -167,8 +167,7 @@ void sort_unique(std::vector<T>& v) {
 PieceSurface close_part(Part& part, const TetMesh& mesh, const SurfaceMesh& input, int index) {
   sort_unique(part.parents);
   for (auto f : part.parents) part.faces.push_back(input.triangles[f]);
-  for (Triangle& f : part.faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-  std::sort(part.faces.begin(), part.faces.end());
+  sort_triangles(part.faces);
   sort_unique(part.planes);
   return region_surface(part.faces, mesh, index, part.remeshed.ids);
 }

@@ -79,6 +79,11 @@ std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles, std
   return ids;
 }
 
+void sort_triangles(std::vector<Triangle>& triangles) {
+  for (Triangle& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(triangles.begin(), triangles.end());
+}
+
 std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles) {
   std::vector<std::int32_t> ids;
   ids.reserve(3 * triangles.size());

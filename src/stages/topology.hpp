@@ -35,6 +35,10 @@ struct FaceKeyHash {
   }
 };
 
+// Each triangle rotated to start at its lowest vertex (orientation kept), then all ascending: an
+// order that depends on the set of triangles alone, whatever order they were found in.
+void sort_triangles(std::vector<Triangle>& triangles);
+
 // True when a and b are the same triangle with the same orientation (up to rotation).
 inline bool same_orientation(const Triangle& a, const Triangle& b) {
   for (int r = 0; r < 3; ++r)
