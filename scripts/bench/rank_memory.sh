@@ -12,17 +12,18 @@
 # Usage: rank_memory.sh [-n RANKS] [-k K] [-f FORMATS] [-c] [-o DIR] INPUT BINARY [BINARY ...]
 #   -n  MPI ranks (default 2)   -k  pieces (default 16)   -f  --format list (default tetgen)
 #   -c  verify each output      -o  keep the reports there (rB.json)
+#   A BINARY may carry mesh options after it, in one word: "partet --scratch /tmp/s".
 set -euo pipefail
 source "$(dirname "$0")/../common.sh"
 ranks=2 k=16 keep="" formats=tetgen verify=0
 while getopts "n:k:f:co:" opt; do
   case $opt in
     n) ranks=$OPTARG ;; k) k=$OPTARG ;; f) formats=$OPTARG ;; c) verify=1 ;; o) keep=$OPTARG ;;
-    *) sed -n '2,15p' "$0"; exit 2 ;;
+    *) sed -n '2,16p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -ge 2 ] || { sed -n '2,15p' "$0"; exit 2; }
+[ $# -ge 2 ] || { sed -n '2,16p' "$0"; exit 2; }
 input=$1
 shift
 make_work_dir
@@ -43,17 +44,19 @@ verify_output() {
 }
 
 for ((b = 1; b <= $#; b++)); do
-  binary=${!b}
+  read -ra command <<< "${!b}"
+  binary=${command[0]}
   mkdir -p "$work/out$b"
   before=$(used_mb)
   (while true; do used_mb; sleep 1; done) > "$work/free$b" &
   sampler=$!
-  mpirun -np "$ranks" "$binary" mesh "$input" -k "$k" -o "$work/out$b/m" --format "$formats" --quiet --report "$work/r$b.json"
+  mpirun -np "$ranks" "$binary" mesh "$input" -k "$k" -o "$work/out$b/m" --format "$formats" --quiet --report "$work/r$b.json" \
+    "${command[@]:1}"
   kill "$sampler"
   wait "$sampler" 2>/dev/null || true
   machine=$(sort -n "$work/free$b" | tail -1)
   md5=$(cd "$work/out$b" && md5sum m.node m.ele m.face m.neigh | md5sum | cut -c1-12)
-  /usr/bin/python3 - "$work/r$b.json" "$(basename "$binary")" "$((machine - before))" "$md5" <<'EOF'
+  /usr/bin/python3 - "$work/r$b.json" "$(basename "$binary") ${command[*]:1}" "$((machine - before))" "$md5" <<'EOF'
 import json, sys
 r = json.load(open(sys.argv[1]))
 faces = r["counts"]["input_faces"]

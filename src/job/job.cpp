@@ -9,6 +9,7 @@
 #include "common/log.hpp"
 #include "common/parallel.hpp"
 #include "io/read_surface.hpp"
+#include "io/scratch_bulks.hpp"
 #include "io/tetgen_files.hpp"
 #include "partet/errors.hpp"
 #include "stages/topology.hpp"
@@ -94,6 +95,10 @@ void check_outputs(const MeshJob& job) {
   // A publish at this prefix that a killed run left half done is completed first.
   if (const std::string done = settle_publish(prefix); !done.empty()) log::warning(done);
   remove_stale_temporaries(output_paths(job));
+  if (!job.options.scratch.empty()) {
+    check_scratch_directory(job.options.scratch);
+    remove_stale_scratch(job.options.scratch);
+  }
 }
 
 CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times) {

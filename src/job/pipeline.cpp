@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -10,6 +11,7 @@
 #include "common/log.hpp"
 #include "common/memory.hpp"
 #include "common/test_hooks.hpp"
+#include "io/scratch_bulks.hpp"
 #include "job/retry_plan.hpp"
 #include "partet/errors.hpp"
 #include "stages/merge.hpp"
@@ -121,6 +123,18 @@ class ClosureStream {
 
 // One attempt's meshing: the pieces that did not fail, welded as they arrived, and the failures.
 struct MeshedAttempt {
+  MeshedAttempt(const MeshOptions& options, PreparedPieces& prepared)
+      : welder(prepared.split, prepared.pieces), failures(prepared.pieces.size()) {
+    if (prepared.pieces.size() > 1) welder.split_on_arrival(seam_band_spec(prepared.split, heal_options(options)));
+    if (!options.scratch.empty()) {
+      scratch = std::make_unique<ScratchBulks>(options.scratch);
+      welder.keep_bulks_in(*scratch);
+    }
+  }
+  std::unique_ptr<ScratchBulks> scratch;  // the bulks' files, in the paper's memory mode
+  void note_scratch(MeshResult& result) const {
+    if (scratch) result.scratch_bulks = scratch->stats().bulks, result.scratch_bytes = scratch->stats().bytes;
+  }
   Welder welder;
   std::vector<std::optional<Failure>> failures;  // by piece
   double weld_seconds = 0;                       // welding while other pieces were still meshed
@@ -161,10 +175,7 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
     throw;
   }
   timer.lap("closure");
-  MeshedAttempt attempt{Welder(prepared.split, prepared.pieces),
-                        std::vector<std::optional<Failure>>(prepared.pieces.size())};
-  if (prepared.pieces.size() > 1)
-    attempt.welder.split_on_arrival(seam_band_spec(prepared.split, heal_options(options)));
+  MeshedAttempt attempt(options, prepared);
   std::exception_ptr weld_error;
   auto take = [&](int piece, PieceOutcome&& outcome) {
     if (outcome.failure) {
@@ -441,15 +452,16 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
                        const MeshOptions& options, StageTimes* times) {
   StageTimer timer(times);
   PreparedPieces bands = prepared;  // its split's points move into the band mesh
-  Welder welder(bands.split, bands.pieces);
-  if (bands.pieces.size() > 1) welder.split_on_arrival(seam_band_spec(bands.split, heal_options(options)));
-  for (auto& result : results) welder.add(std::move(result));
-  TetMesh band = weld_bands(welder, bands, options);
+  MeshedAttempt attempt(options, bands);
+  for (auto& result : results) attempt.welder.add(std::move(result));
+  TetMesh band = weld_bands(attempt.welder, bands, options);
   timer.lap("merge");
   BatchScheduler here([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
     return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
   });
-  return finish_mesh(input, prepared, welder, std::move(band), options, here, times);
+  MeshResult result = finish_mesh(input, prepared, attempt.welder, std::move(band), options, here, times);
+  attempt.note_scratch(result);
+  return result;
 }
 
 std::vector<PieceOutcome> mesh_pieces_here(const std::vector<PieceSurface>& pieces, const PieceRunner& runner) {
@@ -537,6 +549,7 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
             finish_mesh(input, prepared, attempt.welder, std::move(band), attempt_options, scheduler, times);
         result.retries = plan.take_records();
         result.merge_seconds_overlapped = attempt.weld_seconds;
+        attempt.note_scratch(result);
         return result;
       }
       for (std::size_t p = 0; p < attempt.failures.size(); ++p)  // the good results, for the next attempt

@@ -44,6 +44,9 @@ struct MeshOptions {
   // When TetGen cannot mesh the input without putting points on its surface, accept a mesh (of
   // the whole input as one piece) whose boundary splits some input triangles, instead of failing.
   bool allow_split_faces = false;
+  // Non-empty: the paper's memory mode. Each piece's bulk (the tets seam healing never touches)
+  // waits in a file in this directory from its arrival until the mesh is assembled.
+  std::string scratch;
   TetgenOptions tetgen;
   RunOptions run;
 };
@@ -91,7 +94,8 @@ struct MeshResult {
   int pieces = 0;                               // pieces actually used (fewer than asked when the model allows fewer)
   CutAxis axis = CutAxis::coordinate_near_pca;  // the direction of the cuts that worked
   std::vector<RetryRecord> retries;
-  double merge_seconds_overlapped = 0;  // welding done while the last pieces were being meshed
+  double merge_seconds_overlapped = 0;                // welding done while the last pieces were being meshed
+  std::int64_t scratch_bulks = 0, scratch_bytes = 0;  // what waited in scratch files (MeshOptions::scratch)
 };
 
 // The result's boundary faces in output numbering (see MeshResult::boundary_faces).

@@ -53,6 +53,9 @@ std::string report_json(const JobSummary& s) {
   // Work done while pieces were still being meshed (inside the tetgen stage's time): welding
   // each piece's result as it arrived. stage_seconds.merge is what was left after the last one.
   report["overlapped_seconds"] = {{"merge", s.result.merge_seconds_overlapped}};
+  // --scratch: the pieces' bulks that waited on disk instead of in rank 0's memory.
+  report["scratch"] = {
+      {"directory", s.job.options.scratch}, {"bulks", s.result.scratch_bulks}, {"bytes", s.result.scratch_bytes}};
   report["counts"] = {{"input_vertices", s.input_vertices},
                       {"input_faces", s.input.triangles.size()},
                       {"cut_vertices_inserted", s.result.cut_vertices_inserted},
@@ -166,6 +169,10 @@ void print_summary(const JobSummary& s) {
   if (polish.ran_away)
     log::warning("the polish stopped: TetGen's refinement ran away in a neighbourhood (the quality bound " +
                  s.job.options.tetgen.quality + " cannot be met there)");
+  if (s.result.scratch_bulks > 0)
+    log::info(format("scratch: %lld pieces' meshes (%.0f MB) waited in %s",
+                     static_cast<long long>(s.result.scratch_bulks),
+                     static_cast<double>(s.result.scratch_bytes) / (1 << 20), s.job.options.scratch.c_str()));
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
   if (s.result.split_input_faces > 0)
     log::warning(std::to_string(s.result.split_input_faces) + " input triangles are split, into " +

@@ -78,6 +78,7 @@ Welder::Welder(const SplitSurface& split, const std::vector<PieceSurface>& piece
       first_steiner_(static_cast<std::int32_t>(split.points.size())),
       blocks_(pieces.size()),
       bulks_(pieces.size()),
+      stored_(pieces.size()),
       band_steiner_(pieces.size()),
       band_tets_(pieces.size()),
       crossings_(pieces.size()),
@@ -271,11 +272,40 @@ void Welder::split_piece(std::size_t p, const std::vector<std::int8_t>& depth) {
   bulk.steiner_points = std::move(block.steiner_points);
   block = std::move(band);
   bulks_[p] = std::move(bulk);
+  store_bulk(p);
+}
+
+void Welder::store_bulk(std::size_t p) {
+  Block& bulk = bulks_[p];
+  if (!store_ || !store_->put(static_cast<int>(p), bulk)) return;
+  stored_[p] = {true, bulk.tets.size(), bulk.steiner_points.size()};
+  bulk = Block();
+  bulk.in = true;
+}
+
+Welder::Block& Welder::bulk_here(std::size_t p) {
+  if (stored_[p].stored) {
+    Block bulk = store_->take(static_cast<int>(p));
+    if (bulk.tets.size() != stored_[p].tets || bulk.steiner_points.size() != stored_[p].steiner_points)
+      throw InternalError("the bulk of piece " + std::to_string(p) + " came back changed from where it was kept");
+    bulk.in = true;
+    bulks_[p] = std::move(bulk);
+    stored_[p] = StoredBulk();
+  }
+  return bulks_[p];
+}
+
+std::size_t Welder::bulk_tets(std::size_t p) const {
+  return stored_[p].stored ? stored_[p].tets : bulks_[p].tets.size();
+}
+
+std::size_t Welder::bulk_steiner_points(std::size_t p) const {
+  return stored_[p].stored ? stored_[p].steiner_points : bulks_[p].steiner_points.size();
 }
 
 void Welder::rejoin(std::size_t p) {
   Block& band = blocks_[p];
-  Block& bulk = bulks_[p];
+  Block& bulk = bulk_here(p);
   const std::vector<std::int32_t>& band_tets = band_tets_[p];
   const std::size_t count = band.tets.size() + bulk.tets.size();
   // Where each bulk tet was: the places the band's tets did not take, in order.
@@ -328,7 +358,7 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
     throw InternalError("the pieces were split on arrival for other bands");
   std::size_t steiner_total = 0;
   for (std::size_t p = 0; p < blocks_.size(); ++p)
-    steiner_total += (bulks_[p].in ? bulks_[p] : blocks_[p]).steiner_points.size();
+    steiner_total += bulks_[p].in ? bulk_steiner_points(p) : blocks_[p].steiner_points.size();
   // Room for every piece's Steiner points, which the assembly adds: growing the array then would
   // copy every point while the old array still exists (270 MB at 22.1M input faces).
   reserve_with_room(split_points, split_points.size() + steiner_total);
@@ -355,7 +385,7 @@ bool Welder::all_split() const {
 
 std::size_t Welder::bulk_tet_count() const {
   std::size_t count = 0;
-  for (const Block& bulk : bulks_) count += bulk.tets.size();
+  for (std::size_t p = 0; p < bulks_.size(); ++p) count += bulk_tets(p);
   return count;
 }
 
@@ -367,9 +397,9 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   std::vector<std::int64_t> steiner_before(k + 1, 0), band_before(k + 1, 0);
   std::size_t tet_total = healed_band.tets.size();
   for (std::size_t p = 0; p < k; ++p) {
-    steiner_before[p + 1] = steiner_before[p] + static_cast<std::int64_t>(bulks_[p].steiner_points.size());
+    steiner_before[p + 1] = steiner_before[p] + static_cast<std::int64_t>(bulk_steiner_points(p));
     band_before[p + 1] = band_before[p] + static_cast<std::int64_t>(band_steiner_[p].size());
-    tet_total += bulks_[p].tets.size();
+    tet_total += bulk_tets(p);
   }
   const std::int64_t healing_first = S + band_before[k];
   if (static_cast<std::int64_t>(healed_band.points.size()) < healing_first)
@@ -385,13 +415,13 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
     return static_cast<std::int32_t>(S + steiner_before[p] + band_steiner_[p][b - band_before[p]]);
   };
   TetMesh mesh;
-  // 1. Points: the split surface's, every piece's Steiner points, those healing added.
+  // 1. Points: the split surface's, every piece's Steiner points (put in place with its bulk's
+  // tets, below: a stored bulk comes back once), those healing added.
   std::vector<Point3> healing_points(healed_band.points.begin() + healing_first, healed_band.points.end());
   mesh.points = std::move(healed_band.points);
   mesh.points.resize(static_cast<std::size_t>(S));
   reserve_with_room(mesh.points, static_cast<std::size_t>(S + steiner_before[k]) + healing_points.size());
-  for (const Block& bulk : bulks_)
-    mesh.points.insert(mesh.points.end(), bulk.steiner_points.begin(), bulk.steiner_points.end());
+  mesh.points.resize(static_cast<std::size_t>(S + steiner_before[k]));
   mesh.points.insert(mesh.points.end(), healing_points.begin(), healing_points.end());
   // 2. Tets: the bulks in piece order, then the band; the faces of the bulks' rims, and the tets
   // with a face that may lie on a cap (three vertices on the planes).
@@ -401,7 +431,8 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   std::vector<RimFace> rim;
   std::vector<std::int32_t> on_caps;
   for (std::size_t p = 0; p < k; ++p) {
-    Block& bulk = bulks_[p];
+    Block& bulk = bulk_here(p);
+    std::copy(bulk.steiner_points.begin(), bulk.steiner_points.end(), mesh.points.begin() + S + steiner_before[p]);
     const auto base = static_cast<std::int32_t>(mesh.tets.size());
     const auto shift = static_cast<std::int32_t>(steiner_before[p]);
     for (Tet t : bulk.tets) {

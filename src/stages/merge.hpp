@@ -10,6 +10,27 @@
 
 namespace partet {
 
+// Part of a piece's mesh in global vertex ids: its band, its bulk, or the whole piece.
+struct TetBlock {
+  bool in = false;
+  std::vector<Point3> steiner_points;
+  std::vector<Tet> tets;           // global ids; Steiner point s of the piece is the welder's first Steiner id + s
+  std::vector<Tet> neighbours;     // local tet ids
+  std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
+};
+
+// Where a welder keeps the pieces' bulks between their split and the assembly when not in its
+// own memory: the paper's memory mode (scratch files, io/scratch_bulks.hpp), and, later, the
+// ranks that meshed them. Healing never touches a bulk, so it can wait outside the process.
+class BulkStore {
+ public:
+  virtual ~BulkStore() = default;
+  // Takes piece p's bulk (a copy); false when it cannot, and the welder keeps it.
+  virtual bool put(int piece, const TetBlock& bulk) = 0;
+  // Piece p's bulk as it was put, once. Throws Error when it was lost.
+  virtual TetBlock take(int piece) = 0;
+};
+
 // Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
 // meshing of the last pieces. The mesh's points are the split surface's (input, cut and cap
 // points), then each piece's Steiner points in piece order; tets follow in piece order. Cap
@@ -26,6 +47,9 @@ class Welder {
   // default: the tets a crossing reaches are the band's last layer and reach no further);
   // otherwise this does nothing.
   void split_on_arrival(const BandSpec& spec);
+  // Before the first add: each bulk goes to the store as soon as it is split off (it must outlive
+  // the welder's use of it) and comes back only to be assembled or rejoined.
+  void keep_bulks_in(BulkStore& store) { store_ = &store; }
   // Renumbers a piece's mesh into global vertex ids (its Steiner points provisionally: they
   // are numbered after all earlier pieces' at the end) and frees its arrays. Throws
   // InternalError when it does not match its piece or arrives twice.
@@ -56,13 +80,7 @@ class Welder {
   std::size_t bulk_tet_count() const;
 
  private:
-  struct Block {
-    bool in = false;
-    std::vector<Point3> steiner_points;
-    std::vector<Tet> tets;           // global ids; Steiner point s of the piece is first_steiner_ + s
-    std::vector<Tet> neighbours;     // local tet ids
-    std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
-  };
+  using Block = TetBlock;
   TetMesh weld_blocks(std::vector<Point3> split_points, std::vector<Block>& blocks) const;
   // Splits piece p's block (blocks_[p]) into its band (left in blocks_[p]) and its bulk (bulks_[p]).
   void split_piece(std::size_t p, const std::vector<std::int8_t>& depth);
@@ -72,12 +90,24 @@ class Welder {
   void take_crossings();
   // Whether every piece is split into band and bulk.
   bool all_split() const;
+  // Piece p's bulk to the store, if there is one; and back.
+  void store_bulk(std::size_t p);
+  Block& bulk_here(std::size_t p);
+  // Piece p's bulk's tets and Steiner points, wherever it is.
+  std::size_t bulk_tets(std::size_t p) const;
+  std::size_t bulk_steiner_points(std::size_t p) const;
   const SplitSurface& split_;
   const std::vector<PieceSurface>& pieces_;
   std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point
   std::optional<BandSpec> split_on_arrival_;
   std::vector<Block> blocks_;  // per piece: its mesh, or once split its band
-  std::vector<Block> bulks_;   // per piece, once split (in = true)
+  std::vector<Block> bulks_;   // per piece, once split (in = true; empty arrays while stored)
+  BulkStore* store_ = nullptr;
+  struct StoredBulk {
+    bool stored = false;
+    std::size_t tets = 0, steiner_points = 0;
+  };
+  std::vector<StoredBulk> stored_;  // per piece
   // Per split piece: the index in the piece of each of its band's Steiner points, and the place
   // in the piece of each band tet (to rejoin it, until finish_band).
   std::vector<std::vector<std::int32_t>> band_steiner_;

@@ -4,7 +4,7 @@
 # leave no temporary behind, and leave the previous mesh at the same prefix byte for byte; in one
 # process and on 2 ranks (rank 1 formats half of the lines rank 0 writes). The disk is an ext4
 # image on a loop device; without loop mounts (not root, or a container that forbids them) the
-# test exits 77 (skipped).
+# test exits 77 (skipped). Then --scratch on the full disk: a warning, and the same mesh as in memory.
 # Usage: full_ext4.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -35,4 +35,22 @@ for n in 1 2; do
   [ -z "$left" ] || { echo "FAIL: $n rank(s): files left: $left"; exit 1; }
   echo "ok: $n rank(s): $(grep -o "cannot write '[^']*': No space left on device" log | head -n 1)," \
     "$(grep -c "around the page cache" log) file(s) written directly, the previous mesh intact, nothing left"
+done
+
+# --scratch on the full disk: the bulks that cannot be written stay in memory, with a warning;
+# the run succeeds with the same mesh as without, and leaves nothing on the disk.
+dd if=/dev/zero of=disk/filler bs=1M > /dev/null 2>&1 || true
+dd if=/dev/zero of=disk/filler2 bs=1k > /dev/null 2>&1 || true  # what a whole MB no longer fits in
+for n in 1 2; do
+  "$mpiexec" -n $n "$partet" mesh small.off -o plain --pieces 4 --quiet || { echo "FAIL: $n rank(s): no mesh"; exit 1; }
+  "$mpiexec" -n $n "$partet" mesh small.off -o spilled --pieces 4 --scratch disk > log 2>&1 \
+    || { echo "FAIL: $n rank(s): --scratch on a full disk failed:"; cat log; exit 1; }
+  grep -q "cannot write the scratch file 'disk/partet-bulk-[^']*' (No space left on device)" log \
+    || { echo "FAIL: $n rank(s): no warning of the full scratch disk:"; cat log; exit 1; }
+  for f in node ele face neigh; do
+    cmp -s plain.$f spilled.$f || { echo "FAIL: $n rank(s): spilled.$f differs"; exit 1; }
+  done
+  left=$(cd disk && ls -A | grep -v -x -e lost+found -e filler -e filler2 -e 'm\.\(node\|ele\|face\|neigh\)' || true)
+  [ -z "$left" ] || { echo "FAIL: $n rank(s): files left on the scratch disk: $left"; exit 1; }
+  echo "ok: $n rank(s): --scratch on a full disk: a warning, the same mesh as in memory, nothing left"
 done

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# --scratch DIR (the paper's memory mode): the pieces' bulks wait in files there, and the mesh is
+# the same, byte for byte, as without; nothing stays in DIR after a run, nor after an interrupt
+# (SIGTERM while the files are there); a run killed outright (SIGKILL) leaves its files, and the
+# next run with the same DIR removes them; a DIR that is not a directory is a usage error (exit 2)
+# before any work. With MPIEXEC and its arguments, every run is on those ranks.
+# Usage: scratch.sh PARTET [MPIEXEC ARGS...]
+set -uo pipefail
+partet=$(realpath "$1")
+shift
+launch=("$@")
+work=$(mktemp -d)
+trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+cd "$work"
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "ok   $*"; }
+bad() { fail=$((fail + 1)); echo "FAIL $*"; }
+run() { "${launch[@]}" "$partet" "$@"; }
+"$partet" generate torus --faces 20000 -o torus.off > /dev/null
+"$partet" generate genus3 --faces 400000 -o big.off > /dev/null
+mkdir scratch
+
+# 1. The same bytes, with and without a quality bound; the report counts the bulks; DIR is empty.
+for quality in "" "1.414"; do
+  q=(); [ -n "$quality" ] && q=(-q "$quality")
+  run mesh torus.off -k 6 "${q[@]}" -o a --quiet || bad "q='$quality': without --scratch"
+  run mesh torus.off -k 6 "${q[@]}" -o b --scratch scratch --report b.json --quiet || bad "q='$quality': with --scratch"
+  same=1
+  for f in node ele face neigh; do cmp -s a.$f b.$f || same=0; done
+  bulks=$(python3 -c "import json; print(json.load(open('b.json'))['scratch']['bulks'])")
+  left=$(ls -A scratch)
+  if [ $same = 1 ] && [ "$bulks" = 6 ] && [ -z "$left" ]; then
+    ok "q='$quality': the same files with --scratch, 6 bulks waited on disk, nothing left"
+  else bad "q='$quality': same=$same bulks=$bulks left='$left'"; fi
+done
+
+# 2. Not a directory: exit 2 before any work, naming the option.
+run mesh torus.off -o c --scratch missing > log 2>&1
+code=$?
+if [ $code = 2 ] && grep -q -- "--scratch: 'missing' is not a directory" log && [ ! -e c.node ]; then
+  ok "a missing scratch directory: exit 2, says so, writes nothing"
+else bad "a missing scratch directory: exit $code: $(cat log)"; fi
+
+# Starts a run of the big input and waits until its bulks are in scratch/ (false after 120 s).
+start_big() {
+  "${launch[@]}" "$partet" mesh big.off -k 8 -o d --scratch scratch --quiet > log 2>&1 &
+  pid=$!
+  for _ in $(seq 600); do
+    [ -n "$(ls -A scratch)" ] && return 0
+    kill -0 "$pid" 2> /dev/null || return 1
+    sleep 0.2
+  done
+  return 1
+}
+
+# 3. SIGTERM while bulks wait on disk (to the launcher, with one): it fails (143 in one process),
+# writes no output, leaves DIR empty.
+if start_big; then
+  kill -TERM "$pid"
+  wait "$pid"
+  code=$?
+  left=$(ls -A scratch)
+  if { [ $code = 143 ] || { [ ${#launch[@]} -gt 0 ] && [ $code != 0 ]; }; } && [ -z "$left" ] && [ ! -e d.node ]; then
+    ok "SIGTERM with bulks on disk: exit $code, nothing left"
+  else bad "SIGTERM with bulks on disk: exit $code, left '$left': $(cat log)"; fi
+else bad "no bulk reached the scratch directory: $(cat log)"; kill -KILL "$pid" 2> /dev/null; wait "$pid"; fi
+
+# 4. SIGKILL leaves the files; the next run with the same DIR removes them (their run is gone).
+if start_big; then
+  pkill -KILL -f "$work/" 2> /dev/null
+  pkill -KILL -f "mesh big.off -k 8 -o d --scratch" 2> /dev/null
+  wait "$pid" 2> /dev/null
+  sleep 1
+  killed=$(ls -A scratch | wc -l)
+  run mesh torus.off -k 3 -o e --scratch scratch --quiet || bad "the run after a SIGKILL failed"
+  left=$(ls -A scratch)
+  if [ "$killed" -gt 0 ] && [ -z "$left" ]; then ok "a killed run's $killed scratch files are removed by the next run"
+  else bad "after a SIGKILL: $killed files, then left '$left'"; fi
+else bad "no bulk reached the scratch directory: $(cat log)"; kill -KILL "$pid" 2> /dev/null; wait "$pid"; fi
+
+echo "$pass passed, $fail failed"
+[ $fail = 0 ]
