@@ -147,13 +147,7 @@ TEST(ScratchBulks, APieceWhoseBulkWaitedOnDiskComesBackAsItWasAdded) {
   welder.keep_bulks_in(store);
   for (const auto& result : s.results) welder.add(PieceTetMesh(result));
   EXPECT_EQ(files_in(dir), s.results.size());
-  for (std::size_t p = 0; p < s.results.size(); ++p) {
-    SCOPED_TRACE("piece " + std::to_string(p));
-    const PieceTetMesh back = welder.take_back(static_cast<int>(p));
-    EXPECT_EQ(back.mesh.tets, s.results[p].mesh.tets);
-    EXPECT_EQ(back.mesh.neighbours, s.results[p].mesh.neighbours);
-    EXPECT_EQ(back.mesh.steiner_points, s.results[p].mesh.steiner_points);
-  }
+  expect_pieces_come_back(welder, s.results);
   EXPECT_EQ(files_in(dir), 0u);
 }
 

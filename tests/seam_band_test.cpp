@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -219,8 +220,26 @@ TEST(SeamBand, BandsAndBulksAssembleIntoTheWeldedMesh) {
     }
 }
 
+// The bulks kept where their pieces were split (a worker rank, in the MPI layer).
+class KeptWhereMeshed : public BulkStore {
+ public:
+  void keep(int piece, TetBlock&& bulk) { bulks_[piece] = std::move(bulk); }
+  bool put(int, const TetBlock&) override { return false; }
+  TetBlock take(int piece) override {
+    TetBlock bulk = std::move(bulks_.at(piece));
+    bulks_.erase(piece);
+    return bulk;
+  }
+  std::size_t size() const { return bulks_.size(); }
+
+ private:
+  std::map<int, TetBlock> bulks_;
+};
+
 // Split as each piece arrives (one layer: a piece alone decides its band), the pieces give the same
-// band mesh as split all at once at the end, and the same mesh when joined again.
+// band mesh as split all at once at the end, and the same mesh when joined again; so do the pieces
+// split where they were meshed, their Steiner points numbered from 2^30 there (the closure may
+// still add cap points) and their bulks kept there.
 TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
   for (const char* name : {"torus", "nested"})
     for (const int k : {3, 12})  // 12: thin pieces, whose tets reach from one cap to the other
@@ -230,16 +249,51 @@ TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
         const MeshedPieces s = mesh_pieces_in_batch(input, k);
         const SplitSurface& split = s.prepared.split;
         const BandSpec spec = band_spec(split, caps, 1);
-        Welder at_end(split, s.prepared.pieces), on_arrival(split, s.prepared.pieces);
-        on_arrival.split_on_arrival(spec);
-        for (const auto& result : s.results) at_end.add(PieceTetMesh(result)), on_arrival.add(PieceTetMesh(result));
+        BandSpec there = spec;
+        there.split_point_count = 1 << 30;
+        if (caps) there.end_removed = 1 << 30;
+        KeptWhereMeshed kept;
+        Welder at_end(split, s.prepared.pieces), on_arrival(split, s.prepared.pieces), elsewhere(split, s.prepared.pieces);
+        on_arrival.split_on_arrival(spec), elsewhere.split_on_arrival(spec);
+        for (std::size_t p = 0; p < s.results.size(); ++p) {
+          at_end.add(PieceTetMesh(s.results[p])), on_arrival.add(PieceTetMesh(s.results[p]));
+          PieceBand band = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
+          kept.keep(band.index, std::move(band.bulk));
+          elsewhere.add_split(std::move(band), kept);
+        }
         TetMesh a = at_end.finish_band(split.points, spec), b = on_arrival.finish_band(split.points, spec);
+        TetMesh c = elsewhere.finish_band(split.points, spec);
         EXPECT_GT(a.tets.size(), 0u);
         expect_same_tet_mesh(b, a);
+        expect_same_tet_mesh(c, a);
         EXPECT_EQ(b.piece, a.piece);
+        EXPECT_EQ(c.piece, a.piece);
         EXPECT_EQ(on_arrival.bulk_tet_count(), at_end.bulk_tet_count());
-        expect_same_tet_mesh(on_arrival.assemble(std::move(b)), at_end.assemble(std::move(a)));
+        EXPECT_EQ(elsewhere.bulk_tet_count(), at_end.bulk_tet_count());
+        const TetMesh whole = at_end.assemble(std::move(a));
+        expect_same_tet_mesh(on_arrival.assemble(std::move(b)), whole);
+        expect_same_tet_mesh(elsewhere.assemble(std::move(c)), whole);
+        EXPECT_EQ(kept.size(), 0u);  // every bulk came back
       }
+}
+
+// A retry keeps the pieces that did not fail: a piece split where it was meshed comes back whole.
+TEST(SeamBand, APieceSplitWhereMeshedComesBackAsItWasMeshed) {
+  const SurfaceMesh input = generate_surface("genus3", 1500);
+  const MeshedPieces s = mesh_pieces_in_batch(input, 4);
+  const SplitSurface& split = s.prepared.split;
+  BandSpec there = band_spec(split, false, 1);
+  there.split_point_count = 1 << 30;
+  KeptWhereMeshed kept;
+  Welder welder(split, s.prepared.pieces);
+  welder.split_on_arrival(band_spec(split, false, 1));
+  for (std::size_t p = 0; p < s.results.size(); ++p) {
+    PieceBand band = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
+    kept.keep(band.index, std::move(band.bulk));
+    welder.add_split(std::move(band), kept);
+  }
+  expect_pieces_come_back(welder, s.results);
+  EXPECT_EQ(kept.size(), 0u);
 }
 
 // A retry keeps the results of the pieces that did not fail: split on arrival, each comes back
@@ -255,16 +309,7 @@ TEST(SeamBand, APieceSplitOnArrivalComesBackAsItWasAdded) {
     steiner_points += result.mesh.steiner_points.size();
   }
   EXPECT_GT(steiner_points, 0u);
-  for (std::size_t p = 0; p < s.results.size(); ++p) {
-    SCOPED_TRACE("piece " + std::to_string(p));
-    const PieceTetMesh back = welder.take_back(static_cast<int>(p));
-    EXPECT_EQ(back.index, s.results[p].index);
-    EXPECT_EQ(back.surface_point_count, s.results[p].surface_point_count);
-    EXPECT_EQ(back.mesh.tets, s.results[p].mesh.tets);
-    EXPECT_EQ(back.mesh.neighbours, s.results[p].mesh.neighbours);
-    EXPECT_EQ(back.mesh.steiner_points, s.results[p].mesh.steiner_points);
-    EXPECT_FALSE(welder.has(static_cast<int>(p)));
-  }
+  expect_pieces_come_back(welder, s.results);
 }
 
 // A region that keeps failing cannot grow past the band's edge: after its growths fail, the seams

@@ -105,6 +105,70 @@ TEST(Serialize, TaskCarriesEveryTetgenOption) {
   EXPECT_TRUE(received.boundary_points);
 }
 
+TEST(Serialize, TaskCarriesTheSplitOrder) {
+  const Real r = real_pieces();
+  TetgenOptions tetgen;
+  const SplitOrder sent{BandSpec{10, 1 << 30, 10, 25, 1}, 7};
+  std::optional<SplitOrder> received;
+  deserialize_task(serialize_task(r.prepared.pieces[0], tetgen, &sent), tetgen, &received);
+  ASSERT_TRUE(received);
+  EXPECT_EQ(received->attempt, 7);
+  EXPECT_EQ(received->spec.input_vertex_count, 10);
+  EXPECT_EQ(received->spec.split_point_count, 1 << 30);
+  EXPECT_EQ(received->spec.first_removed, 10);
+  EXPECT_EQ(received->spec.end_removed, 25);
+  EXPECT_EQ(received->spec.layers, 1);
+  std::optional<SplitOrder> none;
+  deserialize_task(serialize_task(r.prepared.pieces[0], tetgen), tetgen, &none);
+  EXPECT_FALSE(none);
+}
+
+// A piece split where it was meshed: its band travels (the bulk stays), and a bulk travels back.
+TEST(Serialize, BandsAndBulksRoundTrip) {
+  const Real r = real_pieces();
+  const SplitSurface& split = r.prepared.split;
+  const BandSpec spec{split.input_vertex_count, 1 << 30, split.input_vertex_count,
+                      split.input_vertex_count + static_cast<std::int32_t>(split.cut_vertex_count()), 1};
+  for (std::size_t p = 0; p < r.results.size(); ++p) {
+    SCOPED_TRACE("piece " + std::to_string(p));
+    PieceOutcome outcome;
+    outcome.seconds = 1.5, outcome.memory_mb = 2.5;
+    outcome.band = split_where_meshed(PieceTetMesh(r.results[p]), r.prepared.pieces[p].global_ids, spec);
+    const PieceBand& sent = *outcome.band;
+    ASSERT_GT(sent.band.tets.size(), 0u);
+    ASSERT_GT(sent.bulk.tets.size(), 0u);
+    const PieceOutcome back = deserialize_outcome(serialize_band_outcome(outcome));
+    ASSERT_TRUE(back.band);
+    EXPECT_FALSE(back.failure);
+    EXPECT_EQ(back.seconds, 1.5);
+    EXPECT_EQ(back.memory_mb, 2.5);
+    const PieceBand& band = *back.band;
+    EXPECT_EQ(band.index, sent.index);
+    EXPECT_EQ(band.first_steiner, 1 << 30);
+    EXPECT_TRUE(same_bits(band.band.steiner_points, sent.band.steiner_points));
+    EXPECT_EQ(band.band.tets, sent.band.tets);
+    EXPECT_EQ(band.band.neighbours, sent.band.neighbours);
+    EXPECT_EQ(band.band_steiner, sent.band_steiner);
+    EXPECT_EQ(band.band_tets, sent.band_tets);
+    ASSERT_EQ(band.crossings.size(), sent.crossings.size());
+    for (std::size_t i = 0; i < band.crossings.size(); ++i) {
+      EXPECT_TRUE(band.crossings[i].key == sent.crossings[i].key);
+      EXPECT_EQ(band.crossings[i].depth, sent.crossings[i].depth);
+    }
+    ASSERT_EQ(band.cap_faces_outside.size(), sent.cap_faces_outside.size());
+    for (std::size_t i = 0; i < band.cap_faces_outside.size(); ++i)
+      EXPECT_TRUE(band.cap_faces_outside[i] == sent.cap_faces_outside[i]);
+    EXPECT_EQ(band.bulk_tets, static_cast<std::int64_t>(sent.bulk.tets.size()));
+    EXPECT_EQ(band.bulk_steiner_points, static_cast<std::int64_t>(sent.bulk.steiner_points.size()));
+    EXPECT_TRUE(band.bulk.tets.empty());  // the bulk stays where it was split
+    const TetBlock bulk = deserialize_block(serialize_block(sent.bulk));
+    EXPECT_TRUE(same_bits(bulk.steiner_points, sent.bulk.steiner_points));
+    EXPECT_EQ(bulk.tets, sent.bulk.tets);
+    EXPECT_EQ(bulk.neighbours, sent.bulk.neighbours);
+    EXPECT_EQ(bulk.rim, sent.bulk.rim);
+  }
+}
+
 TEST(Serialize, SpecialValuesAndNegativeIds) {
   PieceSurface piece;
   piece.index = 2147483647;

@@ -1,5 +1,7 @@
 #include "stage_batches.hpp"
 
+#include <gtest/gtest.h>
+
 #include <string>
 
 #include "partet/errors.hpp"
@@ -58,6 +60,19 @@ MeshedPieces mesh_pieces_in_batch(const SurfaceMesh& input, int k, double densit
   s.prepared = prepare_pieces(input, s.options);
   for (const auto& piece : s.prepared.pieces) s.results.push_back(tetrahedralize_piece(piece, s.options.tetgen));
   return s;
+}
+
+void expect_pieces_come_back(Welder& welder, const std::vector<PieceTetMesh>& results) {
+  for (std::size_t p = 0; p < results.size(); ++p) {
+    SCOPED_TRACE("piece " + std::to_string(p));
+    const PieceTetMesh back = welder.take_back(static_cast<int>(p));
+    EXPECT_EQ(back.index, results[p].index);
+    EXPECT_EQ(back.surface_point_count, results[p].surface_point_count);
+    EXPECT_EQ(back.mesh.tets, results[p].mesh.tets);
+    EXPECT_EQ(back.mesh.neighbours, results[p].mesh.neighbours);
+    EXPECT_EQ(back.mesh.steiner_points, results[p].mesh.steiner_points);
+    EXPECT_FALSE(welder.has(static_cast<int>(p)));
+  }
 }
 
 MeshedPieces mesh_pieces_isolated(const SurfaceMesh& input, int k) {

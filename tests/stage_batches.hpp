@@ -7,6 +7,7 @@
 #include "job/pipeline.hpp"
 #include "partet/mesh_types.hpp"
 #include "stages/closure.hpp"
+#include "stages/merge.hpp"
 #include "stages/piece.hpp"
 
 namespace partet {
@@ -32,6 +33,9 @@ MeshedPieces mesh_pieces_in_batch(const SurfaceMesh& input, int k, double densit
 // The same in child processes, as partet meshes them (on real models TetGen may abort); throws
 // the first piece's failure.
 MeshedPieces mesh_pieces_isolated(const SurfaceMesh& input, int k);
+// Takes every piece back from the welder (as a retry keeps the pieces that did not fail) and
+// expects each as it was meshed: the same tets in the same order, neighbours, Steiner points.
+void expect_pieces_come_back(Welder& welder, const std::vector<PieceTetMesh>& results);
 // Meshes the regions of seam healing in this process, one after another.
 RegionMesher regions_here(const MeshOptions& options);
 

@@ -134,11 +134,29 @@ struct MeshedAttempt {
   std::unique_ptr<ScratchBulks> scratch;  // the bulks' files, in the paper's memory mode
   void note_scratch(MeshResult& result) const {
     if (scratch) result.scratch_bulks = scratch->stats().bulks, result.scratch_bytes = scratch->stats().bytes;
+    result.bulks_where_meshed = bulks_where_meshed;
   }
   Welder welder;
   std::vector<std::optional<Failure>> failures;  // by piece
   double weld_seconds = 0;                       // welding while other pieces were still meshed
+  std::int64_t bulks_where_meshed = 0;           // pieces split where they were meshed
 };
+
+// With one layer of band (the default without a quality bound) and several pieces, the pieces
+// meshed on other ranks are split there and their bulks stay there (see split_where_meshed).
+// Their Steiner points are numbered from 2^30 meanwhile: the closure is still adding cap points,
+// so the first Steiner id is not known yet; the welder renumbers them.
+BulkStore* split_on_other_ranks(const SplitSurface& split, const MeshOptions& options, PieceScheduler& scheduler) {
+  constexpr std::int32_t kFirstSteinerThere = std::int32_t{1} << 30;
+  const HealOptions heal = heal_options(options);
+  BandSpec spec = seam_band_spec(split, heal);
+  if (split.piece_count < 2 || spec.layers != 1 ||
+      split.points.size() >= static_cast<std::size_t>(kFirstSteinerThere / 2))
+    return nullptr;
+  spec.split_point_count = kFirstSteinerThere;
+  if (heal.remove_cap_points) spec.end_removed = kFirstSteinerThere;  // every cap point, however many
+  return scheduler.split_where_meshed(spec);
+}
 
 // Meshes one attempt's pieces as they are closed and welds each result as it arrives. A closure
 // failure still ends the scheduler's round (other ranks are waiting in it) before it propagates;
@@ -158,6 +176,7 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
   std::vector<PieceTetMesh> reused;                              // results of earlier attempts
   std::vector<int> submitted;                                    // the piece of each submission
   scheduler.begin_round(options.tetgen);
+  BulkStore* where_meshed = split_on_other_ranks(prepared.split, options, scheduler);
   try {
     stream.close(
         [&](const PieceSurface& piece) {
@@ -184,7 +203,13 @@ MeshedAttempt close_and_mesh(const SurfaceMesh& input, const MeshOptions& option
     }
     const double start = now_seconds();
     try {
-      if (!weld_error) attempt.welder.add(std::move(outcome.result));
+      if (!weld_error && outcome.band) {
+        if (!where_meshed) throw InternalError("piece " + std::to_string(piece) + " was split where nobody asked");
+        attempt.welder.add_split(std::move(*outcome.band), *where_meshed);
+        ++attempt.bulks_where_meshed;
+      } else if (!weld_error) {
+        attempt.welder.add(std::move(outcome.result));
+      }
     } catch (...) {
       weld_error = std::current_exception();
     }

@@ -96,6 +96,7 @@ struct MeshResult {
   std::vector<RetryRecord> retries;
   double merge_seconds_overlapped = 0;                // welding done while the last pieces were being meshed
   std::int64_t scratch_bulks = 0, scratch_bytes = 0;  // what waited in scratch files (MeshOptions::scratch)
+  std::int64_t bulks_where_meshed = 0;  // pieces whose bulk stayed on the rank that meshed it until assembled
 };
 
 // The result's boundary faces in output numbering (see MeshResult::boundary_faces).
@@ -123,6 +124,11 @@ class PieceScheduler {
   // its border.
   virtual void share_caps(std::vector<CapBorder> borders) { cap_borders_ = std::move(borders); }
   virtual CapShape cap(int plane) { return triangulate_cap(cap_borders_.at(static_cast<std::size_t>(plane))); }
+  // In a round of pieces, before the first is submitted: the pieces meshed elsewhere are split
+  // where they are meshed (split_where_meshed; spec.layers == 1), their outcomes bring only the
+  // band, and the bulks stay there. Returns the store that gives a bulk back when the welder needs
+  // it, or nullptr when every piece is meshed in this process (then nothing changes).
+  virtual BulkStore* split_where_meshed(const BandSpec& /*spec*/) { return nullptr; }
   // The piece stays alive and unchanged until end_round returns.
   virtual void submit(const PieceSurface& piece) = 0;
   // Hands out work and takes in results without waiting.

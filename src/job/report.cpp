@@ -56,6 +56,8 @@ std::string report_json(const JobSummary& s) {
   // --scratch: the pieces' bulks that waited on disk instead of in rank 0's memory.
   report["scratch"] = {
       {"directory", s.job.options.scratch}, {"bulks", s.result.scratch_bulks}, {"bytes", s.result.scratch_bytes}};
+  // The pieces split on the ranks that meshed them, whose bulks stayed there until assembled.
+  report["bulks_where_meshed"] = s.result.bulks_where_meshed;
   report["counts"] = {{"input_vertices", s.input_vertices},
                       {"input_faces", s.input.triangles.size()},
                       {"cut_vertices_inserted", s.result.cut_vertices_inserted},

@@ -45,11 +45,12 @@ constexpr int kTagReply = 2;
 constexpr int kTagBlock = 3;
 constexpr int kTagVerdict = 5;   // rank 1's verdict on the input
 constexpr int kTagFindings = 6;  // another checking rank's findings, to rank 1
+constexpr int kTagBulk = 8;      // a kept bulk, back to rank 0
 // How long rank 0 sleeps between looks at MPI when idle: the pause doubles from the shortest to
 // the longest while nothing happens, so replies to small regions (seams, polish) are taken at
 // once and long pieces still leave the core to the TetGen processes.
 constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
-enum Command : int { kDone = 0, kMeshPieces = 1 };
+enum Command : int { kDone = 0, kMeshPieces = 1, kSendBulk = 2 };
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
 // worker a piece's own time limit plus kReplyGraceSeconds to answer, and kWorkerSeconds for
@@ -155,6 +156,41 @@ void dump_piece(const MeshJob& job, const PieceSurface& piece) {
             job.dump_pieces_dir + "/piece_" + std::to_string(piece.index) + ".off");
 }
 
+// The bulks of the pieces split where they were meshed (split_where_meshed), kept by the ranks
+// that meshed them until the welder needs them: then rank 0 broadcasts kSendBulk and the piece's
+// index, and its owner sends the bulk ("" if it has none). The workers wait for commands then.
+class RemoteBulks : public BulkStore {
+ public:
+  explicit RemoteBulks(RankStats& stats) : stats_(stats) {}
+  void owned_by(int piece, int rank) { owners_[piece] = rank; }
+  bool put(int, const TetBlock&) override { return false; }  // a bulk split again stays on rank 0
+  TetBlock take(int piece) override {
+    const auto owner = owners_.find(piece);
+    if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
+    const int rank = owner->second;
+    owners_.erase(owner);
+    broadcast(kSendBulk);
+    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
+    AddSeconds timer{stats_.receive_seconds};
+    std::string bytes;
+    try {
+      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds);
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(rank) + " did not send the mesh of piece " + std::to_string(piece) +
+                " it kept within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+    }
+    stats_.bytes_received += static_cast<double>(bytes.size());
+    if (bytes.empty())
+      throw InternalError("rank " + std::to_string(rank) + " no longer keeps the mesh of piece " +
+                          std::to_string(piece));
+    return deserialize_block(bytes);
+  }
+
+ private:
+  RankStats& stats_;
+  std::map<int, int> owners_;  // piece -> the rank keeping its bulk
+};
+
 // Rank 0's side of the meshing, a dynamic master/worker queue: each piece goes to whichever
 // rank is free as soon as it is closed; once all are closed, the rest go largest first. Rank 0
 // meshes pieces too when the runner works in the background (a child process it polls between
@@ -168,7 +204,8 @@ class RootScheduler : public PieceScheduler {
         size_(size),
         stats_(stats),
         records_(records),
-        job_start_(job_start) {}
+        job_start_(job_start),
+        remote_(stats) {}
 
   // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
   void expect_input_verdict(std::size_t faces) {
@@ -196,7 +233,14 @@ class RootScheduler : public PieceScheduler {
     abort_job(verdict.substr(1));
   }
 
+  BulkStore* split_where_meshed(const BandSpec& spec) override {
+    if (size_ < 2) return nullptr;
+    split_order_ = SplitOrder{spec, ++split_attempts_};
+    return &remote_;
+  }
+
   void begin_round(const TetgenOptions& tetgen) override {
+    split_order_.reset();
     runner_ = PieceRunner(tetgen, job_.options.run);
     ++rounds_;
     done_ = 0;
@@ -375,7 +419,7 @@ class RootScheduler : public PieceScheduler {
     std::string bytes;
     if (piece) {
       record(*piece, worker);
-      bytes = serialize_task(*piece, runner_.tetgen());
+      bytes = serialize_task(*piece, runner_.tetgen(), piece->seam_region || !split_order_ ? nullptr : &*split_order_);
       busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index, false};
       account_meshing();
     }
@@ -473,7 +517,11 @@ class RootScheduler : public PieceScheduler {
         return true;
       }
       PieceOutcome outcome = deserialize_outcome(reply);
-      position = position_.at(outcome.failure ? outcome.failure->piece : outcome.result.index);
+      const int index = outcome.failure ? outcome.failure->piece
+                        : outcome.band  ? outcome.band->index
+                                        : outcome.result.index;
+      position = position_.at(index);
+      if (outcome.band) remote_.owned_by(index, worker);
       store(position, std::move(outcome));
     }
     idle_.push_back(worker);
@@ -501,7 +549,9 @@ class RootScheduler : public PieceScheduler {
     if (!pieces_[position]->seam_region) {
       records_[pieces_[position]->index].seconds = outcome.seconds;
       records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
-      records_[pieces_[position]->index].tets = static_cast<std::int64_t>(outcome.result.mesh.tets.size());
+      records_[pieces_[position]->index].tets =
+          outcome.band ? static_cast<std::int64_t>(outcome.band->band.tets.size()) + outcome.band->bulk_tets
+                       : static_cast<std::int64_t>(outcome.result.mesh.tets.size());
     }
     outcomes_[position] = std::move(outcome);
     arrived_.push_back(position);
@@ -533,11 +583,14 @@ class RootScheduler : public PieceScheduler {
   double own_start_ = 0;
   bool verdict_pending_ = false;  // rank 1's check of the input not heard yet
   double verdict_limit_ = 0;
-  std::size_t meshing_ = 0;   // pieces or regions being meshed now, on all ranks
-  double meshing_since_ = 0;  // when that count last changed
-  double job_start_;          // for the progress lines
-  int rounds_ = 0;            // rounds begun
-  std::size_t done_ = 0;      // pieces or regions finished this round
+  std::size_t meshing_ = 0;                // pieces or regions being meshed now, on all ranks
+  double meshing_since_ = 0;               // when that count last changed
+  double job_start_;                       // for the progress lines
+  int rounds_ = 0;                         // rounds begun
+  std::size_t done_ = 0;                   // pieces or regions finished this round
+  RemoteBulks remote_;                     // the bulks the workers keep
+  std::optional<SplitOrder> split_order_;  // this round's pieces are split where meshed
+  std::int32_t split_attempts_ = 0;
 };
 
 // A worker's part of the closure: triangulates the cap and sends rank 0 its shape, or the failure.
@@ -551,10 +604,63 @@ void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
       bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+// The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt.
+struct KeptBulks {
+  std::int32_t attempt = -1;
+  std::map<int, TetBlock> bulks;  // by piece
+};
+
+std::string out_of_memory_message(int rank);
+
+// A worker's reply for a piece to split where it was meshed: its band (the bulk kept), or the
+// reply as it came when meshing failed. A split that fails is the piece's failure.
+std::string split_here(std::string reply, const PieceSurface& piece, const SplitOrder& order, KeptBulks& kept) {
+  PieceOutcome outcome;
+  try {
+    outcome = deserialize_outcome(reply);
+  } catch (const std::exception&) {
+    return reply;  // rank 0 reports it, as any reply it cannot read
+  }
+  if (outcome.failure) return reply;
+  std::string().swap(reply);
+  try {
+    PieceBand band = split_where_meshed(std::move(outcome.result), piece.global_ids, order.spec);
+    log::debug("piece " + std::to_string(piece.index) + ": " + std::to_string(band.band.tets.size()) +
+               " band tets to rank 0, " + std::to_string(band.bulk_tets) + " bulk tets kept here");
+    kept.bulks[piece.index] = std::move(band.bulk);
+    outcome.band = std::move(band);
+    return serialize_band_outcome(outcome);
+  } catch (const std::bad_alloc&) {
+    outcome.failure = Failure(FailureKind::other, piece.index, {}, out_of_memory_message(my_rank()));
+  } catch (const std::exception& e) {
+    outcome.failure = Failure(FailureKind::other, piece.index, {}, e.what());
+  }
+  kept.bulks.erase(piece.index);
+  outcome.band.reset();
+  return serialize_outcome(outcome);
+}
+
+// A worker's side of kSendBulk: the owner of the piece sends its bulk and forgets it.
+void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
+  const int piece = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  const auto it = kept.bulks.find(piece);
+  if (it == kept.bulks.end()) return;  // another rank's
+  std::string bytes = serialize_block(it->second);
+  kept.bulks.erase(it);
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent +=
+      static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
 // A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
-// empty message.
+// empty message; between rounds, send the bulks it kept when rank 0 asks for them.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
-  while (receive_command() == kMeshPieces) {
+  KeptBulks kept;
+  for (Command command = receive_command(); command != kDone; command = receive_command()) {
+    if (command == kSendBulk) {
+      send_kept_bulk(kept, stats);
+      continue;
+    }
     for (;;) {
       std::string bytes;
       {
@@ -568,7 +674,9 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
         continue;
       }
       TetgenOptions tetgen;
-      const PieceSurface piece = deserialize_task(bytes, tetgen);
+      std::optional<SplitOrder> split;
+      const PieceSurface piece = deserialize_task(bytes, tetgen, &split);
+      if (split && split->attempt != kept.attempt) kept = KeptBulks{split->attempt, {}};
       const PieceRunner runner(tetgen, job.options.run);
       const bool region = piece.seam_region;
       std::string().swap(bytes);
@@ -579,6 +687,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
         reply = runner.mesh_to_reply(piece, [&piece, rank, region] {
           if (!region) test_hooks::piece_failure(piece.index, rank);
         });
+        if (split) reply = split_here(std::move(reply), piece, *split, kept);
       }
       if (!region) stats.pieces += 1;
       AddSeconds timer{stats.send_seconds};

@@ -124,19 +124,28 @@ TaskKind task_kind(std::string_view bytes) {
   throw InternalError("a task has no valid tag");
 }
 
-std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen) {
-  const std::size_t bytes = piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
+std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen, const SplitOrder* split) {
+  const std::size_t bytes =
+      64 + piece_bytes(piece) + tetgen.quality.size() + tetgen.tolerance.size() + tetgen.optimization.size();
   return encode(
       bytes,
       [&](auto& ar) {
         save_piece(ar, piece);
         const std::int32_t seam_region = piece.seam_region ? 1 : 0, boundary_points = tetgen.boundary_points ? 1 : 0;
         ar << tetgen.quality << tetgen.tolerance << tetgen.optimization << seam_region << boundary_points;
+        const std::int32_t order[7] = {split ? 1 : 0,
+                                       split ? split->attempt : 0,
+                                       split ? split->spec.input_vertex_count : 0,
+                                       split ? split->spec.split_point_count : 0,
+                                       split ? split->spec.first_removed : 0,
+                                       split ? split->spec.end_removed : 0,
+                                       split ? split->spec.layers : 0};
+        ar << boost::serialization::make_array(order, 7);
       },
       std::string_view(&kPieceTaskTag, 1));
 }
 
-PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
+PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen, std::optional<SplitOrder>* split) {
   if (task_kind(bytes) != TaskKind::piece) throw InternalError("a cap task was read as a piece");
   bytes.remove_prefix(1);
   return decode<PieceSurface>(bytes, [&](auto& ar, PieceSurface& piece) {
@@ -145,6 +154,9 @@ PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen) {
     ar >> tetgen.quality >> tetgen.tolerance >> tetgen.optimization >> seam_region >> boundary_points;
     piece.seam_region = seam_region != 0;
     tetgen.boundary_points = boundary_points != 0;
+    std::int32_t order[7] = {};
+    ar >> boost::serialization::make_array(order, 7);
+    if (split && order[0]) *split = SplitOrder{BandSpec{order[2], order[3], order[4], order[5], order[6]}, order[1]};
   });
 }
 
@@ -207,7 +219,68 @@ std::string encode_failure(const Failure& failure, std::string_view prefix) {
       prefix);
 }
 
-constexpr char kResultTag = 'R', kFailureTag = 'F';
+constexpr char kResultTag = 'R', kFailureTag = 'F', kBandTag = 'B';
+
+template <class Archive>
+void save_tet_block(Archive& ar, const TetBlock& block) {
+  save_block(ar, block.steiner_points);
+  save_block(ar, block.tets);
+  save_block(ar, block.neighbours);
+  save_block(ar, block.rim);
+}
+
+template <class Archive>
+void load_tet_block(Archive& ar, TetBlock& block) {
+  load_block(ar, block.steiner_points);
+  load_block(ar, block.tets);
+  load_block(ar, block.neighbours);
+  load_block(ar, block.rim);
+  block.in = true;
+}
+
+std::size_t tet_block_bytes(const TetBlock& block) {
+  return 64 + block.steiner_points.size() * 24 + block.tets.size() * 32 + block.rim.size() * 8;
+}
+
+std::string encode_band(const PieceBand& split, std::string_view prefix) {
+  return encode(
+      tet_block_bytes(split.band) + 64 + split.band_steiner.size() * 4 + split.band_tets.size() * 4 +
+          split.crossings.size() * 16 + split.cap_faces_outside.size() * 12,
+      [&](auto& ar) {
+        const std::int32_t index = split.index, first_steiner = split.first_steiner;
+        const std::int64_t bulk_tets = split.bulk_tets, bulk_steiner = split.bulk_steiner_points;
+        ar << index << first_steiner << bulk_tets << bulk_steiner;
+        save_tet_block(ar, split.band);
+        save_block(ar, split.band_steiner);
+        save_block(ar, split.band_tets);
+        std::vector<Tet> crossings;  // the key's three vertices and the depth
+        for (const CapCrossing& c : split.crossings) crossings.push_back({c.key.v[0], c.key.v[1], c.key.v[2], c.depth});
+        save_block(ar, crossings);
+        std::vector<Triangle> outside;
+        for (const FaceKey& key : split.cap_faces_outside) outside.push_back({key.v[0], key.v[1], key.v[2]});
+        save_block(ar, outside);
+      },
+      prefix);
+}
+
+PieceBand deserialize_band(std::string_view bytes) {
+  return decode<PieceBand>(bytes, [](auto& ar, PieceBand& split) {
+    std::int32_t index = 0, first_steiner = 0;
+    std::int64_t bulk_tets = 0, bulk_steiner = 0;
+    ar >> index >> first_steiner >> bulk_tets >> bulk_steiner;
+    split.index = index, split.first_steiner = first_steiner;
+    split.bulk_tets = bulk_tets, split.bulk_steiner_points = bulk_steiner;
+    load_tet_block(ar, split.band);
+    load_block(ar, split.band_steiner);
+    load_block(ar, split.band_tets);
+    std::vector<Tet> crossings;
+    load_block(ar, crossings);
+    for (const Tet& c : crossings) split.crossings.push_back({FaceKey({c[0], c[1], c[2]}), c[3]});
+    std::vector<Triangle> outside;
+    load_block(ar, outside);
+    for (const Triangle& t : outside) split.cap_faces_outside.push_back(FaceKey(t));
+  });
+}
 
 PieceTetMesh deserialize_result(std::string_view bytes) {
   return decode<PieceTetMesh>(bytes, [](auto& ar, PieceTetMesh& result) {
@@ -244,6 +317,23 @@ std::string serialize_outcome(const PieceOutcome& outcome) {
   std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
   const std::string_view head(prefix, sizeof prefix);
   return outcome.failure ? encode_failure(*outcome.failure, head) : encode_result(outcome.result, head);
+}
+
+std::string serialize_band_outcome(const PieceOutcome& outcome) {
+  if (!outcome.band) throw InternalError("a piece's outcome has no band to send");
+  char prefix[1 + 2 * sizeof(double)];
+  prefix[0] = kBandTag;
+  std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
+  std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
+  return encode_band(*outcome.band, std::string_view(prefix, sizeof prefix));
+}
+
+std::string serialize_block(const TetBlock& block) {
+  return encode(tet_block_bytes(block), [&](auto& ar) { save_tet_block(ar, block); });
+}
+
+TetBlock deserialize_block(std::string_view bytes) {
+  return decode<TetBlock>(bytes, [](auto& ar, TetBlock& block) { load_tet_block(ar, block); });
 }
 
 namespace {
@@ -293,13 +383,15 @@ CapOutcome deserialize_cap_outcome(std::string_view bytes) {
 
 PieceOutcome deserialize_outcome(std::string_view bytes) {
   constexpr std::size_t kHead = 1 + 2 * sizeof(double);
-  if (bytes.size() < kHead || (bytes[0] != kResultTag && bytes[0] != kFailureTag))
+  if (bytes.size() < kHead || (bytes[0] != kResultTag && bytes[0] != kFailureTag && bytes[0] != kBandTag))
     throw InternalError("a meshing reply has no valid tag");
   PieceOutcome outcome;
   std::memcpy(&outcome.seconds, bytes.data() + 1, sizeof(double));
   std::memcpy(&outcome.memory_mb, bytes.data() + 1 + sizeof(double), sizeof(double));
   if (bytes[0] == kResultTag)
     outcome.result = deserialize_result(bytes.substr(kHead));
+  else if (bytes[0] == kBandTag)
+    outcome.band = deserialize_band(bytes.substr(kHead));
   else
     outcome.failure = deserialize_failure(bytes.substr(kHead));
   return outcome;

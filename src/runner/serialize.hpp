@@ -19,8 +19,14 @@ namespace partet {
 enum class TaskKind { piece, cap };
 // Throws InternalError on bytes that are no task.
 TaskKind task_kind(std::string_view bytes);
-std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen);
-PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen);
+// A piece's result to be split where it is meshed (split_where_meshed), in rank 0's attempt
+// `attempt`: a worker drops the bulks it kept for earlier attempts.
+struct SplitOrder {
+  BandSpec spec;
+  std::int32_t attempt = 0;
+};
+std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetgen, const SplitOrder* split = nullptr);
+PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen, std::optional<SplitOrder>* split = nullptr);
 std::string serialize_cap_task(const CapBorder& border);
 CapBorder deserialize_cap_task(std::string_view bytes);
 
@@ -41,5 +47,11 @@ CapOutcome deserialize_cap_outcome(std::string_view bytes);
 std::string serialize_outcome(const PieceOutcome& outcome);
 // Throws InternalError on bytes that are no reply.
 PieceOutcome deserialize_outcome(std::string_view bytes);
+// The same for a piece split where it was meshed: its band without the bulk (which stays).
+std::string serialize_band_outcome(const PieceOutcome& outcome);
+
+// A bulk on its way to rank 0 from the rank that kept it.
+std::string serialize_block(const TetBlock& block);
+TetBlock deserialize_block(std::string_view bytes);
 
 }  // namespace partet

@@ -101,15 +101,7 @@ void Welder::add(PieceTetMesh&& result) {
     mismatch(p, "does not match its piece");
   if (blocks_[p].in) mismatch(p, "arrived twice");
   Block& block = blocks_[p];
-  const std::vector<std::int32_t>& global_ids = pieces_[p].global_ids;
-  const std::int32_t surface_count = result.surface_point_count;
-  block.tets = std::move(result.mesh.tets);
-  for (Tet& t : block.tets)
-    for (auto& v : t) v = v < surface_count ? global_ids[v] : first_steiner_ + (v - surface_count);
-  block.neighbours = std::move(result.mesh.neighbours);
-  block.steiner_points = std::move(result.mesh.steiner_points);
-  block.in = true;
-  result.mesh = LocalTetMesh();
+  block = in_global_ids(std::move(result), pieces_[p].global_ids, first_steiner_);
   if (split_on_arrival_) {
     BandMarks marks(block.tets, block.neighbours, *split_on_arrival_);
     crossings_[p] = marks.crossings();
@@ -214,80 +206,58 @@ TetMesh Welder::weld_blocks(std::vector<Point3> split_points, std::vector<Block>
   return mesh;
 }
 
-// A piece's band (depth >= 0) and bulk, in piece order each, their neighbours renumbered on their
-// side (-1 across). The band's Steiner points are the ones its tets use, numbered anew in the
-// piece's order (first_steiner_ + their rank); the bulk keeps all of them and their ids.
+// A piece's band (depth >= 0) and bulk, in piece order each (split_by_depth). The band's Steiner
+// points are the ones its tets use, numbered anew in the piece's order (first_steiner_ + their
+// rank); the bulk keeps all of them and their ids.
 void Welder::split_piece(std::size_t p, const std::vector<std::int8_t>& depth) {
-  Block& block = blocks_[p];
-  if (depth.size() != block.tets.size()) throw InternalError("a piece's band marks do not match its tets");
-  std::vector<std::int32_t>& band_steiner = band_steiner_[p];
-  std::vector<std::int32_t>& band_tets = band_tets_[p];
-  band_steiner.clear(), band_tets.clear();
-  std::vector<std::int32_t> side_id(block.tets.size());
-  std::int32_t in_bulk = 0;
-  for (std::size_t t = 0; t < depth.size(); ++t)
-    if (depth[t] >= 0) {
-      side_id[t] = static_cast<std::int32_t>(band_tets.size());
-      band_tets.push_back(static_cast<std::int32_t>(t));
-    } else {
-      side_id[t] = in_bulk++;
-    }
-  Block band, bulk;
-  band.in = bulk.in = true;
-  std::vector<std::int32_t> band_id(block.steiner_points.size(), -1);
-  for (auto t : band_tets)
-    for (auto v : block.tets[t])
-      if (v >= first_steiner_) band_id[v - first_steiner_] = 0;
-  for (std::size_t s = 0; s < band_id.size(); ++s)
-    if (band_id[s] == 0) {
-      band_id[s] = static_cast<std::int32_t>(band_steiner.size());
-      band_steiner.push_back(static_cast<std::int32_t>(s));
-      band.steiner_points.push_back(block.steiner_points[s]);
-    }
-  band.tets.reserve(band_tets.size());
-  band.neighbours.reserve(band_tets.size());
-  bulk.tets.reserve(static_cast<std::size_t>(in_bulk));
-  bulk.neighbours.reserve(static_cast<std::size_t>(in_bulk));
-  for (std::size_t t = 0; t < depth.size(); ++t) {
-    const bool banded = depth[t] >= 0;
-    Tet nbs = block.neighbours[t];
-    for (int j = 0; j < 4; ++j) {
-      auto& nb = nbs[j];
-      if (nb < 0) continue;
-      const bool same_side = (depth[nb] >= 0) == banded;
-      if (!same_side && !banded) bulk.rim.push_back(4 * static_cast<std::uint64_t>(side_id[t]) + j);
-      nb = same_side ? side_id[nb] : -1;
-    }
-    Tet tet = block.tets[t];
-    if (banded) {
-      for (auto& v : tet)
-        if (v >= first_steiner_) v = first_steiner_ + band_id[v - first_steiner_];
-      band.tets.push_back(tet);
-      band.neighbours.push_back(nbs);
-    } else {
-      bulk.tets.push_back(tet);
-      bulk.neighbours.push_back(nbs);
-    }
-  }
-  bulk.steiner_points = std::move(block.steiner_points);
-  block = std::move(band);
-  bulks_[p] = std::move(bulk);
+  PieceBand split = split_by_depth(std::move(blocks_[p]), depth, first_steiner_);
+  blocks_[p] = std::move(split.band);
+  bulks_[p] = std::move(split.bulk);
+  band_steiner_[p] = std::move(split.band_steiner);
+  band_tets_[p] = std::move(split.band_tets);
   store_bulk(p);
+}
+
+void Welder::add_split(PieceBand&& split, BulkStore& owner) {
+  const int p = split.index;
+  if (p < 0 || static_cast<std::size_t>(p) >= pieces_.size() || pieces_[p].index != p || !split_on_arrival_)
+    mismatch(p, "does not match its piece");
+  if (blocks_[p].in) mismatch(p, "arrived twice");
+  if (split.first_steiner < first_steiner_) mismatch(p, "numbers its Steiner points among the split's points");
+  // The band's Steiner points from where they were numbered to this welder's numbering.
+  for (Tet& t : split.band.tets)
+    for (auto& v : t)
+      if (v >= split.first_steiner) v = first_steiner_ + (v - split.first_steiner);
+  blocks_[p] = std::move(split.band);
+  blocks_[p].in = true;
+  bulks_[p] = Block();
+  bulks_[p].in = true;
+  stored_[p] = {true, static_cast<std::size_t>(split.bulk_tets), static_cast<std::size_t>(split.bulk_steiner_points),
+                &owner, split.first_steiner};
+  band_steiner_[p] = std::move(split.band_steiner);
+  band_tets_[p] = std::move(split.band_tets);
+  crossings_[p] = std::move(split.crossings);
+  bulk_cap_faces_[p] = std::move(split.cap_faces_outside);
 }
 
 void Welder::store_bulk(std::size_t p) {
   Block& bulk = bulks_[p];
   if (!store_ || !store_->put(static_cast<int>(p), bulk)) return;
-  stored_[p] = {true, bulk.tets.size(), bulk.steiner_points.size()};
+  stored_[p] = {true, bulk.tets.size(), bulk.steiner_points.size(), store_, first_steiner_};
   bulk = Block();
   bulk.in = true;
 }
 
 Welder::Block& Welder::bulk_here(std::size_t p) {
-  if (stored_[p].stored) {
-    Block bulk = store_->take(static_cast<int>(p));
-    if (bulk.tets.size() != stored_[p].tets || bulk.steiner_points.size() != stored_[p].steiner_points)
+  const StoredBulk stored = stored_[p];
+  if (stored.stored) {
+    Block bulk = stored.store->take(static_cast<int>(p));
+    if (bulk.tets.size() != stored.tets || bulk.steiner_points.size() != stored.steiner_points)
       throw InternalError("the bulk of piece " + std::to_string(p) + " came back changed from where it was kept");
+    if (stored.first_steiner != first_steiner_)
+      for (Tet& t : bulk.tets)
+        for (auto& v : t)
+          if (v >= stored.first_steiner) v = first_steiner_ + (v - stored.first_steiner);
     bulk.in = true;
     bulks_[p] = std::move(bulk);
     stored_[p] = StoredBulk();

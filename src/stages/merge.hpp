@@ -10,15 +10,6 @@
 
 namespace partet {
 
-// Part of a piece's mesh in global vertex ids: its band, its bulk, or the whole piece.
-struct TetBlock {
-  bool in = false;
-  std::vector<Point3> steiner_points;
-  std::vector<Tet> tets;           // global ids; Steiner point s of the piece is the welder's first Steiner id + s
-  std::vector<Tet> neighbours;     // local tet ids
-  std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
-};
-
 // Where a welder keeps the pieces' bulks between their split and the assembly when not in its
 // own memory: the paper's memory mode (scratch files, io/scratch_bulks.hpp), and, later, the
 // ranks that meshed them. Healing never touches a bulk, so it can wait outside the process.
@@ -54,6 +45,9 @@ class Welder {
   // are numbered after all earlier pieces' at the end) and frees its arrays. Throws
   // InternalError when it does not match its piece or arrives twice.
   void add(PieceTetMesh&& result);
+  // After split_on_arrival: a piece split where it was meshed (split_where_meshed), its bulk
+  // kept by `owner` (which must outlive the welder's use of it) until it is needed.
+  void add_split(PieceBand&& split, BulkStore& owner);
   bool has(int piece) const;
   // Gives a piece's mesh back in its local numbering, as it was added (a retry keeps the pieces it
   // does not change).
@@ -106,6 +100,8 @@ class Welder {
   struct StoredBulk {
     bool stored = false;
     std::size_t tets = 0, steiner_points = 0;
+    BulkStore* store = nullptr;
+    std::int32_t first_steiner = 0;  // the id of the piece's first Steiner point there
   };
   std::vector<StoredBulk> stored_;  // per piece
   // Per split piece: the index in the piece of each of its band's Steiner points, and the place

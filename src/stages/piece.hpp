@@ -9,6 +9,7 @@
 #include "partet/errors.hpp"
 #include "partet/mesh_types.hpp"
 #include "stages/partition.hpp"
+#include "stages/seam_band.hpp"
 
 namespace partet {
 
@@ -29,6 +30,9 @@ struct PieceOutcome {
   std::optional<Failure> failure;
   double seconds = 0;    // wall time of the meshing, where it ran
   double memory_mb = 0;  // peak memory the meshing added to the process it ran in (a child: its own)
+  // Instead of the result, split where it was meshed (split_where_meshed): its band, the bulk
+  // kept there.
+  std::optional<PieceBand> band{};
 };
 
 // Builds the pieces one at a time, each as soon as the caps on both its sides exist. Each

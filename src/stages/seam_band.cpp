@@ -78,6 +78,95 @@ bool BandMarks::enter(const std::vector<CapCrossing>& from_neighbour) {
   return grew;
 }
 
+TetBlock in_global_ids(PieceTetMesh&& result, const std::vector<std::int32_t>& global_ids, std::int32_t first_steiner) {
+  TetBlock block;
+  const std::int32_t surface_count = result.surface_point_count;
+  block.tets = std::move(result.mesh.tets);
+  for (Tet& t : block.tets)
+    for (auto& v : t) v = v < surface_count ? global_ids[v] : first_steiner + (v - surface_count);
+  block.neighbours = std::move(result.mesh.neighbours);
+  block.steiner_points = std::move(result.mesh.steiner_points);
+  block.in = true;
+  result.mesh = LocalTetMesh();
+  return block;
+}
+
+PieceBand split_by_depth(TetBlock&& whole, const std::vector<std::int8_t>& depth, std::int32_t first_steiner) {
+  if (depth.size() != whole.tets.size()) throw InternalError("a piece's band marks do not match its tets");
+  PieceBand split;
+  split.first_steiner = first_steiner;
+  std::vector<std::int32_t>& band_steiner = split.band_steiner;
+  std::vector<std::int32_t>& band_tets = split.band_tets;
+  std::vector<std::int32_t> side_id(whole.tets.size());
+  std::int32_t in_bulk = 0;
+  for (std::size_t t = 0; t < depth.size(); ++t)
+    if (depth[t] >= 0) {
+      side_id[t] = static_cast<std::int32_t>(band_tets.size());
+      band_tets.push_back(static_cast<std::int32_t>(t));
+    } else {
+      side_id[t] = in_bulk++;
+    }
+  TetBlock& band = split.band;
+  TetBlock& bulk = split.bulk;
+  band.in = bulk.in = true;
+  std::vector<std::int32_t> band_id(whole.steiner_points.size(), -1);
+  for (auto t : band_tets)
+    for (auto v : whole.tets[t])
+      if (v >= first_steiner) band_id[v - first_steiner] = 0;
+  for (std::size_t s = 0; s < band_id.size(); ++s)
+    if (band_id[s] == 0) {
+      band_id[s] = static_cast<std::int32_t>(band_steiner.size());
+      band_steiner.push_back(static_cast<std::int32_t>(s));
+      band.steiner_points.push_back(whole.steiner_points[s]);
+    }
+  band.tets.reserve(band_tets.size());
+  band.neighbours.reserve(band_tets.size());
+  bulk.tets.reserve(static_cast<std::size_t>(in_bulk));
+  bulk.neighbours.reserve(static_cast<std::size_t>(in_bulk));
+  for (std::size_t t = 0; t < depth.size(); ++t) {
+    const bool banded = depth[t] >= 0;
+    Tet nbs = whole.neighbours[t];
+    for (int j = 0; j < 4; ++j) {
+      auto& nb = nbs[j];
+      if (nb < 0) continue;
+      const bool same_side = (depth[nb] >= 0) == banded;
+      if (!same_side && !banded) bulk.rim.push_back(4 * static_cast<std::uint64_t>(side_id[t]) + j);
+      nb = same_side ? side_id[nb] : -1;
+    }
+    Tet tet = whole.tets[t];
+    if (banded) {
+      for (auto& v : tet)
+        if (v >= first_steiner) v = first_steiner + band_id[v - first_steiner];
+      band.tets.push_back(tet);
+      band.neighbours.push_back(nbs);
+    } else {
+      bulk.tets.push_back(tet);
+      bulk.neighbours.push_back(nbs);
+    }
+  }
+  bulk.steiner_points = std::move(whole.steiner_points);
+  whole = TetBlock();
+  split.bulk_tets = static_cast<std::int64_t>(bulk.tets.size());
+  split.bulk_steiner_points = static_cast<std::int64_t>(bulk.steiner_points.size());
+  return split;
+}
+
+PieceBand split_where_meshed(PieceTetMesh&& result, const std::vector<std::int32_t>& global_ids, const BandSpec& spec) {
+  if (spec.layers != 1) throw InternalError("a piece is split where it was meshed only for one layer");
+  if (result.surface_point_count != static_cast<std::int32_t>(global_ids.size()))
+    throw InternalError("the result of piece " + std::to_string(result.index) + " does not match its piece");
+  const int index = result.index;
+  TetBlock whole = in_global_ids(std::move(result), global_ids, spec.split_point_count);
+  BandMarks marks(whole.tets, whole.neighbours, spec);
+  std::vector<CapCrossing> crossings = marks.crossings();
+  std::vector<FaceKey> outside = marks.cap_faces_outside();
+  PieceBand split = split_by_depth(std::move(whole), marks.take_depth(), spec.split_point_count);
+  split.index = index;
+  split.crossings = std::move(crossings);
+  split.cap_faces_outside = std::move(outside);
+  return split;
+}
+
 std::vector<std::vector<std::int8_t>> mark_bands(const std::vector<const std::vector<Tet>*>& tets,
                                                  const std::vector<const std::vector<Tet>*>& neighbours,
                                                  const BandSpec& spec) {

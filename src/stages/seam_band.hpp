@@ -60,6 +60,42 @@ class BandMarks {
   std::vector<OpenCapFace> cap_faces_;  // the piece's open faces that may lie on a cap, by key
 };
 
+// Part of a piece's mesh in global vertex ids: its band, its bulk, or the whole piece.
+struct TetBlock {
+  bool in = false;
+  std::vector<Point3> steiner_points;
+  std::vector<Tet> tets;           // global ids; Steiner point s of the piece is the first Steiner id + s
+  std::vector<Tet> neighbours;     // local tet ids
+  std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
+};
+
+// A piece's mesh split into its band and its bulk. Split where the piece was meshed (one layer:
+// the piece alone decides its band), the bulk stays there and the rest travels to the welder.
+struct PieceBand {
+  int index = 0;
+  std::int32_t first_steiner = 0;          // the id of the piece's first Steiner point in both blocks
+  TetBlock band;                           // its Steiner points renumbered: band point b is first_steiner + b
+  TetBlock bulk;                           // every Steiner point of the piece, with its own id
+  std::vector<std::int32_t> band_steiner;  // per band Steiner point: its index in the piece
+  std::vector<std::int32_t> band_tets;     // per band tet: its place in the piece
+  std::vector<CapCrossing> crossings;      // BandMarks::crossings
+  std::vector<FaceKey> cap_faces_outside;  // BandMarks::cap_faces_outside
+  std::int64_t bulk_tets = 0, bulk_steiner_points = 0;  // the bulk's, also once it is elsewhere
+};
+
+// A piece's mesh in global ids: its surface points through global_ids, its Steiner point s as
+// first_steiner + s. Frees the result's arrays.
+TetBlock in_global_ids(PieceTetMesh&& result, const std::vector<std::int32_t>& global_ids, std::int32_t first_steiner);
+
+// Splits a piece's block by its band marks (depth >= 0: band): both sides in piece order, their
+// neighbours renumbered on their side (-1 across), the bulk's faces towards the band in its rim.
+PieceBand split_by_depth(TetBlock&& whole, const std::vector<std::int8_t>& depth, std::int32_t first_steiner);
+
+// The split where the piece was meshed, one layer (spec.layers == 1): spec.split_point_count is
+// the id its Steiner points start from, which may be any id above every split point's (where the
+// closure is still adding cap points, the final one is not known yet).
+PieceBand split_where_meshed(PieceTetMesh&& result, const std::vector<std::int32_t>& global_ids, const BandSpec& spec);
+
 // Every piece's band in one process, the pieces trading crossings with their neighbours (piece
 // p - 1 and p + 1) until none grows. tets[p] and neighbours[p] are piece p's.
 std::vector<std::vector<std::int8_t>> mark_bands(const std::vector<const std::vector<Tet>*>& tets,
