@@ -6,6 +6,7 @@
 
 #include "common/log.hpp"
 #include "common/stage_timer.hpp"
+#include "io/scratch_bulks.hpp"
 #include "job/job.hpp"
 #include "job/pipeline.hpp"
 #include "mpi/driver.hpp"
@@ -20,7 +21,13 @@ MeshOptions mesh_options(const Options& options) {
   m.pieces = options.pieces;
   m.tetgen.quality = parse_quality(options.quality);
   m.allow_split_faces = options.allow_split_faces;
+  m.scratch = options.scratch;
   return m;
+}
+
+// Errors the caller can act on before any work: the scratch directory (rank 0's).
+void check_directories(const MeshOptions& options) {
+  if (!options.scratch.empty()) check_scratch_directory(options.scratch);
 }
 
 // The caller's surface, validated and scaled to unit size (the exponent goes to *exponent).
@@ -51,6 +58,7 @@ Result tetrahedralize(const SurfaceMesh& surface, const Options& options) {
   const double start = now_seconds();
   const log::ScopedLevel level(level_of(options));
   const MeshOptions m = mesh_options(options);
+  check_directories(m);
   int exponent = 0;
   const SurfaceMesh input = prepared(surface, &exponent);
   return result_of(mesh_surface(input, m), input, exponent, start);
@@ -68,6 +76,7 @@ Result tetrahedralize(const SurfaceMesh& surface, const Options& options, MPI_Co
   SurfaceMesh input;
   std::exception_ptr input_error;
   if (rank == 0) try {
+      check_directories(m);
       input = prepared(surface, &exponent);
     } catch (const Error&) {
       input_error = std::current_exception();

@@ -30,6 +30,10 @@ struct Options {
   // some (Result::split_faces_from) instead of throwing.
   bool allow_split_faces = false;
   bool verbose = false;  // print the stages' progress (on stdout; warnings always go to stderr)
+  // Non-empty: the paper's memory mode. The pieces' meshes, but for the tets around the cuts, wait
+  // in files in this directory (rank 0's) until the result is assembled, instead of in memory.
+  // A directory that cannot be written is an OptionError.
+  std::string scratch;
 };
 
 struct Report {

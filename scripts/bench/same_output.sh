@@ -4,17 +4,18 @@
 # With -s, the same mesh in another tet order: the same .node and .face rows and the same tets
 # (the .ele rows without their numbers, as a multiset); .neigh and the comments (the set ID
 # names the order) are not compared.
+# With -n N, the new binary runs under `mpirun -np N` (pieces meshed, and split, on other ranks).
 # Prints one line per difference and a count; exit 0 when every output is identical.
-# Usage: same_output.sh OLD_PARTET NEW_PARTET [-d DIR] [-k "2 4 8"] [-q "none 1.414"] [-s]
+# Usage: same_output.sh OLD_PARTET NEW_PARTET [-d DIR] [-k "2 4 8"] [-q "none 1.414"] [-s] [-n N]
 set -uo pipefail
 source "$(dirname "$0")/../common.sh"
 old=$(realpath "$1") new=$(realpath "$2")
 shift 2
-dir=$here/../../shared/meshes ks="2 4 8" qualities="none 1.414" as_sets=0
-while getopts "d:k:q:s" opt; do
+dir=$here/../../shared/meshes ks="2 4 8" qualities="none 1.414" as_sets=0 launch=()
+while getopts "d:k:q:sn:" opt; do
   case $opt in
-    d) dir=$OPTARG ;; k) ks=$OPTARG ;; q) qualities=$OPTARG ;; s) as_sets=1 ;;
-    *) sed -n '2,7p' "$0"; exit 2 ;;
+    d) dir=$OPTARG ;; k) ks=$OPTARG ;; q) qualities=$OPTARG ;; s) as_sets=1 ;; n) launch=(mpirun -np "$OPTARG") ;;
+    *) sed -n '2,8p' "$0"; exit 2 ;;
   esac
 done
 # The .ele rows without their numbers (and comments), sorted.
@@ -38,7 +39,7 @@ for model in "$dir"/*.off; do
       [ "$q" = none ] || args+=(--quality "$q")
       runs=$((runs + 1))
       if ! "$old" mesh "$model" -o "$work/old" "${args[@]}" > /dev/null 2>&1 ||
-         ! "$new" mesh "$model" -o "$work/new" "${args[@]}" > /dev/null 2>&1; then
+         ! "${launch[@]}" "$new" mesh "$model" -o "$work/new" "${args[@]}" > /dev/null 2>&1; then
         echo "FAILED: $name k=$k q=$q"; failed=$((failed + 1)); continue
       fi
       exts="node ele face neigh"

@@ -444,7 +444,7 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->capture_default_str();
   mesh->add_option("--scratch", job.options.scratch,
                    "the paper's memory mode: each piece's mesh, but for the tets around the cuts, waits in a file "
-                   "in DIR (on rank 0's node) from its arrival until the output is assembled, instead of in memory")
+                   "in DIR (on the node of the rank holding it) until the output is assembled, instead of in memory")
       ->type_name("DIR");
   auto* heal = mesh->add_flag(
       "--heal", c.heal, "remove the caps' interior points too, re-meshing around every cut (default with --quality)");

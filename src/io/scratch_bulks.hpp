@@ -29,6 +29,7 @@ class ScratchBulks : public BulkStore {
 
   bool put(int piece, const TetBlock& bulk) override;
   TetBlock take(int piece) override;
+  bool holds(int piece) const { return files_.count(piece) > 0; }
   const ScratchStats& stats() const { return stats_; }
 
  private:

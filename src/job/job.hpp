@@ -42,10 +42,11 @@ struct RankStats {
   double input_check_seconds = 0;  // with several ranks, each rank but 0: receiving and checking its share of the input
   double write_seconds = 0;        // in the check-and-write step (rank 0 checks the mesh first; the others wait)
   double piece_files_written = 0;  // a .pvtu set's piece files this rank wrote
-  double caps = 0, cap_seconds = 0;  // caps this rank triangulated, and the time it took
-  double region_seconds = 0;         // meshing the regions seam healing and the polish re-mesh
+  double caps = 0, cap_seconds = 0;          // caps this rank triangulated, and the time it took
+  double region_seconds = 0;                 // meshing the regions seam healing and the polish re-mesh
+  double bulks_kept = 0, bulks_on_disk = 0;  // a worker: bulks it kept until rank 0 took them, those in --scratch
 };
-constexpr int kRankStatsDoubles = 15;
+constexpr int kRankStatsDoubles = 17;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -118,6 +118,8 @@ std::string report_json(const JobSummary& s) {
                               {"caps", stats.caps},
                               {"cap_seconds", stats.cap_seconds},
                               {"region_seconds", stats.region_seconds},
+                              {"bulks_kept", stats.bulks_kept},
+                              {"bulks_on_disk", stats.bulks_on_disk},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();

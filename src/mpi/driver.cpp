@@ -27,6 +27,7 @@
 #include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
 #include "io/parallel_hdf5.hpp"
+#include "io/scratch_bulks.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/write_surface.hpp"
 #include "job/root_run.hpp"
@@ -604,10 +605,46 @@ void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
       bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
-// The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt.
-struct KeptBulks {
-  std::int32_t attempt = -1;
-  std::map<int, TetBlock> bulks;  // by piece
+// The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
+// --scratch in files in that directory on this rank's node (in memory where it cannot write).
+class KeptBulks {
+ public:
+  KeptBulks(const std::string& scratch, RankStats& stats) : scratch_(scratch), stats_(stats) { new_attempt(-1); }
+  std::int32_t attempt() const { return attempt_; }
+  // Drops the bulks of earlier attempts (and their files).
+  void new_attempt(std::int32_t attempt) {
+    attempt_ = attempt;
+    bulks_.clear();
+    on_disk_.reset();
+    if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
+  }
+  void keep(int piece, TetBlock&& bulk) {
+    stats_.bulks_kept += 1;
+    if (on_disk_ && on_disk_->put(piece, bulk)) {
+      stats_.bulks_on_disk += 1;
+      bulks_.erase(piece);
+      return;
+    }
+    bulks_[piece] = std::move(bulk);
+  }
+  void forget(int piece) { bulks_.erase(piece); }
+  // Piece's bulk, once; nothing when this rank does not keep it.
+  std::optional<TetBlock> take(int piece) {
+    if (auto it = bulks_.find(piece); it != bulks_.end()) {
+      TetBlock bulk = std::move(it->second);
+      bulks_.erase(it);
+      return bulk;
+    }
+    if (on_disk_ && on_disk_->holds(piece)) return on_disk_->take(piece);
+    return std::nullopt;
+  }
+
+ private:
+  std::string scratch_;
+  RankStats& stats_;
+  std::int32_t attempt_ = -1;
+  std::map<int, TetBlock> bulks_;  // by piece, in memory
+  std::unique_ptr<ScratchBulks> on_disk_;
 };
 
 std::string out_of_memory_message(int rank);
@@ -627,7 +664,7 @@ std::string split_here(std::string reply, const PieceSurface& piece, const Split
     PieceBand band = split_where_meshed(std::move(outcome.result), piece.global_ids, order.spec);
     log::debug("piece " + std::to_string(piece.index) + ": " + std::to_string(band.band.tets.size()) +
                " band tets to rank 0, " + std::to_string(band.bulk_tets) + " bulk tets kept here");
-    kept.bulks[piece.index] = std::move(band.bulk);
+    kept.keep(piece.index, std::move(band.bulk));
     outcome.band = std::move(band);
     return serialize_band_outcome(outcome);
   } catch (const std::bad_alloc&) {
@@ -635,7 +672,7 @@ std::string split_here(std::string reply, const PieceSurface& piece, const Split
   } catch (const std::exception& e) {
     outcome.failure = Failure(FailureKind::other, piece.index, {}, e.what());
   }
-  kept.bulks.erase(piece.index);
+  kept.forget(piece.index);
   outcome.band.reset();
   return serialize_outcome(outcome);
 }
@@ -643,10 +680,15 @@ std::string split_here(std::string reply, const PieceSurface& piece, const Split
 // A worker's side of kSendBulk: the owner of the piece sends its bulk and forgets it.
 void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
   const int piece = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
-  const auto it = kept.bulks.find(piece);
-  if (it == kept.bulks.end()) return;  // another rank's
-  std::string bytes = serialize_block(it->second);
-  kept.bulks.erase(it);
+  std::string bytes;
+  try {
+    std::optional<TetBlock> bulk = kept.take(piece);
+    if (!bulk) return;  // another rank's
+    bytes = serialize_block(*bulk);
+  } catch (const std::exception& e) {  // its file was lost: rank 0 gets an empty answer and says so
+    log::error(e.what());
+    bytes.clear();
+  }
   AddSeconds timer{stats.send_seconds};
   stats.bytes_sent +=
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
@@ -655,7 +697,8 @@ void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
 // A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
 // empty message; between rounds, send the bulks it kept when rank 0 asks for them.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
-  KeptBulks kept;
+  if (!job.options.scratch.empty()) remove_stale_scratch(job.options.scratch);  // this node's dead runs'
+  KeptBulks kept(job.options.scratch, stats);
   for (Command command = receive_command(); command != kDone; command = receive_command()) {
     if (command == kSendBulk) {
       send_kept_bulk(kept, stats);
@@ -676,7 +719,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       TetgenOptions tetgen;
       std::optional<SplitOrder> split;
       const PieceSurface piece = deserialize_task(bytes, tetgen, &split);
-      if (split && split->attempt != kept.attempt) kept = KeptBulks{split->attempt, {}};
+      if (split && split->attempt != kept.attempt()) kept.new_attempt(split->attempt);
       const PieceRunner runner(tetgen, job.options.run);
       const bool region = piece.seam_region;
       std::string().swap(bytes);
