@@ -137,7 +137,7 @@ TEST(Serialize, BandsAndBulksRoundTrip) {
     const PieceBand& sent = *outcome.band;
     ASSERT_GT(sent.band.tets.size(), 0u);
     ASSERT_GT(sent.bulk.tets.size(), 0u);
-    const PieceOutcome back = deserialize_outcome(serialize_band_outcome(outcome));
+    const PieceOutcome back = deserialize_outcome(serialize_outcome(outcome));
     ASSERT_TRUE(back.band);
     EXPECT_FALSE(back.failure);
     EXPECT_EQ(back.seconds, 1.5);

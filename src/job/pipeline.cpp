@@ -132,7 +132,7 @@ struct MeshedAttempt {
     }
   }
   std::unique_ptr<ScratchBulks> scratch;  // the bulks' files, in the paper's memory mode
-  void note_scratch(MeshResult& result) const {
+  void note_bulks(MeshResult& result) const {
     if (scratch) result.scratch_bulks = scratch->stats().bulks, result.scratch_bytes = scratch->stats().bytes;
     result.bulks_where_meshed = bulks_where_meshed;
   }
@@ -485,7 +485,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
     return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
   });
   MeshResult result = finish_mesh(input, prepared, attempt.welder, std::move(band), options, here, times);
-  attempt.note_scratch(result);
+  attempt.note_bulks(result);
   return result;
 }
 
@@ -574,7 +574,7 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
             finish_mesh(input, prepared, attempt.welder, std::move(band), attempt_options, scheduler, times);
         result.retries = plan.take_records();
         result.merge_seconds_overlapped = attempt.weld_seconds;
-        attempt.note_scratch(result);
+        attempt.note_bulks(result);
         return result;
       }
       for (std::size_t p = 0; p < attempt.failures.size(); ++p)  // the good results, for the next attempt

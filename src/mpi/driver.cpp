@@ -666,7 +666,7 @@ std::string split_here(std::string reply, const PieceSurface& piece, const Split
                " band tets to rank 0, " + std::to_string(band.bulk_tets) + " bulk tets kept here");
     kept.keep(piece.index, std::move(band.bulk));
     outcome.band = std::move(band);
-    return serialize_band_outcome(outcome);
+    return serialize_outcome(outcome);
   } catch (const std::bad_alloc&) {
     outcome.failure = Failure(FailureKind::other, piece.index, {}, out_of_memory_message(my_rank()));
   } catch (const std::exception& e) {

@@ -312,20 +312,12 @@ Failure deserialize_failure(std::string_view bytes) {
 
 std::string serialize_outcome(const PieceOutcome& outcome) {
   char prefix[1 + 2 * sizeof(double)];
-  prefix[0] = outcome.failure ? kFailureTag : kResultTag;
+  prefix[0] = outcome.failure ? kFailureTag : outcome.band ? kBandTag : kResultTag;
   std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
   std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
   const std::string_view head(prefix, sizeof prefix);
-  return outcome.failure ? encode_failure(*outcome.failure, head) : encode_result(outcome.result, head);
-}
-
-std::string serialize_band_outcome(const PieceOutcome& outcome) {
-  if (!outcome.band) throw InternalError("a piece's outcome has no band to send");
-  char prefix[1 + 2 * sizeof(double)];
-  prefix[0] = kBandTag;
-  std::memcpy(prefix + 1, &outcome.seconds, sizeof(double));
-  std::memcpy(prefix + 1 + sizeof(double), &outcome.memory_mb, sizeof(double));
-  return encode_band(*outcome.band, std::string_view(prefix, sizeof prefix));
+  if (outcome.failure) return encode_failure(*outcome.failure, head);
+  return outcome.band ? encode_band(*outcome.band, head) : encode_result(outcome.result, head);
 }
 
 std::string serialize_block(const TetBlock& block) {

@@ -41,14 +41,13 @@ std::string serialize_cap_outcome(const CapOutcome& outcome);
 bool is_cap_outcome(std::string_view reply);
 CapOutcome deserialize_cap_outcome(std::string_view bytes);
 
-// A meshing run's reply: one tag byte ('R' result, 'F' failure), the seconds and memory it took,
+// A meshing run's reply: one tag byte ('R' result, 'F' failure, 'B' a piece split where it was
+// meshed: its band, without the bulk, which stays), the seconds and memory it took,
 // then the result or failure. (A piece travels as a task, a result or failure as an outcome:
 // there is no other form.)
 std::string serialize_outcome(const PieceOutcome& outcome);
 // Throws InternalError on bytes that are no reply.
 PieceOutcome deserialize_outcome(std::string_view bytes);
-// The same for a piece split where it was meshed: its band without the bulk (which stays).
-std::string serialize_band_outcome(const PieceOutcome& outcome);
 
 // A bulk on its way to rank 0 from the rank that kept it.
 std::string serialize_block(const TetBlock& block);

@@ -66,6 +66,14 @@ void join_rim(TetMesh& mesh, std::int32_t band_base, std::vector<RimFace> rim) {
   if (joined != rim.size()) throw InternalError("a face between a piece's bulk and its band was lost in healing");
 }
 
+// Steiner ids (from `from` on, the split's points below) renumbered to start at `to`.
+void move_steiner_ids(std::vector<Tet>& tets, std::int32_t from, std::int32_t to) {
+  if (from == to) return;
+  for (Tet& t : tets)
+    for (auto& v : t)
+      if (v >= from) v = to + (v - from);
+}
+
 [[noreturn]] void mismatch(int piece, const std::string& what) {
   throw InternalError("the result of piece " + std::to_string(piece) + " " + what);
 }
@@ -100,14 +108,15 @@ void Welder::add(PieceTetMesh&& result) {
       result.surface_point_count != static_cast<std::int32_t>(pieces_[p].global_ids.size()))
     mismatch(p, "does not match its piece");
   if (blocks_[p].in) mismatch(p, "arrived twice");
-  Block& block = blocks_[p];
-  block = in_global_ids(std::move(result), pieces_[p].global_ids, first_steiner_);
-  if (split_on_arrival_) {
-    BandMarks marks(block.tets, block.neighbours, *split_on_arrival_);
-    crossings_[p] = marks.crossings();
-    bulk_cap_faces_[p] = marks.cap_faces_outside();
-    split_piece(static_cast<std::size_t>(p), marks.take_depth());
+  TetBlock whole = in_global_ids(std::move(result), pieces_[p].global_ids, first_steiner_);
+  if (!split_on_arrival_) {
+    blocks_[p] = std::move(whole);
+    return;
   }
+  PieceBand split = split_alone(std::move(whole), *split_on_arrival_);  // its split_point_count is first_steiner_
+  bulks_[p] = std::move(split.bulk);
+  install_band(static_cast<std::size_t>(p), std::move(split));
+  store_bulk(static_cast<std::size_t>(p));
 }
 
 // The pieces split on arrival take their neighbours' crossings: a piece whose bulk has an open cap
@@ -224,16 +233,17 @@ void Welder::add_split(PieceBand&& split, BulkStore& owner) {
     mismatch(p, "does not match its piece");
   if (blocks_[p].in) mismatch(p, "arrived twice");
   if (split.first_steiner < first_steiner_) mismatch(p, "numbers its Steiner points among the split's points");
-  // The band's Steiner points from where they were numbered to this welder's numbering.
-  for (Tet& t : split.band.tets)
-    for (auto& v : t)
-      if (v >= split.first_steiner) v = first_steiner_ + (v - split.first_steiner);
-  blocks_[p] = std::move(split.band);
-  blocks_[p].in = true;
+  move_steiner_ids(split.band.tets, split.first_steiner, first_steiner_);
   bulks_[p] = Block();
   bulks_[p].in = true;
   stored_[p] = {true, static_cast<std::size_t>(split.bulk_tets), static_cast<std::size_t>(split.bulk_steiner_points),
                 &owner, split.first_steiner};
+  install_band(static_cast<std::size_t>(p), std::move(split));
+}
+
+void Welder::install_band(std::size_t p, PieceBand&& split) {
+  blocks_[p] = std::move(split.band);
+  blocks_[p].in = true;
   band_steiner_[p] = std::move(split.band_steiner);
   band_tets_[p] = std::move(split.band_tets);
   crossings_[p] = std::move(split.crossings);
@@ -254,10 +264,7 @@ Welder::Block& Welder::bulk_here(std::size_t p) {
     Block bulk = stored.store->take(static_cast<int>(p));
     if (bulk.tets.size() != stored.tets || bulk.steiner_points.size() != stored.steiner_points)
       throw InternalError("the bulk of piece " + std::to_string(p) + " came back changed from where it was kept");
-    if (stored.first_steiner != first_steiner_)
-      for (Tet& t : bulk.tets)
-        for (auto& v : t)
-          if (v >= stored.first_steiner) v = first_steiner_ + (v - stored.first_steiner);
+    move_steiner_ids(bulk.tets, stored.first_steiner, first_steiner_);
     bulk.in = true;
     bulks_[p] = std::move(bulk);
     stored_[p] = StoredBulk();

@@ -11,8 +11,8 @@
 namespace partet {
 
 // Where a welder keeps the pieces' bulks between their split and the assembly when not in its
-// own memory: the paper's memory mode (scratch files, io/scratch_bulks.hpp), and, later, the
-// ranks that meshed them. Healing never touches a bulk, so it can wait outside the process.
+// own memory: the paper's memory mode (scratch files, io/scratch_bulks.hpp), and the ranks that
+// meshed them (the MPI driver). Healing never touches a bulk, so it can wait outside the process.
 class BulkStore {
  public:
   virtual ~BulkStore() = default;
@@ -82,6 +82,8 @@ class Welder {
   void rejoin(std::size_t p);
   // After pieces were split on arrival: each band grows by the tets its neighbours' crossings reach.
   void take_crossings();
+  // A split piece's band, its Steiner maps, crossings and bulk's open cap faces into place.
+  void install_band(std::size_t p, PieceBand&& split);
   // Whether every piece is split into band and bulk.
   bool all_split() const;
   // Piece p's bulk to the store, if there is one; and back.

@@ -156,12 +156,16 @@ PieceBand split_where_meshed(PieceTetMesh&& result, const std::vector<std::int32
   if (result.surface_point_count != static_cast<std::int32_t>(global_ids.size()))
     throw InternalError("the result of piece " + std::to_string(result.index) + " does not match its piece");
   const int index = result.index;
-  TetBlock whole = in_global_ids(std::move(result), global_ids, spec.split_point_count);
+  PieceBand split = split_alone(in_global_ids(std::move(result), global_ids, spec.split_point_count), spec);
+  split.index = index;
+  return split;
+}
+
+PieceBand split_alone(TetBlock&& whole, const BandSpec& spec) {
   BandMarks marks(whole.tets, whole.neighbours, spec);
   std::vector<CapCrossing> crossings = marks.crossings();
   std::vector<FaceKey> outside = marks.cap_faces_outside();
   PieceBand split = split_by_depth(std::move(whole), marks.take_depth(), spec.split_point_count);
-  split.index = index;
   split.crossings = std::move(crossings);
   split.cap_faces_outside = std::move(outside);
   return split;

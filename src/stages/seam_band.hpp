@@ -91,6 +91,11 @@ TetBlock in_global_ids(PieceTetMesh&& result, const std::vector<std::int32_t>& g
 // neighbours renumbered on their side (-1 across), the bulk's faces towards the band in its rim.
 PieceBand split_by_depth(TetBlock&& whole, const std::vector<std::int8_t>& depth, std::int32_t first_steiner);
 
+// A piece's block split by the band it decides alone (one layer, as it arrives): its band marks,
+// crossings and bulk's open cap faces, then split_by_depth; spec.split_point_count is the id its
+// Steiner points start from.
+PieceBand split_alone(TetBlock&& whole, const BandSpec& spec);
+
 // The split where the piece was meshed, one layer (spec.layers == 1): spec.split_point_count is
 // the id its Steiner points start from, which may be any id above every split point's (where the
 // closure is still adding cap points, the final one is not known yet).
