@@ -58,6 +58,14 @@ start_big() {
   return 1
 }
 
+# Waits (30 s at most) until no process of the big run is left.
+gone_big() {
+  for _ in $(seq 300); do
+    pgrep -f "mesh $work/big.off" > /dev/null || return 0
+    sleep 0.1
+  done
+}
+
 give_up() {
   local state="the run had ended"
   kill -0 "$pid" 2> /dev/null && state="still running after 300 s"
@@ -72,6 +80,7 @@ if start_big; then
   kill -TERM "$pid"
   wait "$pid"
   code=$?
+  gone_big  # under mpirun the ranks may still be removing their files when the launcher has ended
   left=$(ls -A scratch)
   if { [ $code = 143 ] || { [ ${#launch[@]} -gt 0 ] && [ $code != 0 ]; }; } && [ -z "$left" ] && [ ! -e d.node ]; then
     ok "SIGTERM with bulks on disk: exit $code, nothing left"
@@ -83,10 +92,7 @@ if start_big; then
   # (The pattern names this test's directory: another test may run the same command meanwhile.)
   pkill -KILL -f "mesh $work/big.off" 2> /dev/null
   wait "$pid" 2> /dev/null
-  for _ in $(seq 300); do  # until every process of the killed run is gone
-    pgrep -f "mesh $work/big.off" > /dev/null || break
-    sleep 0.1
-  done
+  gone_big
   killed=$(ls -A scratch | wc -l)
   run mesh torus.off -k 3 -o e --scratch scratch --quiet || bad "the run after a SIGKILL failed"
   left=$(ls -A scratch)
