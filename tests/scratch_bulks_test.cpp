@@ -1,10 +1,12 @@
-// Scratch bulks (the paper's memory mode): a bulk comes back from its file as it was put, the files
-// go once taken or when the store ends, a lost or changed file is an error naming it, a directory
-// that cannot be written keeps the bulks in memory; and a welder whose bulks waited on disk gives
-// the mesh, and the pieces taken back, that it gives keeping them in memory.
+// Scratch bulks (the paper's memory mode): a bulk comes back from the store's file as it was put;
+// that file has no name in the directory and gives a bulk's space back once taken; a bulk that
+// cannot be read back is an error naming it; a dead run's files are removed; a directory that
+// cannot be written keeps the bulks in memory; and a welder whose bulks waited on disk gives the
+// mesh, and the pieces taken back, that it gives keeping them in memory.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "io/file_owner.hpp"
 #include "io/scratch_bulks.hpp"
 #include "job/pipeline.hpp"
 #include "partet/errors.hpp"
@@ -28,6 +31,24 @@ namespace fs = std::filesystem;
 
 std::size_t files_in(const std::string& directory) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(directory), fs::directory_iterator()));
+}
+
+// This process's open files in directory (a nameless file shows as "DIR/#inode (deleted)").
+std::vector<int> descriptors_into(const std::string& directory) {
+  std::vector<int> found;
+  for (const auto& entry : fs::directory_iterator("/proc/self/fd")) {
+    std::error_code error;
+    const std::string target = fs::read_symlink(entry.path(), error).string();
+    if (!error && target.rfind(fs::canonical(directory).string() + "/", 0) == 0)
+      found.push_back(std::stoi(entry.path().filename().string()));
+  }
+  return found;
+}
+
+// Disk blocks the open file fd holds.
+long long blocks_of(int fd) {
+  struct stat info {};
+  return ::fstat(fd, &info) == 0 ? static_cast<long long>(info.st_blocks) : -1;
 }
 
 TetBlock some_block(int seed) {
@@ -49,52 +70,90 @@ void expect_same_block(const TetBlock& a, const TetBlock& b) {
   EXPECT_EQ(a.rim, b.rim);
 }
 
-TEST(ScratchBulks, ABulkComesBackAsItWasPutAndItsFileGoes) {
+TEST(ScratchBulks, ABulkComesBackAsItWasPut) {
   const std::string dir = temp_dir("scratch_round_trip");
   ScratchBulks store(dir);
   ASSERT_TRUE(store.put(0, some_block(0)));
   ASSERT_TRUE(store.put(7, some_block(3)));
   ASSERT_TRUE(store.put(7, some_block(4)));  // put again (a piece split again): the new one counts
-  EXPECT_EQ(files_in(dir), 2u);
   expect_same_block(store.take(7), some_block(4));
-  EXPECT_EQ(files_in(dir), 1u);
   expect_same_block(store.take(0), some_block(0));
-  EXPECT_EQ(files_in(dir), 0u);
   EXPECT_EQ(store.stats().bulks, 2);
+  EXPECT_FALSE(store.holds(0));
   EXPECT_THROW(store.take(0), Error);  // taken once
 }
 
-TEST(ScratchBulks, TheFilesGoWhenTheStoreEnds) {
-  const std::string dir = temp_dir("scratch_end");
+// The bulks wait in a file without a name in the directory (nothing a kill could leave there),
+// which the store holds open; a bulk taken back, or dropped, gives its disk space back; the file
+// goes with the store.
+TEST(ScratchBulks, TheBulksWaitInOneFileWithoutANameThatGoesWithTheStore) {
+  const std::string dir = temp_dir("scratch_nameless");
   {
     ScratchBulks store(dir);
-    ASSERT_TRUE(store.put(1, some_block(1)));
-    ASSERT_TRUE(store.put(2, some_block(2)));
-    EXPECT_EQ(files_in(dir), 2u);
+    TetBlock large = some_block(1);
+    large.tets.resize(200000, Tet{1, 2, 3, 4});
+    large.neighbours.resize(200000, Tet{-1, -1, -1, -1});
+    ASSERT_TRUE(store.put(1, large));
+    ASSERT_TRUE(store.put(2, large));
+    ASSERT_TRUE(store.put(3, some_block(3)));
+    EXPECT_EQ(files_in(dir), 0u);
+    const std::vector<int> open = descriptors_into(dir);
+    ASSERT_EQ(open.size(), 1u);
+    const long long both = blocks_of(open[0]);
+    EXPECT_GE(both * 512, 2 * 200000 * 2 * static_cast<long long>(sizeof(Tet)));
+    expect_same_block(store.take(1), large);
+    store.drop(2);
+    EXPECT_FALSE(store.holds(2));
+    EXPECT_LT(blocks_of(open[0]) * 4, both);  // (a hole punched, or the file cut)
+    expect_same_block(store.take(3), some_block(3));
+    EXPECT_EQ(blocks_of(open[0]), 0);
   }
+  EXPECT_TRUE(descriptors_into(dir).empty());
   EXPECT_EQ(files_in(dir), 0u);
 }
 
-TEST(ScratchBulks, ALostOrChangedFileIsAnErrorNamingIt) {
+// The file cut short under the store (a failing disk, something writing through /proc): taking a
+// bulk back is an error naming the piece and the directory.
+TEST(ScratchBulks, ABulkThatCannotBeReadBackIsAnErrorNamingIt) {
   const std::string dir = temp_dir("scratch_lost");
   ScratchBulks store(dir);
   ASSERT_TRUE(store.put(0, some_block(0)));
   ASSERT_TRUE(store.put(1, some_block(1)));
-  std::vector<std::string> paths;
-  for (const auto& entry : fs::directory_iterator(dir)) paths.push_back(entry.path().string());
-  ASSERT_EQ(paths.size(), 2u);
-  fs::remove(paths[0]);
-  fs::resize_file(paths[1], fs::file_size(paths[1]) - 8);
-  for (int piece : {0, 1}) {
-    try {
-      store.take(piece);
-      ADD_FAILURE() << "piece " << piece << ": no error";
-    } catch (const Error& e) {
-      EXPECT_TRUE(contains(e.what(), "scratch file '" + dir));
-      EXPECT_TRUE(contains(e.what(), "piece " + std::to_string(piece)));
-    }
+  const std::vector<int> open = descriptors_into(dir);
+  ASSERT_EQ(open.size(), 1u);
+  struct stat info {};
+  ASSERT_EQ(::fstat(open[0], &info), 0);
+  ASSERT_EQ(::ftruncate(open[0], info.st_size - 8), 0);
+  expect_same_block(store.take(0), some_block(0));
+  try {
+    store.take(1);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "scratch file in '" + dir + "'")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "piece 1")) << e.what();
   }
-  EXPECT_EQ(files_in(dir), 0u);
+}
+
+// The scratch files a killed run left (on a filesystem without nameless files, or an earlier
+// partet's) go when their process is gone; a running process's, and another host's, stay.
+TEST(ScratchBulks, ADeadRunsFilesAreRemoved) {
+  const std::string dir = temp_dir("scratch_stale");
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const std::string other_host = host_tag() == "00000000" ? "00000001" : "00000000";
+  const std::string dead = dir + "/partet-bulk-store.tmp-" + std::to_string(child) + "-" + host_tag() + "-0000abcd";
+  const std::string living =
+      dir + "/partet-bulk-store.tmp-" + std::to_string(::getpid()) + "-" + host_tag() + "-0000abcd";
+  const std::string elsewhere = dir + "/partet-bulk-3-0.tmp-" + std::to_string(child) + "-" + other_host + "-0000abcd";
+  const std::string not_ours = dir + "/notes.tmp-" + std::to_string(child) + "-" + host_tag() + "-0000abcd";
+  for (const std::string& path : {dead, living, elsewhere, not_ours}) std::ofstream(path) << "x";
+  remove_stale_scratch(dir);
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(living));
+  EXPECT_TRUE(fs::exists(elsewhere));
+  EXPECT_TRUE(fs::exists(not_ours));
 }
 
 TEST(ScratchBulks, ADirectoryThatCannotBeWrittenKeepsTheBulksInMemory) {
@@ -125,10 +184,11 @@ TEST(ScratchBulks, AWelderWhoseBulksWaitedOnDiskGivesTheSameMesh) {
       for (const auto& result : s.results) in_memory.add(PieceTetMesh(result)), on_disk.add(PieceTetMesh(result));
       TetMesh a = in_memory.finish_band(split.points, spec), b = on_disk.finish_band(split.points, spec);
       EXPECT_EQ(store.stats().bulks, k);
-      EXPECT_EQ(files_in(dir), static_cast<std::size_t>(k));
+      for (int piece = 0; piece < k; ++piece) EXPECT_TRUE(store.holds(piece));
       expect_same_tet_mesh(b, a);
       EXPECT_EQ(on_disk.bulk_tet_count(), in_memory.bulk_tet_count());
       expect_same_tet_mesh(on_disk.assemble(std::move(b)), in_memory.assemble(std::move(a)));
+      for (int piece = 0; piece < k; ++piece) EXPECT_FALSE(store.holds(piece));
       EXPECT_EQ(files_in(dir), 0u);
     }
 }
@@ -146,9 +206,9 @@ TEST(ScratchBulks, APieceWhoseBulkWaitedOnDiskComesBackAsItWasAdded) {
                                    split.input_vertex_count + static_cast<std::int32_t>(split.cut_vertex_count()), 1});
   welder.keep_bulks_in(store);
   for (const auto& result : s.results) welder.add(PieceTetMesh(result));
-  EXPECT_EQ(files_in(dir), s.results.size());
+  for (std::size_t piece = 0; piece < s.results.size(); ++piece) EXPECT_TRUE(store.holds(static_cast<int>(piece)));
   expect_pieces_come_back(welder, s.results);
-  EXPECT_EQ(files_in(dir), 0u);
+  for (std::size_t piece = 0; piece < s.results.size(); ++piece) EXPECT_FALSE(store.holds(static_cast<int>(piece)));
 }
 
 // The pipeline's weld and heal with --scratch: the same result, with and without a quality bound
@@ -167,6 +227,7 @@ TEST(ScratchBulks, ThePipelineWithScratchGivesTheSameResult) {
     EXPECT_GT(b.scratch_bytes, 0);
     EXPECT_EQ(a.scratch_bulks, 0);
     EXPECT_EQ(files_in(with_scratch.scratch), 0u);
+    EXPECT_TRUE(descriptors_into(with_scratch.scratch).empty());
   }
 }
 

@@ -117,4 +117,13 @@ double publish_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_PU
 
 void buffer_handed() { sleep_ms("PARTET_TEST_WRITE_DELAY_MS"); }
 
+void interrupt_cleanup() {
+  // (The signal thread knows no MPI rank: the launcher's variable tells it.)
+  const char* spec = value("PARTET_TEST_INTERRUPT_DELAY");
+  const char* rank = value("OMPI_COMM_WORLD_RANK");
+  int on_rank = -1, ms = 0;
+  if (spec && std::sscanf(spec, "%d:%d", &on_rank, &ms) == 2 && on_rank == (rank ? std::atoi(rank) : 0))
+    std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+}
+
 }  // namespace partet::test_hooks

@@ -70,4 +70,8 @@ double publish_wait_seconds(double fallback);
 // a run in the middle of a file written around the page cache.
 void buffer_handed();
 
+// PARTET_TEST_INTERRUPT_DELAY=RANK:MS: an interrupt's cleanup on that rank (0 alone) starts MS
+// later, as on a loaded machine, where a launcher's SIGKILL comes first.
+void interrupt_cleanup();
+
 }  // namespace partet::test_hooks

@@ -17,6 +17,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -362,6 +363,7 @@ void OutputSet::publish() {
     }
   std::unique_ptr<JournalLock> lock;
   Journal journal;
+  std::optional<interrupts::KeptIfKilled> kept_if_killed;  // from the journal on: it needs the files
   try {
     lock = std::make_unique<JournalLock>(impl_->journal, test_hooks::publish_wait_seconds(lock_wait_seconds));
     if (!lock->recovered().empty()) log::warning(lock->recovered());
@@ -373,6 +375,7 @@ void OutputSet::publish() {
     for (const Impl::Family& family : impl_->families)
       for (const std::string& f : superseded_files(family.directory, family.belongs, finals))
         journal.superseded.push_back(f);
+    kept_if_killed.emplace();
     write_journal(lock->fd(), journal, lock->path());
   } catch (...) {
     discard();

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -20,7 +21,7 @@ namespace {
 constexpr char kFilePrefix[] = "partet-bulk-";
 constexpr char kMagic[8] = {'p', 'a', 'r', 't', 'b', 'u', 'l', 'k'};
 
-// The file's header: the magic, then the length of each array.
+// Each bulk's header: the magic, then the length of each array.
 struct Header {
   char magic[8];
   std::uint64_t steiner_points, tets, neighbours, rim;
@@ -31,119 +32,151 @@ std::size_t bytes_of(const std::vector<T>& v) {
   return v.size() * sizeof(T);
 }
 
-// Writes every byte (false with errno set when it cannot).
-bool write_all(int fd, const void* data, std::size_t size) {
+// Writes every byte at offset, which it moves on (false with errno set when it cannot).
+bool write_at(int fd, const void* data, std::size_t size, std::uint64_t& offset) {
   const char* at = static_cast<const char*>(data);
   while (size > 0) {
-    const ssize_t n = ::write(fd, at, std::min<std::size_t>(size, std::size_t{1} << 30));
+    const ssize_t n = ::pwrite(fd, at, std::min<std::size_t>(size, std::size_t{1} << 30), static_cast<off_t>(offset));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       if (n == 0) errno = ENOSPC;
       return false;
     }
-    at += n, size -= static_cast<std::size_t>(n);
+    at += n, size -= static_cast<std::size_t>(n), offset += static_cast<std::uint64_t>(n);
   }
   return true;
 }
 
-bool read_all(int fd, void* data, std::size_t size) {
+bool read_at(int fd, void* data, std::size_t size, std::uint64_t& offset) {
   char* at = static_cast<char*>(data);
   while (size > 0) {
-    const ssize_t n = ::read(fd, at, std::min<std::size_t>(size, std::size_t{1} << 30));
+    const ssize_t n = ::pread(fd, at, std::min<std::size_t>(size, std::size_t{1} << 30), static_cast<off_t>(offset));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       if (n == 0) errno = 0;  // shorter than its header says
       return false;
     }
-    at += n, size -= static_cast<std::size_t>(n);
+    at += n, size -= static_cast<std::size_t>(n), offset += static_cast<std::uint64_t>(n);
   }
   return true;
 }
 
 template <class T>
-bool read_array(int fd, std::vector<T>& v, std::uint64_t count) {
+bool read_array(int fd, std::vector<T>& v, std::uint64_t count, std::uint64_t& offset) {
   v.resize(count);
-  return read_all(fd, v.data(), bytes_of(v));
+  return read_at(fd, v.data(), bytes_of(v), offset);
 }
 
 std::string reason(int error) { return error == 0 ? "it is shorter than it should be" : std::strerror(error); }
 
+// A file in directory with a name for the shortest time (-1 with errno set when none can be made).
+int nameless_file(const std::string& directory) {
+  const int fd = ::open(directory.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  if (fd >= 0 || (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)) return fd;
+  // No nameless files here (NFS, older filesystems): a name only until it is unlinked, remembered
+  // meanwhile so that an interrupt removes it, and left by a kill only for the next run to remove.
+  const std::string path = directory + "/" + kFilePrefix + "store" + temporary_suffix();
+  int named = -1;
+  if (!interrupts::create_remembered(path, [&] {
+        named = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+        return named >= 0;
+      }))
+    return -1;
+  ::unlink(path.c_str());
+  interrupts::forget(path);
+  return named;
+}
+
 }  // namespace
 
-ScratchBulks::ScratchBulks(std::string directory) : directory_(std::move(directory)), suffix_(temporary_suffix()) {
+ScratchBulks::ScratchBulks(std::string directory) : directory_(std::move(directory)) {
   if (directory_.empty()) directory_ = ".";
 }
 
 ScratchBulks::~ScratchBulks() {
-  for (const auto& [piece, path] : files_) remove(path);
+  if (fd_ >= 0) ::close(fd_);
 }
 
-void ScratchBulks::remove(const std::string& path) {
-  ::unlink(path.c_str());
-  interrupts::forget(path);
+void ScratchBulks::fail(const std::string& why) {
+  failed_ = true;
+  log::warning("cannot write the pieces' meshes to a scratch file in '" + directory_ + "' (" + why +
+               "); they stay in memory for the rest of the run");
+}
+
+bool ScratchBulks::open_file() {
+  if (fd_ >= 0) return true;
+  fd_ = nameless_file(directory_);
+  if (fd_ < 0) fail(std::strerror(errno));
+  return fd_ >= 0;
+}
+
+// Gives a bulk's disk space back: a hole where the filesystem punches them, the whole file once
+// nothing waits in it.
+void ScratchBulks::release(const Slot& slot) {
+  if (slots_.empty()) {
+    if (::ftruncate(fd_, 0) == 0) end_ = 0;
+    return;
+  }
+  (void)::fallocate(fd_, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(slot.offset),
+                    static_cast<off_t>(slot.size));
 }
 
 bool ScratchBulks::put(int piece, const TetBlock& bulk) {
-  if (failed_) return false;
-  if (auto old = files_.find(piece); old != files_.end()) remove(old->second), files_.erase(old);
-  const std::string path =
-      directory_ + "/" + kFilePrefix + std::to_string(piece) + "-" + std::to_string(written_++) + suffix_;
-  int fd = -1;
-  const bool made = interrupts::create_remembered(path, [&] {
-    fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    return fd >= 0;
-  });
+  if (failed_ || !open_file()) return false;
+  drop(piece);
   Header header{{}, bulk.steiner_points.size(), bulk.tets.size(), bulk.neighbours.size(), bulk.rim.size()};
   std::memcpy(header.magic, kMagic, sizeof kMagic);
-  bool ok = made && write_all(fd, &header, sizeof header) &&
-            write_all(fd, bulk.steiner_points.data(), bytes_of(bulk.steiner_points)) &&
-            write_all(fd, bulk.tets.data(), bytes_of(bulk.tets)) &&
-            write_all(fd, bulk.neighbours.data(), bytes_of(bulk.neighbours)) &&
-            write_all(fd, bulk.rim.data(), bytes_of(bulk.rim));
-  const int error = errno;
-  if (fd >= 0 && ::close(fd) != 0 && ok) ok = false;
+  std::uint64_t offset = end_;
+  const bool ok = write_at(fd_, &header, sizeof header, offset) &&
+                  write_at(fd_, bulk.steiner_points.data(), bytes_of(bulk.steiner_points), offset) &&
+                  write_at(fd_, bulk.tets.data(), bytes_of(bulk.tets), offset) &&
+                  write_at(fd_, bulk.neighbours.data(), bytes_of(bulk.neighbours), offset) &&
+                  write_at(fd_, bulk.rim.data(), bytes_of(bulk.rim), offset);
   if (!ok) {
-    if (made) remove(path);
-    failed_ = true;
-    log::warning("cannot write the scratch file '" + path + "' (" + std::strerror(error) +
-                 "); the pieces' meshes stay in memory for the rest of the run");
+    const int error = errno;
+    (void)!::ftruncate(fd_, static_cast<off_t>(end_));  // the part written goes back
+    fail(std::strerror(error));
     return false;
   }
-  files_[piece] = path;
+  slots_[piece] = {end_, offset - end_};
+  end_ = offset;
   pieces_.insert(piece);
   stats_.bulks = static_cast<std::int64_t>(pieces_.size());
-  stats_.bytes += static_cast<std::int64_t>(sizeof header + bytes_of(bulk.steiner_points) + bytes_of(bulk.tets) +
-                                            bytes_of(bulk.neighbours) + bytes_of(bulk.rim));
+  stats_.bytes += static_cast<std::int64_t>(slots_[piece].size);
   return true;
 }
 
+void ScratchBulks::drop(int piece) {
+  const auto it = slots_.find(piece);
+  if (it == slots_.end()) return;
+  const Slot slot = it->second;
+  slots_.erase(it);
+  release(slot);
+}
+
 TetBlock ScratchBulks::take(int piece) {
-  const auto it = files_.find(piece);
-  if (it == files_.end()) throw InternalError("piece " + std::to_string(piece) + " has no bulk in the scratch files");
-  const std::string path = it->second;
-  files_.erase(it);
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const auto it = slots_.find(piece);
+  if (it == slots_.end()) throw InternalError("piece " + std::to_string(piece) + " has no bulk in the scratch file");
+  const Slot slot = it->second;
   TetBlock bulk;
   const std::string trouble = [&]() -> std::string {
+    std::uint64_t offset = slot.offset;
     Header header{};
-    if (fd < 0 || !read_all(fd, &header, sizeof header)) return reason(errno);
-    struct stat info {};
+    if (!read_at(fd_, &header, sizeof header, offset)) return reason(errno);
     const std::uint64_t size = sizeof header + header.steiner_points * sizeof(Point3) +
                                (header.tets + header.neighbours) * sizeof(Tet) + header.rim * sizeof(std::uint64_t);
-    if (std::memcmp(header.magic, kMagic, sizeof kMagic) != 0 || header.neighbours != header.tets ||
-        ::fstat(fd, &info) != 0 || static_cast<std::uint64_t>(info.st_size) != size)
-      return "it is not the file partet wrote";
-    if (!read_array(fd, bulk.steiner_points, header.steiner_points) || !read_array(fd, bulk.tets, header.tets) ||
-        !read_array(fd, bulk.neighbours, header.neighbours) || !read_array(fd, bulk.rim, header.rim))
+    if (std::memcmp(header.magic, kMagic, sizeof kMagic) != 0 || header.neighbours != header.tets || size != slot.size)
+      return "it does not hold what partet wrote";
+    if (!read_array(fd_, bulk.steiner_points, header.steiner_points, offset) ||
+        !read_array(fd_, bulk.tets, header.tets, offset) ||
+        !read_array(fd_, bulk.neighbours, header.neighbours, offset) || !read_array(fd_, bulk.rim, header.rim, offset))
       return reason(errno);
     return "";
   }();
-  if (fd >= 0) ::close(fd);
-  remove(path);
+  drop(piece);
   if (!trouble.empty())
-    throw Error("the scratch file '" + path + "' holding piece " + std::to_string(piece) +
-                "'s mesh was lost or changed during the run (" + trouble +
-                "); give --scratch a directory nothing else cleans or writes to");
+    throw Error("cannot read piece " + std::to_string(piece) + "'s mesh back from the scratch file in '" + directory_ +
+                "' (" + trouble + "); the disk under --scratch may be failing: give another directory");
   bulk.in = true;
   return bulk;
 }

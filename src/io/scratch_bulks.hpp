@@ -17,9 +17,13 @@ struct ScratchStats {
   std::int64_t bytes = 0;  // bytes written (a piece split again is written again)
 };
 
-// One file per bulk in a directory, named as this run's temporaries are (file_owner.hpp) and
-// removed when taken, when the store ends, and by an interrupt. A bulk that cannot be written (a
-// full disk) stays in memory, with one warning: the run goes on as without the store.
+// The bulks wait in one file in the directory that has no name there: made nameless (O_TMPFILE),
+// or, on a filesystem without that, named as this run's temporaries (file_owner.hpp) and unlinked
+// at once. The system frees it however the process ends, killed outright included: Open MPI's
+// mpirun sends its ranks SIGKILL milliseconds after SIGTERM, too soon for a rank to clean up. A
+// bulk taken back gives its disk space back (a hole punched where the filesystem can). A bulk
+// that cannot be written (a full disk) stays in memory, with one warning: the run goes on as
+// without the store.
 class ScratchBulks : public BulkStore {
  public:
   explicit ScratchBulks(std::string directory);
@@ -29,24 +33,31 @@ class ScratchBulks : public BulkStore {
 
   bool put(int piece, const TetBlock& bulk) override;
   TetBlock take(int piece) override;
-  bool holds(int piece) const { return files_.count(piece) > 0; }
+  // Forgets piece's bulk (its disk space given back); nothing when it has none here.
+  void drop(int piece);
+  bool holds(int piece) const { return slots_.count(piece) > 0; }
   const ScratchStats& stats() const { return stats_; }
 
  private:
-  void remove(const std::string& path);
+  struct Slot {
+    std::uint64_t offset = 0, size = 0;
+  };
+  bool open_file();
+  void release(const Slot& slot);
+  void fail(const std::string& reason);
   std::string directory_;
-  std::string suffix_;                // this run's temporary suffix
-  std::map<int, std::string> files_;  // by piece: the bulks waiting
-  std::set<int> pieces_;              // every piece put
-  std::int64_t written_ = 0;          // files made, for unique names across attempts
-  bool failed_ = false;               // a write failed: no more tries
+  int fd_ = -1;
+  std::uint64_t end_ = 0;      // where the next bulk goes
+  std::map<int, Slot> slots_;  // by piece: the bulks waiting
+  std::set<int> pieces_;       // every piece put
+  bool failed_ = false;        // the file could not be made or written: no more tries
   ScratchStats stats_;
 };
-
 // Refuses (OptionError) a scratch directory this process cannot write in.
 void check_scratch_directory(const std::string& directory);
-// Removes the scratch files runs of this host left there when they were killed (their process is
-// gone); never another host's, whose runs this one cannot see.
+// Removes the scratch files runs of this host left there (a run killed between naming its file and
+// unlinking it, on a filesystem without nameless files; or an earlier partet's files) once their
+// process is gone; never another host's, whose runs this one cannot see.
 void remove_stale_scratch(const std::string& directory);
 
 }  // namespace partet

@@ -627,7 +627,10 @@ class KeptBulks {
     }
     bulks_[piece] = std::move(bulk);
   }
-  void forget(int piece) { bulks_.erase(piece); }
+  void forget(int piece) {
+    bulks_.erase(piece);
+    if (on_disk_) on_disk_->drop(piece);
+  }
   // Piece's bulk, once; nothing when this rank does not keep it.
   std::optional<TetBlock> take(int piece) {
     if (auto it = bulks_.find(piece); it != bulks_.end()) {

@@ -11,6 +11,9 @@
 #include <set>
 #include <thread>
 
+#include "common/test_hooks.hpp"
+#include "runner/reaper.hpp"
+
 namespace partet::interrupts {
 namespace {
 
@@ -39,6 +42,7 @@ sigset_t taken_set() {
 }
 
 [[noreturn]] void end_run(int signal_number) {
+  test_hooks::interrupt_cleanup();
   State& s = state();
   if (s.deferring > 0 && !s.while_deferred.empty()) {
     std::string text = "partet: " + signal_name(signal_number) + " " + s.while_deferred + "\n";
@@ -68,6 +72,7 @@ void wait_for_signals() {
 void install() {
   State& s = state();
   if (s.installed) return;
+  reaper::start();  // (before the interrupt thread: its fork must copy a single thread)
   ::signal(SIGPIPE, SIG_IGN);
   const sigset_t set = taken_set();
   ::pthread_sigmask(SIG_BLOCK, &set, nullptr);
@@ -83,6 +88,7 @@ void reset_in_child() {
   sigset_t none;
   sigemptyset(&none);
   ::pthread_sigmask(SIG_SETMASK, &none, nullptr);
+  reaper::close_in_child();
 }
 
 bool create_remembered(const std::string& path, const std::function<bool()>& create) {
@@ -90,6 +96,7 @@ bool create_remembered(const std::string& path, const std::function<bool()>& cre
   std::lock_guard<std::recursive_mutex> lock(s.mutex);  // end_run holds it from its first unlink to the exit
   if (!create()) return false;
   s.files.insert(path);
+  reaper::remember(path);
   return true;
 }
 
@@ -97,7 +104,11 @@ void forget(const std::string& path) {
   State& s = state();
   std::lock_guard<std::recursive_mutex> lock(s.mutex);
   s.files.erase(path);
+  reaper::forget(path);
 }
+
+KeptIfKilled::KeptIfKilled() { reaper::hold(true); }
+KeptIfKilled::~KeptIfKilled() { reaper::hold(false); }
 
 void set_messages(const std::string& before, const std::string& after) {
   State& s = state();

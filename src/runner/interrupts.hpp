@@ -13,7 +13,7 @@ namespace partet::interrupts {
 // the last two as warnings before a kill, whose default action ends the process). SIGPIPE is
 // ignored, so a closed pipe fails a write instead of killing the run.
 // Call at the start of main, before MPI_Init and before any other thread exists: threads started
-// later inherit the blocked signals, so only the interrupt thread sees them.
+// later inherit the blocked signals, so only the interrupt thread sees them. Starts the reaper.
 void install();
 // Whether install() ran in this process.
 bool installed();
@@ -22,7 +22,8 @@ bool installed();
 // interrupt thread; it dies with its parent).
 void reset_in_child();
 
-// Files to remove when interrupted (this process's temporaries): forget takes one off the list.
+// Files to remove when interrupted (this process's temporaries), and, through the reaper
+// (reaper.hpp), when the process is killed outright: forget takes one off the list.
 void forget(const std::string& path);
 // Calls create() (which makes the file at path; false when it cannot) and remembers the file, as
 // one step an interrupt cannot fall between: a file made while an interrupt removes the others
@@ -44,6 +45,16 @@ class Deferred {
   ~Deferred();
   Deferred(const Deferred&) = delete;
   Deferred& operator=(const Deferred&) = delete;
+};
+
+// While one exists, this process's files stay in place should it be killed outright (the reaper,
+// reaper.hpp, leaves them): a publish is under way, and its journal lets the next run complete it.
+class KeptIfKilled {
+ public:
+  KeptIfKilled();
+  ~KeptIfKilled();
+  KeptIfKilled(const KeptIfKilled&) = delete;
+  KeptIfKilled& operator=(const KeptIfKilled&) = delete;
 };
 
 // "SIGTERM" for 15, and so on.

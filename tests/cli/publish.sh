@@ -11,12 +11,8 @@
 # Usage: publish.sh PARTET
 set -uo pipefail
 partet=$(realpath "$1")
-work=$(mktemp -d)
-trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+source "$(dirname "$0")/../harness.sh"
 cd "$work"
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok   $*"; }
-bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 "$partet" generate torus --faces 3000 -o torus.off > /dev/null
 old=(mesh torus.off -o m -k 4 --format tetgen,pvtu,msh-parts --report m.json --quiet)
 new=(mesh torus.off -o m -k 2 --format tetgen,pvtu,msh-parts --report m.json --quiet)
@@ -144,5 +140,4 @@ code=$?
   bad "a single .msh named like a partition: exit $code, files: $(listing)"
 rm -f m_7.msh other.msh
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary

@@ -1,20 +1,16 @@
 #!/usr/bin/env bash
-# --scratch DIR (the paper's memory mode): the pieces' bulks wait in files there, and the mesh is
+# --scratch DIR (the paper's memory mode): the pieces' bulks wait in a file there, and the mesh is
 # the same, byte for byte, as without; nothing stays in DIR after a run, nor after an interrupt
-# (SIGTERM while the files are there); a run killed outright (SIGKILL) leaves its files, and the
-# next run with the same DIR removes them; a DIR that is not a directory is a usage error (exit 2)
-# before any work. With MPIEXEC and its arguments, every run is on those ranks.
+# (SIGTERM while the bulks are there), nor after a kill (SIGKILL: the file has no name in DIR, so
+# the system frees it); a DIR that is not a directory is a usage error (exit 2) before any work.
+# With MPIEXEC and its arguments, every run is on those ranks.
 # Usage: scratch.sh PARTET [MPIEXEC ARGS...]
 set -uo pipefail
 partet=$(realpath "$1")
 shift
 launch=("$@")
-work=$(mktemp -d)
-trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+source "$(dirname "$0")/../harness.sh"
 cd "$work"
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok   $*"; }
-bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 run() { "${launch[@]}" "$partet" "$@"; }
 "$partet" generate torus --faces 20000 -o torus.off > /dev/null
 "$partet" generate genus3 --faces 400000 -o big.off > /dev/null
@@ -45,26 +41,29 @@ if [ $code = 2 ] && grep -q -- "--scratch: 'missing' is not a directory" log && 
   ok "a missing scratch directory: exit 2, says so, writes nothing"
 else bad "a missing scratch directory: exit $code: $(cat log)"; fi
 
-# Starts a run of the big input and waits until its bulks are in scratch/ (false once it ended, or
-# after 300 s: under a loaded CI the pieces take long).
-start_big() {
-  "${launch[@]}" "$partet" mesh "$work/big.off" -k 8 -o d --scratch scratch --quiet > log 2>&1 &
-  pid=$!
-  for _ in $(seq 1500); do
-    [ -n "$(ls -A scratch)" ] && return 0
-    kill -0 "$pid" 2> /dev/null || return 1
-    sleep 0.2
+# Whether a process of the big run holds a file in scratch/ with bulks in it (a file without a
+# name there shows as "DIR/#inode (deleted)").
+bulks_held() {
+  local p fd
+  for p in $(pgrep -f "mesh $work/big.off"); do
+    for fd in /proc/"$p"/fd/*; do
+      [[ "$(readlink "$fd" 2> /dev/null)" == "$work/scratch/"* ]] && [ "$(stat -L -c %s "$fd" 2> /dev/null || echo 0)" -gt 0 ] &&
+        return 0
+    done
   done
   return 1
 }
 
-# Waits (30 s at most) until no process of the big run is left.
-gone_big() {
-  for _ in $(seq 300); do
-    pgrep -f "mesh $work/big.off" > /dev/null || return 0
-    sleep 0.1
-  done
+# Starts a run of the big input and waits until it holds bulks in scratch/ (false once it ended,
+# or after 300 s: under a loaded CI the pieces take long).
+start_big() {
+  "${launch[@]}" "$partet" mesh "$work/big.off" -k 8 -o d --scratch scratch --quiet > log 2>&1 &
+  pid=$!
+  wait_while_running 300 bulks_held
 }
+
+# Waits (30 s at most) until no process of the big run is left.
+gone_big() { wait_gone 30 "mesh $work/big.off"; }
 
 give_up() {
   local state="the run had ended"
@@ -87,18 +86,18 @@ if start_big; then
   else bad "SIGTERM with bulks on disk: exit $code, left '$left': $(cat log)"; fi
 else give_up; fi
 
-# 4. SIGKILL leaves the files; the next run with the same DIR removes them (their run is gone).
+# 4. SIGKILL of every process while bulks wait on disk leaves nothing in DIR either; the next run
+# with the same DIR works.
 if start_big; then
   # (The pattern names this test's directory: another test may run the same command meanwhile.)
   pkill -KILL -f "mesh $work/big.off" 2> /dev/null
   wait "$pid" 2> /dev/null
   gone_big
-  killed=$(ls -A scratch | wc -l)
+  killed=$(ls -A scratch)
   run mesh torus.off -k 3 -o e --scratch scratch --quiet || bad "the run after a SIGKILL failed"
   left=$(ls -A scratch)
-  if [ "$killed" -gt 0 ] && [ -z "$left" ]; then ok "a killed run's $killed scratch files are removed by the next run"
-  else bad "after a SIGKILL: $killed files, then left '$left'"; fi
+  if [ -z "$killed" ] && [ -z "$left" ]; then ok "SIGKILL with bulks on disk: nothing left; the next run works"
+  else bad "after a SIGKILL: left '$killed', then '$left'"; fi
 else give_up; fi
 
-echo "$pass passed, $fail failed"
-[ $fail = 0 ]
+summary

@@ -1,0 +1,159 @@
+#include "runner/reaper.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <set>
+#include <string>
+
+namespace partet::reaper {
+namespace {
+
+// The pipe's write end (non-blocking: a stopped reaper must never stop the run; a message lost
+// then only leaves a file for the next run to remove) and the reaper's pid.
+int to_reaper = -1;
+pid_t reaper_pid = 0;
+
+// A message: one byte (what), four (the path's length), the path.
+enum What : char { kRemember = '+', kForget = '-', kHold = 'h', kRelease = 'r' };
+
+void send(What what, const std::string& path = "") {
+  if (to_reaper < 0) return;
+  std::string message(1, what);
+  const std::uint32_t size = static_cast<std::uint32_t>(path.size());
+  message.append(reinterpret_cast<const char*>(&size), sizeof size);
+  message += path;
+  (void)!::write(to_reaper, message.data(), message.size());  // under PIPE_BUF: whole or not at all
+}
+
+// The reaper works from "/": a relative path is made absolute first.
+std::string absolute(const std::string& path) {
+  if (!path.empty() && path[0] == '/') return path;
+  char here[4096];
+  return ::getcwd(here, sizeof here) ? std::string(here) + "/" + path : path;
+}
+
+// The reaper's life: gather the messages until the pipe closes, then remove the files (unless a
+// publish was under way) and end.
+[[noreturn]] void reap(int from_partet) {
+  std::set<std::string> files;
+  bool holding = false;
+  std::string pending;
+  char buffer[8192];
+  for (;;) {
+    const ssize_t n = ::read(from_partet, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    pending.append(buffer, static_cast<std::size_t>(n));
+    std::size_t at = 0;
+    while (pending.size() - at >= 5) {
+      std::uint32_t size = 0;
+      std::memcpy(&size, pending.data() + at + 1, sizeof size);
+      if (pending.size() - at - 5 < size) break;
+      const std::string path = pending.substr(at + 5, size);
+      switch (pending[at]) {
+        case kRemember:
+          files.insert(path);
+          break;
+        case kForget:
+          files.erase(path);
+          break;
+        case kHold:
+          holding = true;
+          break;
+        case kRelease:
+          holding = false;
+          break;
+        default:
+          break;
+      }
+      at += 5 + size;
+    }
+    pending.erase(0, at);
+  }
+  if (!holding)
+    for (const std::string& f : files) ::unlink(f.c_str());
+  ::_exit(0);
+}
+
+// In the reaper: nothing of partet's but the pipe, no terminal, deaf to the signals that
+// interrupt partet (it ends when partet does).
+void become_reaper(int from_partet) {
+  ::setsid();
+  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXCPU, SIGUSR1, SIGUSR2, SIGPIPE, SIGTSTP, SIGTTIN, SIGTTOU})
+    ::signal(s, SIG_IGN);
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  const int null = ::open("/dev/null", O_RDWR);
+  for (int fd = 0; fd < 3; ++fd) ::dup2(null, fd);
+  const long open_max = ::sysconf(_SC_OPEN_MAX);
+  for (int fd = 3; fd < (open_max > 0 && open_max < 65536 ? open_max : 65536); ++fd)
+    if (fd != from_partet) ::close(fd);
+  (void)!::chdir("/");  // (the paths it gets are absolute)
+}
+
+}  // namespace
+
+void start() {
+  if (to_reaper >= 0) return;
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) return;
+  int pid_pipe[2];
+  if (::pipe2(pid_pipe, O_CLOEXEC) != 0) {
+    ::close(fds[0]), ::close(fds[1]);
+    return;
+  }
+  // Twice forked: the reaper's parent is init, not partet (partet's children are its TetGen runs).
+  const pid_t middle = ::fork();
+  if (middle == 0) {
+    ::close(fds[1]);
+    ::close(pid_pipe[0]);
+    const pid_t reaper = ::fork();
+    if (reaper == 0) {
+      become_reaper(fds[0]);
+      reap(fds[0]);
+    }
+    (void)!::write(pid_pipe[1], &reaper, sizeof reaper);
+    ::_exit(0);
+  }
+  ::close(fds[0]);
+  ::close(pid_pipe[1]);
+  if (middle > 0) {
+    int status = 0;
+    while (::waitpid(middle, &status, 0) < 0 && errno == EINTR) {
+    }
+    pid_t reaper = 0;
+    if (::read(pid_pipe[0], &reaper, sizeof reaper) == sizeof reaper && reaper > 0) {
+      reaper_pid = reaper;
+      ::fcntl(fds[1], F_SETFL, O_NONBLOCK);
+      to_reaper = fds[1];
+    }
+  }
+  ::close(pid_pipe[0]);
+  if (to_reaper < 0) ::close(fds[1]);
+}
+
+void remember(const std::string& path) {
+  if (to_reaper >= 0) send(kRemember, absolute(path));
+}
+
+void forget(const std::string& path) {
+  if (to_reaper >= 0) send(kForget, absolute(path));
+}
+
+void hold(bool holding) { send(holding ? kHold : kRelease); }
+
+void close_in_child() {
+  if (to_reaper >= 0) ::close(to_reaper);
+  to_reaper = -1;
+}
+
+int pid() { return static_cast<int>(reaper_pid); }
+
+}  // namespace partet::reaper
