@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -108,6 +109,27 @@ TEST(ScratchBulks, TheBulksWaitInOneFileWithoutANameThatGoesWithTheStore) {
     expect_same_block(store.take(3), some_block(3));
     EXPECT_EQ(blocks_of(open[0]), 0);
   }
+  EXPECT_TRUE(descriptors_into(dir).empty());
+  EXPECT_EQ(files_in(dir), 0u);
+}
+
+// Where the filesystem has no nameless files (NFS), the file is named and unlinked at once: the
+// same, nothing in the directory, the bulks back as they were put.
+TEST(ScratchBulks, WithoutNamelessFilesTheFileLosesItsNameAtOnce) {
+  const std::string dir = temp_dir("scratch_named");
+  ::setenv("PARTET_TEST_NO_NAMELESS_FILES", "1", 1);
+  {
+    ScratchBulks store(dir);
+    ASSERT_TRUE(store.put(4, some_block(4)));
+    ASSERT_TRUE(store.put(5, some_block(5)));
+    EXPECT_EQ(files_in(dir), 0u);
+    const std::vector<int> open = descriptors_into(dir);
+    ASSERT_EQ(open.size(), 1u);
+    EXPECT_TRUE(contains(fs::read_symlink("/proc/self/fd/" + std::to_string(open[0])).string(), "partet-bulk-store"));
+    expect_same_block(store.take(5), some_block(5));
+    expect_same_block(store.take(4), some_block(4));
+  }
+  ::unsetenv("PARTET_TEST_NO_NAMELESS_FILES");
   EXPECT_TRUE(descriptors_into(dir).empty());
   EXPECT_EQ(files_in(dir), 0u);
 }

@@ -74,4 +74,7 @@ void buffer_handed();
 // later, as on a loaded machine, where a launcher's SIGKILL comes first.
 void interrupt_cleanup();
 
+// PARTET_TEST_NO_NAMELESS_FILES: the filesystems refuse nameless files (O_TMPFILE), as NFS does.
+bool nameless_files_refused();
+
 }  // namespace partet::test_hooks

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/log.hpp"
+#include "common/test_hooks.hpp"
 #include "io/file_owner.hpp"
 #include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
@@ -71,10 +72,13 @@ std::string reason(int error) { return error == 0 ? "it is shorter than it shoul
 
 // A file in directory with a name for the shortest time (-1 with errno set when none can be made).
 int nameless_file(const std::string& directory) {
-  const int fd = ::open(directory.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  errno = EOPNOTSUPP;
+  const int fd =
+      test_hooks::nameless_files_refused() ? -1 : ::open(directory.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
   if (fd >= 0 || (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)) return fd;
   // No nameless files here (NFS, older filesystems): a name only until it is unlinked, remembered
-  // meanwhile so that an interrupt removes it, and left by a kill only for the next run to remove.
+  // meanwhile so that an interrupt or the reaper removes it (a kill between the two without a
+  // reaper leaves it for the next run to remove).
   const std::string path = directory + "/" + kFilePrefix + "store" + temporary_suffix();
   int named = -1;
   if (!interrupts::create_remembered(path, [&] {
