@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -85,6 +86,7 @@ std::string absolute(const std::string& path) {
 // interrupt partet (it ends when partet does).
 void become_reaper(int from_partet) {
   ::setsid();
+  ::prctl(PR_SET_NAME, "partet-reaper");  // what ps and top show
   for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXCPU, SIGUSR1, SIGUSR2, SIGPIPE, SIGTSTP, SIGTTIN, SIGTTOU})
     ::signal(s, SIG_IGN);
   sigset_t none;
