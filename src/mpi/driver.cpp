@@ -23,6 +23,7 @@
 #include "common/log.hpp"
 #include "common/memory.hpp"
 #include "common/parallel.hpp"
+#include "common/paths.hpp"
 #include "common/test_hooks.hpp"
 #include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
@@ -770,11 +771,11 @@ std::size_t row_part_count(std::size_t first, std::size_t last) {
   return std::max<std::size_t>(1, (last - first + kRowPart - 1) / kRowPart);
 }
 
-std::string absolute_path(const std::string& path) {
-  if (!path.empty() && path[0] == '/') return path;
-  std::string directory(4096, '\0');
-  if (!::getcwd(directory.data(), directory.size())) throw OutputError("cannot find the working directory");
-  return directory.c_str() + std::string("/") + path;
+// An absolute path, or an OutputError when the working directory cannot be named.
+std::string absolute_or_error(const std::string& path) {
+  std::string absolute = absolute_path(path);
+  if (absolute.empty() || absolute[0] != '/') throw OutputError("cannot find the working directory");
+  return absolute;
 }
 
 // Rank 0's text to every rank.
@@ -837,7 +838,7 @@ struct ReceivedBlock {
 MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& relative) {
   // Absolute paths: the ranks' working directories may differ.
   Hdf5Paths paths = relative;
-  paths.mesh = absolute_path(relative.mesh), paths.boundary = absolute_path(relative.boundary);
+  paths.mesh = absolute_or_error(relative.mesh), paths.boundary = absolute_or_error(relative.boundary);
   broadcast_text("hdf5\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' + paths.boundary_shown);
   int size = 1;
   MPI_Comm_size(job_comm(), &size);
@@ -968,7 +969,7 @@ constexpr char kPiecesOrder[] = "pieces";
 
 std::string piece_files_order(MeshFormat format, const std::vector<PieceFile>& files) {
   std::string order = std::string(kPiecesOrder) + '\n' + mesh_format_name(format) + '\n';
-  for (const PieceFile& file : files) order += absolute_path(file.temporary) + '\0' + file.shown + '\0';
+  for (const PieceFile& file : files) order += absolute_or_error(file.temporary) + '\0' + file.shown + '\0';
   return order;
 }
 

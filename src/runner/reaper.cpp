@@ -12,13 +12,14 @@
 #include <set>
 #include <string>
 
+#include "common/paths.hpp"
+
 namespace partet::reaper {
 namespace {
 
 // The pipe's write end (non-blocking: a stopped reaper must never stop the run; a message lost
-// then only leaves a file for the next run to remove) and the reaper's pid.
+// then only leaves a file for the next run to remove).
 int to_reaper = -1;
-pid_t reaper_pid = 0;
 
 // A message: one byte (what), four (the path's length), the path.
 enum What : char { kRemember = '+', kForget = '-', kHold = 'h', kRelease = 'r' };
@@ -30,13 +31,6 @@ void send(What what, const std::string& path = "") {
   message.append(reinterpret_cast<const char*>(&size), sizeof size);
   message += path;
   (void)!::write(to_reaper, message.data(), message.size());  // under PIPE_BUF: whole or not at all
-}
-
-// The reaper works from "/": a relative path is made absolute first.
-std::string absolute(const std::string& path) {
-  if (!path.empty() && path[0] == '/') return path;
-  char here[4096];
-  return ::getcwd(here, sizeof here) ? std::string(here) + "/" + path : path;
 }
 
 // The reaper's life: gather the messages until the pipe closes, then remove the files (unless a
@@ -106,47 +100,38 @@ void start() {
   if (to_reaper >= 0) return;
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) return;
-  int pid_pipe[2];
-  if (::pipe2(pid_pipe, O_CLOEXEC) != 0) {
-    ::close(fds[0]), ::close(fds[1]);
-    return;
-  }
   // Twice forked: the reaper's parent is init, not partet (partet's children are its TetGen runs).
+  // The middle process's exit status says whether the reaper started.
   const pid_t middle = ::fork();
   if (middle == 0) {
     ::close(fds[1]);
-    ::close(pid_pipe[0]);
     const pid_t reaper = ::fork();
     if (reaper == 0) {
       become_reaper(fds[0]);
       reap(fds[0]);
     }
-    (void)!::write(pid_pipe[1], &reaper, sizeof reaper);
-    ::_exit(0);
+    ::_exit(reaper > 0 ? 0 : 1);
   }
   ::close(fds[0]);
-  ::close(pid_pipe[1]);
-  if (middle > 0) {
-    int status = 0;
+  int status = 1;
+  if (middle > 0)
     while (::waitpid(middle, &status, 0) < 0 && errno == EINTR) {
     }
-    pid_t reaper = 0;
-    if (::read(pid_pipe[0], &reaper, sizeof reaper) == sizeof reaper && reaper > 0) {
-      reaper_pid = reaper;
-      ::fcntl(fds[1], F_SETFL, O_NONBLOCK);
-      to_reaper = fds[1];
-    }
+  if (middle > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    ::fcntl(fds[1], F_SETFL, O_NONBLOCK);
+    to_reaper = fds[1];
+  } else {
+    ::close(fds[1]);
   }
-  ::close(pid_pipe[0]);
-  if (to_reaper < 0) ::close(fds[1]);
 }
 
+// (The reaper works from "/": it gets absolute paths.)
 void remember(const std::string& path) {
-  if (to_reaper >= 0) send(kRemember, absolute(path));
+  if (to_reaper >= 0) send(kRemember, absolute_path(path));
 }
 
 void forget(const std::string& path) {
-  if (to_reaper >= 0) send(kForget, absolute(path));
+  if (to_reaper >= 0) send(kForget, absolute_path(path));
 }
 
 void hold(bool holding) { send(holding ? kHold : kRelease); }
@@ -155,7 +140,5 @@ void close_in_child() {
   if (to_reaper >= 0) ::close(to_reaper);
   to_reaper = -1;
 }
-
-int pid() { return static_cast<int>(reaper_pid); }
 
 }  // namespace partet::reaper

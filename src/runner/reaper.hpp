@@ -22,7 +22,5 @@ void hold(bool holding);
 // In a forked child: close this process's end of the pipe, so that the reaper does not wait for
 // the child too.
 void close_in_child();
-// The reaper's process id (0 without one).
-int pid();
 
 }  // namespace partet::reaper

@@ -1,0 +1,11 @@
+// Paths (internal header).
+#pragma once
+#include <string>
+
+namespace partet {
+
+// path from the working directory's absolute name, as the kernel would resolve it (no ".."
+// folded); path as it is when it is absolute, or when the working directory cannot be named.
+std::string absolute_path(const std::string& path);
+
+}  // namespace partet
