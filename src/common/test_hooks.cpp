@@ -107,7 +107,10 @@ void publish_step(int step) {
   sleep_ms("PARTET_TEST_PUBLISH_DELAY_MS");
   if (const char* spec = value("PARTET_TEST_PUBLISH_SIGNAL")) {
     int at = 0, signal_number = 0;
-    if (std::sscanf(spec, "%d:%d", &at, &signal_number) == 2 && at == step) ::kill(::getpid(), signal_number);
+    if (std::sscanf(spec, "%d:%d", &at, &signal_number) == 2 && at == step) {
+      ::kill(::getpid(), signal_number);
+      ::usleep(100000);  // the interrupt thread acts meanwhile, as on a busy machine, unless it must wait
+    }
   }
 }
 

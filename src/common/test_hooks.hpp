@@ -56,9 +56,10 @@ bool block_lost(int rank);
 
 // PARTET_INJECT_PUBLISH_FAILURE=N: the N-th new file's move into place fails (0: none).
 int publish_failure();
-// Called at each step of a publish (1: journal written, then one per move, then the cleanup).
-// PARTET_TEST_PUBLISH_DELAY_MS=D sleeps D ms first, as a slow network filesystem would;
-// PARTET_TEST_PUBLISH_SIGNAL=N:SIG sends signal SIG (a number) to this process at step N.
+// Called at each step of a publish (0: the journal just written; 1: past its error handling, then
+// one per move, then the cleanup). PARTET_TEST_PUBLISH_DELAY_MS=D sleeps D ms first, as a slow
+// network filesystem would; PARTET_TEST_PUBLISH_SIGNAL=N:SIG sends signal SIG (a number) to this
+// process at step N, then gives its interrupt thread 100 ms to act.
 void publish_step(int step);
 // PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=D: sleeps D ms once the files are written, before the
 // publish takes its lock (so a test can look at, age or kill the temporaries).

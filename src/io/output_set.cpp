@@ -364,6 +364,10 @@ void OutputSet::publish() {
   std::unique_ptr<JournalLock> lock;
   Journal journal;
   std::optional<interrupts::KeptIfKilled> kept_if_killed;  // from the journal on: it needs the files
+  // From the journal on, the moves end as a whole: an interrupt waits for them. (Taken before the
+  // journal is written: an interrupt between the two would remove the files a journal names, and
+  // completing that journal would then remove the previous set's files that the new one supersedes.)
+  std::optional<interrupts::Deferred> hold_interrupts;
   try {
     lock = std::make_unique<JournalLock>(impl_->journal, test_hooks::publish_wait_seconds(lock_wait_seconds));
     if (!lock->recovered().empty()) log::warning(lock->recovered());
@@ -376,16 +380,16 @@ void OutputSet::publish() {
       for (const std::string& f : superseded_files(family.directory, family.belongs, finals))
         journal.superseded.push_back(f);
     kept_if_killed.emplace();
+    hold_interrupts.emplace(
+        "arrived while the new files move into place: finishing that first (if this process is killed meanwhile, the "
+        "next partet command on this prefix completes it)");
     write_journal(lock->fd(), journal, lock->path());
+    test_hooks::publish_step(0);  // the journal is written, no file has moved
   } catch (...) {
     discard();
     throw;
   }
 
-  // From here the moves end as a whole: an interrupt waits for them.
-  const interrupts::Deferred hold_interrupts(
-      "arrived while the new files move into place: finishing that first (if this process is killed meanwhile, the "
-      "next partet command on this prefix completes it)");
   int step = 0;
   publish_step(step);  // 1: the journal lists every move
   const std::size_t n = finals_.size();

@@ -607,7 +607,8 @@ void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
 }
 
 // The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
-// --scratch in files in that directory on this rank's node (in memory where it cannot write).
+// --scratch in one nameless file in that directory on this rank's node (in memory where it cannot
+// write).
 class KeptBulks {
  public:
   KeptBulks(const std::string& scratch, RankStats& stats) : scratch_(scratch), stats_(stats) { new_attempt(-1); }
@@ -689,7 +690,7 @@ void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
     std::optional<TetBlock> bulk = kept.take(piece);
     if (!bulk) return;  // another rank's
     bytes = serialize_block(*bulk);
-  } catch (const std::exception& e) {  // its file was lost: rank 0 gets an empty answer and says so
+  } catch (const std::exception& e) {  // not read back from scratch: rank 0 gets an empty answer and says so
     log::error(e.what());
     bytes.clear();
   }

@@ -34,16 +34,19 @@ same_files() {  # DIR: the files here are exactly DIR's (the report's timings ma
 is_old() { same_files old_set && cmp -s m.json old_set/m.json; }
 is_new() { same_files new_set && "$partet" check torus.off m > /dev/null 2>&1; }
 
-# The publish has 30 steps here: the journal, 12 previous files kept aside, 4 previous piece
-# files and partitions the new set does not have, 12 moves, the cleanup.
+# The publish has 31 steps here: the journal written (0, and 1 past its error handling), 12
+# previous files kept aside, 4 previous piece files and partitions the new set does not have, 12
+# moves, the cleanup. Step 0 is the moment just after the journal is written: an interrupt that
+# removed the temporaries there would leave a journal whose completion removes the previous set's
+# extra files, so the previous set would be broken and the new one lost.
 steps=30
 # 1. SIGTERM at each step and one past the end (nothing happens); SIGINT and SIGHUP at every
 #    third.
 for sig in TERM INT HUP; do
   num=$(kill -l "$sig")
   outcomes=""
-  tried=$(seq 1 $((steps + 1)))
-  [ "$sig" = TERM ] || tried=$(seq 1 3 $((steps + 1)))
+  tried=$(seq 0 $((steps + 1)))
+  [ "$sig" = TERM ] || tried=$(seq 0 3 $((steps + 1)))
   for step in $tried; do
     restore_old
     PARTET_TEST_PUBLISH_SIGNAL="$step:$num" "$partet" "${new[@]}" > log 2>&1
@@ -63,7 +66,7 @@ done
 # 2. SIGKILL at each step: the journal names every file; `partet check` (or info, or the next
 #    mesh) completes the publish, and the set is then the new one, whole.
 outcomes=""
-for step in $(seq 1 $steps); do
+for step in $(seq 0 $steps); do
   restore_old
   (PARTET_TEST_PUBLISH_SIGNAL="$step:9" "$partet" "${new[@]}" > log 2>&1; true) 2> /dev/null  # no "Killed" line
   case $((step % 3)) in
@@ -74,7 +77,7 @@ for step in $(seq 1 $steps); do
   if is_new && grep -q "completed the publish of 12 file(s)" log; then outcomes+="n"
   else bad "SIGKILL at publish step $step: files after the next command: $(listing); it said: $(cat log)"; outcomes+="!"; fi
 done
-[[ "$outcomes" != *"!"* ]] && ok "SIGKILL at each of $steps publish steps, then check/info/mesh completes the new set: $outcomes"
+[[ "$outcomes" != *"!"* ]] && ok "SIGKILL at each of $((steps + 1)) publish steps, then check/info/mesh completes the new set: $outcomes"
 
 # 3. Interrupted before the publish, with 82 files written (K=80 .pvtu): none is left behind.
 restore_old
