@@ -236,6 +236,73 @@ class KeptWhereMeshed : public BulkStore {
   std::map<int, TetBlock> bulks_;
 };
 
+// Copies of the bulks as they went to the store, and the bulks given back on demand.
+class KeptCopies : public BulkStore {
+ public:
+  bool put(int piece, const TetBlock& bulk) override {
+    bulks_[piece] = bulk;
+    return true;
+  }
+  TetBlock take(int piece) override {
+    ++taken_;
+    return bulks_.at(piece);
+  }
+  const TetBlock& at(int piece) const { return bulks_.at(piece); }
+  int taken() const { return taken_; }
+
+ private:
+  std::map<int, TetBlock> bulks_;
+  int taken_ = 0;
+};
+
+// The numbering is made from the healed band alone, and each bulk numbered with its own share of
+// it, away from the rest, is its piece's part of the assembled mesh: its tets where the assembly
+// puts them, its Steiner points at their ids. Healed with and without the caps' points.
+TEST(SeamBand, EachBulkNumberedWithItsShareIsItsPartOfTheAssembledMesh) {
+  for (const char* name : {"torus", "nested", "genus3"})
+    for (const bool caps : {false, true}) {
+      SCOPED_TRACE(std::string(name) + (caps ? " caps healed" : " cut vertices only"));
+      const SurfaceMesh input = generate_surface(name, 1500);
+      const MeshedPieces s = mesh_pieces_in_batch(input, 4);
+      const SplitSurface& split = s.prepared.split;
+      const BandSpec spec = band_spec(split, caps, 1);
+      Welder welder(split, s.prepared.pieces);
+      KeptCopies store;
+      welder.split_on_arrival(spec);
+      welder.keep_bulks_in(store);
+      for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+      TetMesh band = welder.finish_band(split.points, spec);
+      heal_seams(band, input, split, HealOptions{caps, 0, false}, regions_here(s.options));
+      const AssemblyNumbering numbering = welder.numbering(band);
+      EXPECT_EQ(store.taken(), 0);  // no bulk came back for it
+      std::vector<BulkNumbering> shares;
+      for (std::size_t p = 0; p < s.results.size(); ++p) shares.push_back(numbering.for_bulk(p));
+      const TetMesh mesh = welder.assemble(std::move(band), numbering);
+      ASSERT_EQ(mesh.points.size(), static_cast<std::size_t>(numbering.point_count()));
+      std::size_t first = 0, dropped = 0;
+      for (std::size_t p = 0; p < shares.size(); ++p) {
+        const TetBlock& bulk = store.at(static_cast<int>(p));
+        for (std::size_t t = 0; t < bulk.tets.size(); ++t) {
+          Tet numbered = bulk.tets[t];
+          for (auto& v : numbered) v = shares[p](v);
+          ASSERT_EQ(numbered, mesh.tets[first + t]) << "piece " << p << " tet " << t;
+        }
+        first += bulk.tets.size();
+        for (std::size_t i = 0; i < bulk.steiner_points.size(); ++i) {
+          const std::int32_t to = shares[p](static_cast<std::int32_t>(split.points.size() + i));
+          if (to < 0)
+            ++dropped;
+          else
+            EXPECT_EQ(mesh.points[to], bulk.steiner_points[i]);
+        }
+      }
+      EXPECT_LT(first, mesh.tets.size());  // the band follows
+      EXPECT_EQ(mesh.neighbours, compute_neighbours(mesh.tets));
+      EXPECT_TRUE(check_mesh(input, mesh).ok());
+      if (!caps) EXPECT_EQ(dropped, 0u);  // only cut vertices go then, and they are split points
+    }
+}
+
 // Split as each piece arrives (one layer: a piece alone decides its band), the pieces give the same
 // band mesh as split all at once at the end, and the same mesh when joined again; so do the pieces
 // split where they were meshed, their Steiner points numbered from 2^30 there (the closure may

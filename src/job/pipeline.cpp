@@ -425,7 +425,11 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& w
   on_band.drop_points = false;
   try {
     stats = heal_seams(band, input, split, on_band, mesher);
-    return welder.assemble(std::move(band));
+    const double start = now_seconds();
+    TetMesh mesh = welder.assemble(std::move(band));
+    log::debug("assembled the mesh: " + std::to_string(mesh.tets.size()) + " tets in " +
+               std::to_string(now_seconds() - start) + " s");
+    return mesh;
   } catch (const MeshingError& error) {
     const FailureKind kind = error.failure.kind;
     if (kind == FailureKind::runaway || kind == FailureKind::timed_out) throw;

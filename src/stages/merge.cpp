@@ -108,6 +108,7 @@ void Welder::add(PieceTetMesh&& result) {
       result.surface_point_count != static_cast<std::int32_t>(pieces_[p].global_ids.size()))
     mismatch(p, "does not match its piece");
   if (blocks_[p].in) mismatch(p, "arrived twice");
+  note_surface(static_cast<std::size_t>(p));
   TetBlock whole = in_global_ids(std::move(result), pieces_[p].global_ids, first_steiner_);
   if (!split_on_arrival_) {
     blocks_[p] = std::move(whole);
@@ -233,12 +234,18 @@ void Welder::add_split(PieceBand&& split, BulkStore& owner) {
     mismatch(p, "does not match its piece");
   if (blocks_[p].in) mismatch(p, "arrived twice");
   if (split.first_steiner < first_steiner_) mismatch(p, "numbers its Steiner points among the split's points");
+  note_surface(static_cast<std::size_t>(p));
   move_steiner_ids(split.band.tets, split.first_steiner, first_steiner_);
   bulks_[p] = Block();
   bulks_[p].in = true;
   stored_[p] = {true, static_cast<std::size_t>(split.bulk_tets), static_cast<std::size_t>(split.bulk_steiner_points),
                 &owner, split.first_steiner};
   install_band(static_cast<std::size_t>(p), std::move(split));
+}
+
+void Welder::note_surface(std::size_t p) {
+  referenced_.resize(static_cast<std::size_t>(first_steiner_), 0);
+  for (std::int32_t v : pieces_[p].global_ids) referenced_[v] = 1;
 }
 
 void Welder::install_band(std::size_t p, PieceBand&& split) {
@@ -353,7 +360,9 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
     }
   }
   band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
-  return weld_blocks(std::move(split_points), blocks_);
+  TetMesh band = weld_blocks(std::move(split_points), blocks_);
+  band_used_before_ = used_vertices(band.points.size(), band.tets);
+  return band;
 }
 
 bool Welder::all_split() const {
@@ -366,40 +375,53 @@ std::size_t Welder::bulk_tet_count() const {
   return count;
 }
 
+AssemblyPoints Welder::assembly_points() {
+  AssemblyPoints points;
+  points.split_points = first_steiner_;
+  for (std::size_t p = 0; p < bulks_.size(); ++p)
+    points.steiner_counts.push_back(static_cast<std::int64_t>(bulk_steiner_points(p)));
+  points.band_steiner = std::move(band_steiner_);
+  points.band_used_before = std::move(band_used_before_);
+  points.referenced = std::move(referenced_);
+  return points;
+}
+
+AssemblyNumbering Welder::numbering(const TetMesh& healed_band, bool drop_unused) {
+  if (!all_split()) throw InternalError("the welder assembles only after finish_band");
+  return AssemblyNumbering(assembly_points(), healed_band, drop_unused);
+}
+
 TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
+  const AssemblyNumbering numbers = numbering(healed_band, drop_unused);
+  return assemble(std::move(healed_band), numbers);
+}
+
+TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numbering) {
   const std::size_t k = bulks_.size();
   if (!all_split()) throw InternalError("the welder assembles only after finish_band");
-  const std::int32_t S = first_steiner_;
-  // Where each piece's Steiner points go, and where each band's were in the band mesh.
-  std::vector<std::int64_t> steiner_before(k + 1, 0), band_before(k + 1, 0);
   std::size_t tet_total = healed_band.tets.size();
-  for (std::size_t p = 0; p < k; ++p) {
-    steiner_before[p + 1] = steiner_before[p] + static_cast<std::int64_t>(bulk_steiner_points(p));
-    band_before[p + 1] = band_before[p] + static_cast<std::int64_t>(band_steiner_[p].size());
-    tet_total += bulk_tets(p);
-  }
-  const std::int64_t healing_first = S + band_before[k];
-  if (static_cast<std::int64_t>(healed_band.points.size()) < healing_first)
-    throw InternalError("the healed band lacks points");
-  const std::int64_t healing_shift = S + steiner_before[k] - healing_first;
-  check_int32_sizes(tet_total, static_cast<std::size_t>(healed_band.points.size() + healing_shift));
-  auto band_point = [&](std::int32_t v) -> std::int32_t {
-    if (v < S) return v;
-    if (v >= healing_first) return static_cast<std::int32_t>(v + healing_shift);
-    const std::int64_t b = v - S;
-    const auto p =
-        static_cast<std::size_t>(std::upper_bound(band_before.begin(), band_before.end(), b) - band_before.begin() - 1);
-    return static_cast<std::int32_t>(S + steiner_before[p] + band_steiner_[p][b - band_before[p]]);
-  };
+  for (std::size_t p = 0; p < k; ++p) tet_total += bulk_tets(p);
+  check_int32_sizes(tet_total, static_cast<std::size_t>(numbering.point_count()));
   TetMesh mesh;
-  // 1. Points: the split surface's, every piece's Steiner points (put in place with its bulk's
-  // tets, below: a stored bulk comes back once), those healing added.
-  std::vector<Point3> healing_points(healed_band.points.begin() + healing_first, healed_band.points.end());
+  // 1. Points: the split surface's and those healing added, from the band (in place: a point only
+  // moves down); every piece's Steiner points with its bulk, below (a stored bulk comes back once).
   mesh.points = std::move(healed_band.points);
-  mesh.points.resize(static_cast<std::size_t>(S));
-  reserve_with_room(mesh.points, static_cast<std::size_t>(S + steiner_before[k]) + healing_points.size());
-  mesh.points.resize(static_cast<std::size_t>(S + steiner_before[k]));
-  mesh.points.insert(mesh.points.end(), healing_points.begin(), healing_points.end());
+  const std::int64_t healing_band = numbering.healing_first_band();
+  const std::int64_t healing_welded = numbering.healing_first_welded();
+  std::vector<Point3> healing_points;
+  for (std::int64_t h = healing_band; h < static_cast<std::int64_t>(mesh.points.size()); ++h)
+    if (numbering.of_welded(healing_welded + (h - healing_band)) >= 0) healing_points.push_back(mesh.points[h]);
+  for (std::int32_t v = 0; v < first_steiner_; ++v)
+    if (const std::int32_t to = numbering.of_welded(v); to >= 0) mesh.points[to] = mesh.points[v];
+  mesh.points.resize(static_cast<std::size_t>(numbering.point_count()));
+  std::copy(healing_points.begin(), healing_points.end(),
+            mesh.points.end() - static_cast<std::ptrdiff_t>(healing_points.size()));
+  reserve_with_room(mesh.points, mesh.points.size());
+  auto renumbered = [](Tet t, const auto& to) {
+    for (auto& v : t)
+      if ((v = to(v)) < 0) throw InternalError("a point the assembly dropped is still used");
+    return t;
+  };
   // 2. Tets: the bulks in piece order, then the band; the faces of the bulks' rims, and the tets
   // with a face that may lie on a cap (three vertices on the planes).
   reserve_with_room(mesh.tets, tet_total);
@@ -409,14 +431,14 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   std::vector<std::int32_t> on_caps;
   for (std::size_t p = 0; p < k; ++p) {
     Block& bulk = bulk_here(p);
-    std::copy(bulk.steiner_points.begin(), bulk.steiner_points.end(), mesh.points.begin() + S + steiner_before[p]);
+    const BulkNumbering number = numbering.for_bulk(p);
+    for (std::size_t i = 0; i < bulk.steiner_points.size(); ++i)
+      if (const std::int32_t to = number(first_steiner_ + static_cast<std::int32_t>(i)); to >= 0)
+        mesh.points[to] = bulk.steiner_points[i];
     const auto base = static_cast<std::int32_t>(mesh.tets.size());
-    const auto shift = static_cast<std::int32_t>(steiner_before[p]);
-    for (Tet t : bulk.tets) {
-      for (auto& v : t)
-        if (v >= S) v += shift;
+    for (const Tet& t : bulk.tets) {
       if (may_touch_cap(t, split_.input_vertex_count)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
-      mesh.tets.push_back(t);
+      mesh.tets.push_back(renumbered(t, number));
     }
     for (Tet nb : bulk.neighbours) {
       for (auto& n : nb)
@@ -432,10 +454,9 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   }
   const auto band_base = static_cast<std::int32_t>(mesh.tets.size());
   for (std::size_t t = 0; t < healed_band.tets.size(); ++t) {
-    Tet tet = healed_band.tets[t];
-    for (auto& v : tet) v = band_point(v);
+    const Tet& tet = healed_band.tets[t];
     if (may_touch_cap(tet, split_.input_vertex_count)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
-    mesh.tets.push_back(tet);
+    mesh.tets.push_back(renumbered(tet, [&](std::int32_t v) { return numbering.of_band(v); }));
     Tet nb = healed_band.neighbours[t];
     for (auto& n : nb)
       if (n >= 0) n += band_base;
@@ -450,7 +471,6 @@ TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
   // 3. Each bulk's rim to the band (healing left those faces as they were), then across the caps.
   join_rim(mesh, band_base, std::move(rim));
   connect_open_faces(mesh.tets, mesh.neighbours, &on_caps);
-  if (drop_unused) drop_unused_points(mesh);
   return mesh;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "stages/assembly_numbering.hpp"
 #include "stages/piece.hpp"
 #include "stages/seam_band.hpp"
 
@@ -70,6 +71,11 @@ class Welder {
   // (drop_unused false: no point is dropped, so the mesh is numbered as the whole welded mesh
   // would be, and healing can go on over it.)
   TetMesh assemble(TetMesh&& healed_band, bool drop_unused = true);
+  // The same in two steps: the numbering, made from the healed band alone (once: the bands'
+  // Steiner maps move into it; each bulk's share, for_bulk, numbers it wherever it is kept), then
+  // the assembly with it.
+  AssemblyNumbering numbering(const TetMesh& healed_band, bool drop_unused = true);
+  TetMesh assemble(TetMesh&& healed_band, const AssemblyNumbering& numbering);
   // The tets the bulks hold (after finish_band).
   std::size_t bulk_tet_count() const;
 
@@ -82,6 +88,8 @@ class Welder {
   void rejoin(std::size_t p);
   // After pieces were split on arrival: each band grows by the tets its neighbours' crossings reach.
   void take_crossings();
+  // Marks the points of piece p's surface as some piece's (on arrival, while its global ids exist).
+  void note_surface(std::size_t p);
   // A split piece's band, its Steiner maps, crossings and bulk's open cap faces into place.
   void install_band(std::size_t p, PieceBand&& split);
   // Whether every piece is split into band and bulk.
@@ -92,6 +100,9 @@ class Welder {
   // Piece p's bulk's tets and Steiner points, wherever it is.
   std::size_t bulk_tets(std::size_t p) const;
   std::size_t bulk_steiner_points(std::size_t p) const;
+  // What the assembled mesh's numbering is made of (stages/assembly_numbering.hpp); the bands'
+  // Steiner maps move into it.
+  AssemblyPoints assembly_points();
   const SplitSurface& split_;
   const std::vector<PieceSurface>& pieces_;
   std::int32_t first_steiner_;  // provisional id of a piece's first Steiner point
@@ -110,6 +121,8 @@ class Welder {
   // in the piece of each band tet (to rejoin it, until finish_band).
   std::vector<std::vector<std::int32_t>> band_steiner_;
   std::vector<std::vector<std::int32_t>> band_tets_;
+  std::vector<char> referenced_;        // per split point: some piece's surface has it
+  std::vector<char> band_used_before_;  // per point of the band mesh finish_band made: a band tet uses it
   // Per piece split on arrival: the cap faces its band reached, and its bulk's open cap faces.
   std::vector<std::vector<CapCrossing>> crossings_;
   std::vector<std::vector<FaceKey>> bulk_cap_faces_;

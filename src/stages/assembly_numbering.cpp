@@ -1,0 +1,91 @@
+#include "stages/assembly_numbering.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "partet/errors.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+std::vector<std::int64_t> before_each(const std::vector<std::int64_t>& counts) {
+  std::vector<std::int64_t> before(counts.size() + 1, 0);
+  for (std::size_t p = 0; p < counts.size(); ++p) before[p + 1] = before[p] + counts[p];
+  return before;
+}
+
+}  // namespace
+
+AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused)
+    : split_points_(points.split_points),
+      steiner_before_(before_each(points.steiner_counts)),
+      band_steiner_(std::move(points.band_steiner)) {
+  std::vector<std::int64_t> band_counts;
+  for (const auto& steiner : band_steiner_) band_counts.push_back(static_cast<std::int64_t>(steiner.size()));
+  band_before_ = before_each(band_counts);
+  healing_first_band_ = split_points_ + band_before_.back();
+  const auto band_points = static_cast<std::int64_t>(healed_band.points.size());
+  if (band_points < healing_first_band_ ||
+      points.band_used_before.size() != static_cast<std::size_t>(healing_first_band_) ||
+      points.referenced.size() != static_cast<std::size_t>(split_points_))
+    throw InternalError("the healed band does not match the welded pieces");
+  const std::int64_t welded = healing_first_welded() + (band_points - healing_first_band_);
+  if (welded > INT32_MAX)
+    throw MeshingError(FailureKind::other, -1,
+                       "the merged mesh has more than 2^31 points; this version numbers them with int32");
+  std::vector<char> keep(static_cast<std::size_t>(welded), 1);
+  if (drop_unused) {
+    const std::vector<char> used = used_vertices(healed_band.points.size(), healed_band.tets);
+    const std::vector<char>& before = points.band_used_before;
+    auto stays = [&](std::int64_t band_id) { return used[band_id] || !before[band_id]; };
+    for (std::int32_t v = 0; v < split_points_; ++v) keep[v] = points.referenced[v] && stays(v);
+    for (std::size_t p = 0; p < band_steiner_.size(); ++p)
+      for (std::size_t j = 0; j < band_steiner_[p].size(); ++j)
+        keep[welded_steiner(p, band_steiner_[p][j])] =
+            stays(split_points_ + band_before_[p] + static_cast<std::int64_t>(j));
+    for (std::int64_t h = healing_first_band_; h < band_points; ++h)
+      keep[healing_first_welded() + (h - healing_first_band_)] = used[h];
+  }
+  new_id_ = compact_ids(keep);
+  kept_ = static_cast<std::int32_t>(std::count(keep.begin(), keep.end(), 1));
+  for (std::int32_t v = 0; v < split_points_; ++v)
+    if (!keep[v]) dropped_split_.push_back(v);
+}
+
+BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
+  BulkNumbering bulk;
+  bulk.split_points = split_points_;
+  bulk.dropped_split = dropped_split_;
+  bulk.first_steiner = -1;
+  for (std::int64_t i = 0; i < steiner_before_[p + 1] - steiner_before_[p]; ++i) {
+    const std::int32_t to = of_welded(welded_steiner(p, i));
+    if (to < 0)
+      bulk.dropped_steiner.push_back(static_cast<std::int32_t>(i));
+    else if (bulk.first_steiner < 0)
+      bulk.first_steiner = to;
+  }
+  return bulk;
+}
+
+std::int32_t BulkNumbering::searched(std::int32_t v) const {
+  auto shifted = [](const std::vector<std::int32_t>& dropped, std::int32_t i) -> std::int32_t {
+    const auto below = std::lower_bound(dropped.begin(), dropped.end(), i);
+    if (below != dropped.end() && *below == i) return -1;
+    return i - static_cast<std::int32_t>(below - dropped.begin());
+  };
+  if (v < split_points) return shifted(dropped_split, v);
+  const std::int32_t i = shifted(dropped_steiner, v - split_points);
+  return i < 0 ? -1 : first_steiner + i;
+}
+
+std::int64_t AssemblyNumbering::welded_of_band(std::int32_t v) const {
+  if (v < split_points_) return v;
+  if (v >= healing_first_band_) return healing_first_welded() + (v - healing_first_band_);
+  const std::int64_t b = v - split_points_;
+  const auto p = static_cast<std::size_t>(std::upper_bound(band_before_.begin(), band_before_.end(), b) -
+                                          band_before_.begin() - 1);
+  return welded_steiner(p, band_steiner_[p][static_cast<std::size_t>(b - band_before_[p])]);
+}
+
+}  // namespace partet

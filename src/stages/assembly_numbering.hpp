@@ -1,0 +1,80 @@
+// The point numbering of the assembled mesh (Welder::assemble), made from the healed band alone,
+// before any bulk comes back: a bulk can be numbered wherever it is kept.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+
+namespace partet {
+
+// Welded ids: the split surface's points [0, S), then piece p's Steiner points from
+// S + steiner_before[p], then the points healing added. Band ids: the split surface's points, then
+// each piece's band Steiner points in piece order, then the points healing added. A bulk numbers
+// the split surface's points as welded, and its piece's Steiner point i as S + i.
+struct AssemblyPoints {
+  std::int32_t split_points = 0;                        // S
+  std::vector<std::int64_t> steiner_counts;             // per piece: its Steiner points (band and bulk)
+  std::vector<std::vector<std::int32_t>> band_steiner;  // per piece: its band's Steiner points, as piece indices
+  std::vector<char> band_used_before;                   // per band id before healing: a band tet uses it
+  std::vector<char> referenced;                         // per split point: some piece's surface has it
+};
+
+// One bulk's share of the numbering: all its keeper needs to number the bulk's points (split
+// surface's as welded, its piece's Steiner point i as S + i) as in the assembled mesh.
+struct BulkNumbering {
+  std::int32_t split_points = 0;              // S
+  std::vector<std::int32_t> dropped_split;    // the split surface's points that go, ascending
+  std::int32_t first_steiner = 0;             // where the piece's first Steiner point that stays goes
+  std::vector<std::int32_t> dropped_steiner;  // the piece's Steiner points that go (as i), ascending
+  // The assembled id of a bulk point; -1 when it goes. Most points are input vertices, below
+  // every point that goes, and most pieces lose no Steiner point: those need no search.
+  std::int32_t operator()(std::int32_t v) const {
+    if (v < split_points) {
+      if (dropped_split.empty() || v < dropped_split.front()) return v;
+    } else if (dropped_steiner.empty()) {
+      return first_steiner + (v - split_points);
+    }
+    return searched(v);
+  }
+
+ private:
+  std::int32_t searched(std::int32_t v) const;
+};
+
+// Where each welded point goes in the assembled mesh. Healing re-meshes band tets only and keeps
+// the band's faces towards the bulks; a point a bulk shares with the band lies on such a face (the
+// tets around a point are connected through its faces). So a point goes exactly when no tet uses
+// it: the band used it before healing and no longer does, or no piece ever had it (an input
+// vertex that no triangle has).
+class AssemblyNumbering {
+ public:
+  // For a healed band (tets in band ids; points: the band's, then healing's). drop_unused false:
+  // every point stays (healing goes on over the assembled mesh, which then drops them).
+  AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused);
+
+  std::int32_t point_count() const { return kept_; }
+  // The welded id of piece p's Steiner point i, and of a band point.
+  std::int64_t welded_steiner(std::size_t p, std::int64_t i) const { return split_points_ + steiner_before_[p] + i; }
+  std::int64_t welded_of_band(std::int32_t v) const;
+  std::int64_t welded_count() const { return static_cast<std::int64_t>(new_id_.size()); }
+  std::int64_t healing_first_welded() const { return split_points_ + steiner_before_.back(); }
+  std::int64_t healing_first_band() const { return healing_first_band_; }
+  // The id in the assembled mesh of a welded point (-1: it goes), and of a band point.
+  std::int32_t of_welded(std::int64_t w) const { return new_id_[static_cast<std::size_t>(w)]; }
+  std::int32_t of_band(std::int32_t v) const { return of_welded(welded_of_band(v)); }
+  // What piece p's bulk needs to be numbered where it is kept.
+  BulkNumbering for_bulk(std::size_t p) const;
+
+ private:
+  std::int32_t split_points_;
+  std::vector<std::int64_t> steiner_before_;  // per piece and one past the last
+  std::vector<std::int64_t> band_before_;     // band Steiner points of earlier pieces, likewise
+  std::vector<std::vector<std::int32_t>> band_steiner_;
+  std::int64_t healing_first_band_ = 0;
+  std::vector<std::int32_t> new_id_;  // per welded id
+  std::vector<std::int32_t> dropped_split_;
+  std::int32_t kept_ = 0;
+};
+
+}  // namespace partet
