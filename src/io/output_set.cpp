@@ -57,6 +57,13 @@ bool same_file(int fd, const std::string& path) {
   return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
+// Which file a name stands for ("device inode"; empty when there is none).
+std::string identity(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return "";
+  return std::to_string(st.st_dev) + " " + std::to_string(st.st_ino);
+}
+
 void sync_directory(const std::string& directory) {
   const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;
@@ -77,6 +84,7 @@ struct Journal {
   std::string suffix;
   std::vector<std::string> files;       // final paths (absolute); each came from FINAL<suffix>
   std::vector<std::string> superseded;  // previous files the set removes (absolute)
+  std::vector<std::string> made;        // per file: its new file's identity (not in older journals)
   bool complete = false;                // the journal was written to its end
 
   std::string old_copy(const std::string& path) const { return path + kOld + suffix; }
@@ -89,7 +97,10 @@ struct Journal {
         << "# command on this prefix (mesh, check or info) completes the move.\n"
         << "owner " << pid << " " << host << "\n"
         << "suffix " << suffix << "\n";
-    for (const std::string& f : files) out << "file " << f << "\n";
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      out << "file " << files[i] << "\n";
+      if (i < made.size()) out << "made " << made[i] << "\n";
+    }
     for (const std::string& f : superseded) out << "remove " << f << "\n";
     out << "end\n";
     return out.str();
@@ -115,6 +126,8 @@ struct Journal {
         j.suffix = value;
       } else if (key == "file") {
         j.files.push_back(value);
+      } else if (key == "made") {
+        j.made.push_back(value);
       } else if (key == "remove") {
         j.superseded.push_back(value);
       } else if (key == "end") {
@@ -140,9 +153,49 @@ void write_journal(int fd, const Journal& journal, const std::string& path) {
   sync_directory(directory_of(path));
 }
 
+// Whether new file i of a journal is in place: its temporary's identity is at its final name.
+bool moved_in(const Journal& j, std::size_t i) {
+  return i < j.made.size() && !j.made[i].empty() && identity(j.files[i]) == j.made[i];
+}
+
+// The new file of a journal that is neither waiting under its temporary name nor in place: removed
+// by something else meanwhile (empty: none is, or the journal does not say).
+std::string lost_file(const Journal& j) {
+  if (j.made.size() != j.files.size()) return "";
+  for (std::size_t i = 0; i < j.files.size(); ++i)
+    if (!exists_here(j.temporary(j.files[i])) && !moved_in(j, i)) return j.files[i];
+  return "";
+}
+
+// Undoes a journal's moves that happened: each previous file back under its name (from its second
+// name), the new files gone. For a set whose new files cannot all be put in place.
+std::string restore_previous(const Journal& j, const std::string& journal_path, const std::string& lost) {
+  for (std::size_t i = 0; i < j.files.size(); ++i) {
+    const std::string& f = j.files[i];
+    const std::string old = j.old_copy(f);
+    if (exists_here(old)) {
+      if (identity(old) == identity(f))
+        ::unlink(old.c_str());  // still in place: only the second name goes
+      else
+        std::rename(old.c_str(), f.c_str());
+    } else if (moved_in(j, i)) {
+      ::unlink(f.c_str());  // the set had no file there before
+    }
+    ::unlink(j.temporary(f).c_str());
+  }
+  for (const std::string& f : j.superseded)
+    if (exists_here(j.old_copy(f))) std::rename(j.old_copy(f).c_str(), f.c_str());
+  for (const std::string& f : j.files) sync_directory(directory_of(f));
+  return "could not complete the publish that a stopped partet run (pid " + std::to_string(j.pid) +
+         ") left half done: the new file for '" + lost + "' was removed meanwhile; the previous files are back in place " +
+         "(journal '" + journal_path + "')";
+}
+
 // Finishes the moves a complete journal lists: the new files were all written and synced before
-// it was, so the new set is always the one to complete.
+// it was, so the new set is the one to complete, unless one of them was removed since (then the
+// previous set is put back).
 std::string complete_moves(const Journal& j, const std::string& journal_path) {
+  if (const std::string lost = lost_file(j); !lost.empty()) return restore_previous(j, journal_path, lost);
   for (const std::string& f : j.files) {
     const std::string temporary = j.temporary(f);
     if (exists_here(temporary) && std::rename(temporary.c_str(), f.c_str()) != 0)
@@ -376,6 +429,7 @@ void OutputSet::publish() {
     journal.suffix = impl_->suffix;
     std::set<std::string> finals;
     for (const std::string& f : finals_) journal.files.push_back(absolute(f)), finals.insert(journal.files.back());
+    for (const std::string& t : impl_->temporaries) journal.made.push_back(identity(t));
     for (const Impl::Family& family : impl_->families)
       for (const std::string& f : superseded_files(family.directory, family.belongs, finals))
         journal.superseded.push_back(f);

@@ -79,6 +79,27 @@ for step in $(seq 0 $steps); do
 done
 [[ "$outcomes" != *"!"* ]] && ok "SIGKILL at each of $((steps + 1)) publish steps, then check/info/mesh completes the new set: $outcomes"
 
+# 2b. SIGKILL, then one of the new files still waiting under its temporary name is removed (a
+#     cleanup script, a user): the journal cannot be completed, and the next command puts the
+#     previous set back whole instead (its files the new set superseded included), leaving no
+#     temporary, second name or journal.
+outcomes=""
+for step in 0 12 24 29; do
+  restore_old
+  (PARTET_TEST_PUBLISH_SIGNAL="$step:9" "$partet" "${new[@]}" > log 2>&1; true) 2> /dev/null
+  waiting=$(ls | grep '\.tmp-' | grep -v '\.old\.tmp-' | tail -1)  # a new file, not a previous one's second name
+  [ -n "$waiting" ] && rm "$waiting"
+  "$partet" info m > log 2>&1
+  if [ -n "$waiting" ] && is_old && ! ls | grep -q -e '\.tmp-' -e '\.old\.' -e 'partet-publish' &&
+    grep -q "could not complete the publish.*was removed meanwhile; the previous files are back in place" log; then
+    outcomes+="o"
+  else
+    bad "SIGKILL at publish step $step, then '$waiting' removed: files after the next command: $(listing); it said: $(cat log)"
+    outcomes+="!"
+  fi
+done
+[[ "$outcomes" != *"!"* ]] && ok "SIGKILL at publish steps 0,12,24,29, then a waiting new file removed: the previous set back: $outcomes"
+
 # 3. Interrupted before the publish, with 82 files written (K=80 .pvtu): none is left behind.
 restore_old
 PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=4000 "$partet" mesh torus.off -o m -k 80 --format pvtu --quiet > log 2>&1 &
