@@ -12,12 +12,8 @@
 set -uo pipefail
 partet=$(realpath "$1")
 unshare --pid --uts --fork --mount-proc true 2> /dev/null || { echo "SKIP: unshare --pid --uts not permitted"; exit 77; }
-work=$(mktemp -d)
-trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+source "$(dirname "$0")/../harness.sh"
 cd "$work"
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok   $*"; }
-bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 "$partet" generate torus --faces 3000 -o torus.off > /dev/null
 "$partet" mesh torus.off -o a_alone -k 3 --quiet  # what node A's run writes
 on_node() {  # NODE COMMAND...: runs COMMAND in a fresh PID and UTS namespace named NODE
@@ -75,5 +71,4 @@ wait "$a" 2> /dev/null
 [ -z "$(temporaries)" ] && ok "a killed run's temporaries on this host are removed by the next run" ||
   bad "killed run's temporaries: $(temporaries)"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary

@@ -7,12 +7,8 @@ set -uo pipefail
 partet=$(realpath "$1")
 shift
 launch=("$@")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/../harness.sh"
 cd "$work"
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok   $*"; }
-bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 "$partet" generate torus --faces 3000 -o torus.off > /dev/null
 "$partet" generate sphere --faces 3000 -o sphere.off > /dev/null
 "${launch[@]}" "$partet" mesh torus.off -o m --pieces 3 --quiet --report m.json || bad "first run"
@@ -89,5 +85,4 @@ expect_check_fails "an absurd point count" "declares 2147483647 points, more tha
 { echo "2147483647 4 0"; tail -n +2 before/m.ele; } > m.ele
 expect_check_fails "an absurd tet count" "declares 2147483647 tetrahedra"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary

@@ -8,12 +8,8 @@
 # Usage: interrupt.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
-work=$(mktemp -d)
-trap 'pkill -KILL -f "$work/" 2> /dev/null; rm -rf "$work"' EXIT
+source "$(dirname "$0")/../harness.sh"
 "$partet" generate torus --faces 200000 -o "$work/big.off" > /dev/null || exit 1
-pass=0 fail=0
-ok() { pass=$((pass + 1)); echo "ok   $*"; }
-bad() { fail=$((fail + 1)); echo "FAIL $*"; }
 processes() {  # running ones (a zombie waiting to be reaped does not count)
   local n=0
   for pid in $(pgrep -f "mesh $work/big.off"); do
@@ -134,5 +130,4 @@ done
   bad "partition write: rank 1 was not seen writing a partition"
 after_interrupt "partition write" "$work/log4" "$work/before4"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary
