@@ -34,37 +34,44 @@ AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& heale
   if (welded > INT32_MAX)
     throw MeshingError(FailureKind::other, -1,
                        "the merged mesh has more than 2^31 points; this version numbers them with int32");
-  std::vector<char> keep(static_cast<std::size_t>(welded), 1);
+  welded_ = welded;
+  // Only the ids that go are kept (a few per cut vertex): no array over every point.
   if (drop_unused) {
     const std::vector<char> used = used_vertices(healed_band.points.size(), healed_band.tets);
-    const std::vector<char>& before = points.band_used_before;
+    const std::vector<bool>& before = points.band_used_before;
     auto stays = [&](std::int64_t band_id) { return used[band_id] || !before[band_id]; };
-    for (std::int32_t v = 0; v < split_points_; ++v) keep[v] = points.referenced[v] && stays(v);
-    for (std::size_t p = 0; p < band_steiner_.size(); ++p)
+    for (std::int32_t v = 0; v < split_points_; ++v)
+      if (!(points.referenced[v] && stays(v))) dropped_.push_back(v);
+    for (std::size_t p = 0; p < band_steiner_.size(); ++p)  // ascending: a band keeps its piece's order
       for (std::size_t j = 0; j < band_steiner_[p].size(); ++j)
-        keep[welded_steiner(p, band_steiner_[p][j])] =
-            stays(split_points_ + band_before_[p] + static_cast<std::int64_t>(j));
+        if (!stays(split_points_ + band_before_[p] + static_cast<std::int64_t>(j)))
+          dropped_.push_back(welded_steiner(p, band_steiner_[p][j]));
     for (std::int64_t h = healing_first_band_; h < band_points; ++h)
-      keep[healing_first_welded() + (h - healing_first_band_)] = used[h];
+      if (!used[h]) dropped_.push_back(healing_first_welded() + (h - healing_first_band_));
   }
-  new_id_ = compact_ids(keep);
-  kept_ = static_cast<std::int32_t>(std::count(keep.begin(), keep.end(), 1));
-  for (std::int32_t v = 0; v < split_points_; ++v)
-    if (!keep[v]) dropped_split_.push_back(v);
+  if (!std::is_sorted(dropped_.begin(), dropped_.end()))
+    throw InternalError("a band's Steiner points are not in their piece's order");
+  kept_ = static_cast<std::int32_t>(welded_ - static_cast<std::int64_t>(dropped_.size()));
+}
+
+std::int32_t AssemblyNumbering::of_welded(std::int64_t w) const {
+  const auto gone = std::lower_bound(dropped_.begin(), dropped_.end(), w);
+  if (gone != dropped_.end() && *gone == w) return -1;
+  return static_cast<std::int32_t>(w - (gone - dropped_.begin()));
 }
 
 BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
   BulkNumbering bulk;
   bulk.split_points = split_points_;
-  bulk.dropped_split = dropped_split_;
-  bulk.first_steiner = -1;
-  for (std::int64_t i = 0; i < steiner_before_[p + 1] - steiner_before_[p]; ++i) {
-    const std::int32_t to = of_welded(welded_steiner(p, i));
-    if (to < 0)
-      bulk.dropped_steiner.push_back(static_cast<std::int32_t>(i));
-    else if (bulk.first_steiner < 0)
-      bulk.first_steiner = to;
-  }
+  const std::int64_t first = welded_steiner(p, 0), end = welded_steiner(p + 1, 0);
+  const auto split_end = std::lower_bound(dropped_.begin(), dropped_.end(), split_points_);
+  const auto from = std::lower_bound(dropped_.begin(), dropped_.end(), first);
+  const auto to = std::lower_bound(dropped_.begin(), dropped_.end(), end);
+  bulk.dropped_split.assign(dropped_.begin(), split_end);
+  for (auto it = from; it != to; ++it) bulk.dropped_steiner.push_back(static_cast<std::int32_t>(*it - first));
+  // Every Steiner point of the piece before its first that stays goes: that one lands where the
+  // piece's first would.
+  bulk.first_steiner = static_cast<std::int32_t>(first - (from - dropped_.begin()));
   return bulk;
 }
 

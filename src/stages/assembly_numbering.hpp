@@ -1,6 +1,7 @@
 // The point numbering of the assembled mesh (Welder::assemble), made from the healed band alone,
 // before any bulk comes back: a bulk can be numbered wherever it is kept.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -16,8 +17,8 @@ struct AssemblyPoints {
   std::int32_t split_points = 0;                        // S
   std::vector<std::int64_t> steiner_counts;             // per piece: its Steiner points (band and bulk)
   std::vector<std::vector<std::int32_t>> band_steiner;  // per piece: its band's Steiner points, as piece indices
-  std::vector<char> band_used_before;                   // per band id before healing: a band tet uses it
-  std::vector<char> referenced;                         // per split point: some piece's surface has it
+  std::vector<bool> band_used_before;                   // per band id before healing: a band tet uses it
+  std::vector<bool> referenced;                         // per split point: some piece's surface has it
 };
 
 // One bulk's share of the numbering: all its keeper needs to number the bulk's points (split
@@ -57,11 +58,24 @@ class AssemblyNumbering {
   // The welded id of piece p's Steiner point i, and of a band point.
   std::int64_t welded_steiner(std::size_t p, std::int64_t i) const { return split_points_ + steiner_before_[p] + i; }
   std::int64_t welded_of_band(std::int32_t v) const;
-  std::int64_t welded_count() const { return static_cast<std::int64_t>(new_id_.size()); }
+  std::int64_t welded_count() const { return welded_; }
   std::int64_t healing_first_welded() const { return split_points_ + steiner_before_.back(); }
   std::int64_t healing_first_band() const { return healing_first_band_; }
   // The id in the assembled mesh of a welded point (-1: it goes), and of a band point.
-  std::int32_t of_welded(std::int64_t w) const { return new_id_[static_cast<std::size_t>(w)]; }
+  std::int32_t of_welded(std::int64_t w) const;
+  // Calls f(welded id, assembled id) for each point in [from, to) that stays, in order.
+  template <class F>
+  void for_each_kept(std::int64_t from, std::int64_t to, F f) const {
+    auto gone = std::lower_bound(dropped_.begin(), dropped_.end(), from);
+    std::int64_t shift = gone - dropped_.begin();
+    for (std::int64_t w = from; w < to; ++w) {
+      if (gone != dropped_.end() && *gone == w) {
+        ++gone, ++shift;
+        continue;
+      }
+      f(w, static_cast<std::int32_t>(w - shift));
+    }
+  }
   std::int32_t of_band(std::int32_t v) const { return of_welded(welded_of_band(v)); }
   // What piece p's bulk needs to be numbered where it is kept.
   BulkNumbering for_bulk(std::size_t p) const;
@@ -72,8 +86,8 @@ class AssemblyNumbering {
   std::vector<std::int64_t> band_before_;     // band Steiner points of earlier pieces, likewise
   std::vector<std::vector<std::int32_t>> band_steiner_;
   std::int64_t healing_first_band_ = 0;
-  std::vector<std::int32_t> new_id_;  // per welded id
-  std::vector<std::int32_t> dropped_split_;
+  std::int64_t welded_ = 0;            // welded points
+  std::vector<std::int64_t> dropped_;  // the welded ids that go, ascending
   std::int32_t kept_ = 0;
 };
 

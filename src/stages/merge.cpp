@@ -244,8 +244,8 @@ void Welder::add_split(PieceBand&& split, BulkStore& owner) {
 }
 
 void Welder::note_surface(std::size_t p) {
-  referenced_.resize(static_cast<std::size_t>(first_steiner_), 0);
-  for (std::int32_t v : pieces_[p].global_ids) referenced_[v] = 1;
+  referenced_.resize(static_cast<std::size_t>(first_steiner_), false);
+  for (std::int32_t v : pieces_[p].global_ids) referenced_[v] = true;
 }
 
 void Welder::install_band(std::size_t p, PieceBand&& split) {
@@ -361,7 +361,9 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   }
   band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
   TetMesh band = weld_blocks(std::move(split_points), blocks_);
-  band_used_before_ = used_vertices(band.points.size(), band.tets);
+  band_used_before_.assign(band.points.size(), false);
+  for (const Tet& t : band.tets)
+    for (std::int32_t v : t) band_used_before_[v] = true;
   return band;
 }
 
@@ -409,10 +411,11 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
   const std::int64_t healing_band = numbering.healing_first_band();
   const std::int64_t healing_welded = numbering.healing_first_welded();
   std::vector<Point3> healing_points;
-  for (std::int64_t h = healing_band; h < static_cast<std::int64_t>(mesh.points.size()); ++h)
-    if (numbering.of_welded(healing_welded + (h - healing_band)) >= 0) healing_points.push_back(mesh.points[h]);
-  for (std::int32_t v = 0; v < first_steiner_; ++v)
-    if (const std::int32_t to = numbering.of_welded(v); to >= 0) mesh.points[to] = mesh.points[v];
+  numbering.for_each_kept(healing_welded, numbering.welded_count(), [&](std::int64_t w, std::int32_t) {
+    healing_points.push_back(mesh.points[static_cast<std::size_t>(healing_band + (w - healing_welded))]);
+  });
+  numbering.for_each_kept(0, first_steiner_,
+                          [&](std::int64_t v, std::int32_t to) { mesh.points[to] = mesh.points[v]; });
   mesh.points.resize(static_cast<std::size_t>(numbering.point_count()));
   std::copy(healing_points.begin(), healing_points.end(),
             mesh.points.end() - static_cast<std::ptrdiff_t>(healing_points.size()));

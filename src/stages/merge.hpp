@@ -121,8 +121,9 @@ class Welder {
   // in the piece of each band tet (to rejoin it, until finish_band).
   std::vector<std::vector<std::int32_t>> band_steiner_;
   std::vector<std::vector<std::int32_t>> band_tets_;
-  std::vector<char> referenced_;        // per split point: some piece's surface has it
-  std::vector<char> band_used_before_;  // per point of the band mesh finish_band made: a band tet uses it
+  // Bits, not bytes: they live from the pieces' arrival until the assembly.
+  std::vector<bool> referenced_;        // per split point: some piece's surface has it
+  std::vector<bool> band_used_before_;  // per point of the band mesh finish_band made: a band tet uses it
   // Per piece split on arrival: the cap faces its band reached, and its bulk's open cap faces.
   std::vector<std::vector<CapCrossing>> crossings_;
   std::vector<std::vector<FaceKey>> bulk_cap_faces_;
