@@ -57,11 +57,21 @@ bool same_file(int fd, const std::string& path) {
   return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
-// Which file a name stands for ("device inode"; empty when there is none).
+// Which file a name stands for, as it was written: "device inode size mtime-ns" (empty when there
+// is none). Size and time because a file removed and another made under its name often get the
+// same inode number back.
 std::string identity(const std::string& path) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) return "";
-  return std::to_string(st.st_dev) + " " + std::to_string(st.st_ino);
+  return std::to_string(st.st_dev) + " " + std::to_string(st.st_ino) + " " + std::to_string(st.st_size) + " " +
+         std::to_string(st.st_mtim.tv_sec * 1000000000LL + st.st_mtim.tv_nsec);
+}
+
+// Whether `path` is the file a journal recorded (older journals record only "device inode").
+bool is_recorded(const std::string& path, const std::string& recorded) {
+  if (recorded.empty()) return false;
+  const std::string now = identity(path);
+  return now == recorded || (std::count(recorded.begin(), recorded.end(), ' ') == 1 && now.rfind(recorded + " ", 0) == 0);
 }
 
 void sync_directory(const std::string& directory) {
@@ -155,15 +165,23 @@ void write_journal(int fd, const Journal& journal, const std::string& path) {
 
 // Whether new file i of a journal is in place: its temporary's identity is at its final name.
 bool moved_in(const Journal& j, std::size_t i) {
-  return i < j.made.size() && !j.made[i].empty() && identity(j.files[i]) == j.made[i];
+  return i < j.made.size() && is_recorded(j.files[i], j.made[i]);
+}
+
+// Whether new file i of a journal still waits under its temporary name: the file written there,
+// not another one put there since (older journals, without identities: any file there).
+bool waiting(const Journal& j, std::size_t i) {
+  const std::string temporary = j.temporary(j.files[i]);
+  if (i < j.made.size() && !j.made[i].empty()) return is_recorded(temporary, j.made[i]);
+  return exists_here(temporary);
 }
 
 // The new file of a journal that is neither waiting under its temporary name nor in place: removed
-// by something else meanwhile (empty: none is, or the journal does not say).
+// or replaced by something else meanwhile (empty: none is, or the journal does not say).
 std::string lost_file(const Journal& j) {
   if (j.made.size() != j.files.size()) return "";
   for (std::size_t i = 0; i < j.files.size(); ++i)
-    if (!exists_here(j.temporary(j.files[i])) && !moved_in(j, i)) return j.files[i];
+    if (!waiting(j, i) && !moved_in(j, i)) return j.files[i];
   return "";
 }
 
@@ -187,7 +205,8 @@ std::string restore_previous(const Journal& j, const std::string& journal_path, 
     if (exists_here(j.old_copy(f))) std::rename(j.old_copy(f).c_str(), f.c_str());
   for (const std::string& f : j.files) sync_directory(directory_of(f));
   return "could not complete the publish that a stopped partet run (pid " + std::to_string(j.pid) +
-         ") left half done: the new file for '" + lost + "' was removed meanwhile; the previous files are back in place " +
+         ") left half done: the new file for '" + lost + "' was removed or replaced meanwhile; the previous files are " +
+         "back in place " +
          "(journal '" + journal_path + "')";
 }
 
@@ -196,9 +215,14 @@ std::string restore_previous(const Journal& j, const std::string& journal_path, 
 // previous set is put back).
 std::string complete_moves(const Journal& j, const std::string& journal_path) {
   if (const std::string lost = lost_file(j); !lost.empty()) return restore_previous(j, journal_path, lost);
-  for (const std::string& f : j.files) {
+  for (std::size_t i = 0; i < j.files.size(); ++i) {
+    const std::string& f = j.files[i];
     const std::string temporary = j.temporary(f);
-    if (exists_here(temporary) && std::rename(temporary.c_str(), f.c_str()) != 0)
+    if (!waiting(j, i)) {
+      ::unlink(temporary.c_str());  // a file put under the run's temporary name after its own moved in
+      continue;
+    }
+    if (std::rename(temporary.c_str(), f.c_str()) != 0)
       throw OutputError("cannot complete the interrupted publish listed in '" + journal_path + "': moving '" +
                         temporary + "' to '" + f + "': " + std::strerror(errno));
   }

@@ -33,6 +33,11 @@ same_files() {  # DIR: the files here are exactly DIR's (the report's timings ma
 }
 is_old() { same_files old_set && cmp -s m.json old_set/m.json; }
 is_new() { same_files new_set && "$partet" check torus.off m > /dev/null 2>&1; }
+# Each loop below spells its outcomes as letters (n: the new set, o: the previous one); a case that
+# is neither fails the test and shows as "!".
+missed() { bad "$1"; outcomes+="!"; }
+# The new run, killed (SIGKILL) at publish step $1; no "Killed" line.
+killed_at() { (PARTET_TEST_PUBLISH_SIGNAL="$1:9" "$partet" "${new[@]}" > log 2>&1; true) 2> /dev/null; }
 
 # The publish has 31 steps here: the journal written (0, and 1 past its error handling), 12
 # previous files kept aside, 4 previous piece files and partitions the new set does not have, 12
@@ -56,8 +61,7 @@ for sig in TERM INT HUP; do
     elif [ "$code" -eq $((128 + num)) ] && is_old && grep -q "interrupted (SIG$sig): no output written; the files at m are as they were" log; then
       outcomes+="o"
     else
-      bad "SIG$sig at publish step $step: exit $code, files: $(listing), says: $(cat log)"
-      outcomes+="!"
+      missed "SIG$sig at publish step $step: exit $code, files: $(listing), says: $(cat log)"
     fi
   done
   [[ "$outcomes" != *"!"* ]] && ok "SIG$sig at publish steps $(echo $tried | tr ' ' ,): $outcomes (n: new set complete, exit 0; o: previous set, exit $((128 + num)))"
@@ -68,37 +72,57 @@ done
 outcomes=""
 for step in $(seq 0 $steps); do
   restore_old
-  (PARTET_TEST_PUBLISH_SIGNAL="$step:9" "$partet" "${new[@]}" > log 2>&1; true) 2> /dev/null  # no "Killed" line
+  killed_at "$step"
   case $((step % 3)) in
     0) "$partet" check torus.off m > log 2>&1 ;;
     1) "$partet" info m > log 2>&1 ;;
     2) "$partet" mesh torus.off -o other --quiet > /dev/null 2>&1 && rm -f other.* && "$partet" info m.node > log 2>&1 ;;
   esac
   if is_new && grep -q "completed the publish of 12 file(s)" log; then outcomes+="n"
-  else bad "SIGKILL at publish step $step: files after the next command: $(listing); it said: $(cat log)"; outcomes+="!"; fi
+  else missed "SIGKILL at publish step $step: files after the next command: $(listing); it said: $(cat log)"; fi
 done
 [[ "$outcomes" != *"!"* ]] && ok "SIGKILL at each of $((steps + 1)) publish steps, then check/info/mesh completes the new set: $outcomes"
 
-# 2b. SIGKILL, then one of the new files still waiting under its temporary name is removed (a
-#     cleanup script, a user): the journal cannot be completed, and the next command puts the
-#     previous set back whole instead (its files the new set superseded included), leaving no
-#     temporary, second name or journal.
-outcomes=""
-for step in 0 12 24 29; do
-  restore_old
-  (PARTET_TEST_PUBLISH_SIGNAL="$step:9" "$partet" "${new[@]}" > log 2>&1; true) 2> /dev/null
-  waiting=$(ls | grep '\.tmp-' | grep -v '\.old\.tmp-' | tail -1)  # a new file, not a previous one's second name
-  [ -n "$waiting" ] && rm "$waiting"
-  "$partet" info m > log 2>&1
-  if [ -n "$waiting" ] && is_old && ! ls | grep -q -e '\.tmp-' -e '\.old\.' -e 'partet-publish' &&
-    grep -q "could not complete the publish.*was removed meanwhile; the previous files are back in place" log; then
-    outcomes+="o"
-  else
-    bad "SIGKILL at publish step $step, then '$waiting' removed: files after the next command: $(listing); it said: $(cat log)"
-    outcomes+="!"
-  fi
+# 2b. SIGKILL, then one of the new files still waiting under its temporary name is removed, or
+#     replaced by another file (a cleanup script, a sync tool, a user): the journal cannot be
+#     completed, and the next command puts the previous set back whole instead (its files the new
+#     set superseded included), leaving no temporary, second name or journal.
+for action in removed replaced; do
+  outcomes=""
+  for step in 0 12 24 29; do
+    restore_old
+    killed_at "$step"
+    waiting=$(ls | grep '\.tmp-' | grep -v '\.old\.tmp-' | tail -1)  # a new file, not a previous one's second name
+    if [ -n "$waiting" ]; then
+      rm "$waiting"
+      [ "$action" = replaced ] && echo "not partet's" > "$waiting"
+    fi
+    "$partet" info m > log 2>&1
+    if [ -n "$waiting" ] && is_old && ! ls | grep -q -e '\.tmp-' -e '\.old\.' -e 'partet-publish' &&
+      grep -q "could not complete the publish.*was removed or replaced meanwhile; the previous files are back in place" log; then
+      outcomes+="o"
+    else
+      missed "SIGKILL at publish step $step, then '$waiting' $action: files after the next command: $(listing); it said: $(cat log)"
+    fi
+  done
+  [[ "$outcomes" != *"!"* ]] && ok "SIGKILL at publish steps 0,12,24,29, then a waiting new file $action: the previous set back: $outcomes"
 done
-[[ "$outcomes" != *"!"* ]] && ok "SIGKILL at publish steps 0,12,24,29, then a waiting new file removed: the previous set back: $outcomes"
+
+# 2c. SIGKILL with 6 of 12 new files moved in, then a file put under the temporary name of one
+#     that moved: it is not moved over the new file; the new set is completed and that file goes.
+restore_old
+killed_at 24
+suffix=$(ls | grep '\.tmp-' | grep -v '\.old\.tmp-' | head -1 | sed 's/.*\(\.tmp-.*\)/\1/')
+moved=$(for f in $(ls new_set); do [ -e "$f$suffix" ] || { [ -e "$f" ] && echo "$f"; }; done | grep -v m.json | head -1)
+if [ -n "$suffix" ] && [ -n "$moved" ]; then
+  echo "not partet's" > "$moved$suffix"
+  "$partet" info m > log 2>&1
+  is_new && ! ls | grep -q -e '\.tmp-' -e 'partet-publish' && grep -q "completed the publish of 12 file(s)" log &&
+    ok "SIGKILL after 6 moves, then a file under the temporary name of '$moved' (moved in): the new set completed, that file gone" ||
+    bad "SIGKILL after 6 moves, then a file under '$moved$suffix': files after the next command: $(listing); it said: $(cat log)"
+else
+  bad "SIGKILL at publish step 24 left no moved new file to test with (suffix '$suffix', files: $(listing))"
+fi
 
 # 3. Interrupted before the publish, with 82 files written (K=80 .pvtu): none is left behind.
 restore_old
@@ -126,7 +150,7 @@ for delay in 0.3 0.9 1.5 2.2 3.0 3.8; do
   code=$?
   if [ "$code" -eq 0 ] && is_new; then outcomes+="n"
   elif [ "$code" -eq 130 ] && is_old; then outcomes+="o"
-  else bad "SIGINT after $delay s of a slow run: exit $code, files: $(listing), says: $(cat log)"; outcomes+="!"; fi
+  else missed "SIGINT after $delay s of a slow run: exit $code, files: $(listing), says: $(cat log)"; fi
 done
 [[ "$outcomes" != *"!"* ]] && ok "SIGINT at 6 moments of a slow run: $outcomes"
 
