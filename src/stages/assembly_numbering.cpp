@@ -17,6 +17,12 @@ std::vector<std::int64_t> before_each(const std::vector<std::int64_t>& counts) {
 
 }  // namespace
 
+void check_int32_sizes(std::size_t tets, std::size_t points) {
+  if (tets > static_cast<std::size_t>(INT32_MAX) || points > static_cast<std::size_t>(INT32_MAX))
+    throw MeshingError(FailureKind::other, -1,
+                       "the merged mesh has more than 2^31 tetrahedra or points; this version numbers them with int32");
+}
+
 AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused)
     : split_points_(points.split_points),
       steiner_before_(before_each(points.steiner_counts)),
@@ -31,9 +37,7 @@ AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& heale
       points.referenced.size() != static_cast<std::size_t>(split_points_))
     throw InternalError("the healed band does not match the welded pieces");
   const std::int64_t welded = healing_first_welded() + (band_points - healing_first_band_);
-  if (welded > INT32_MAX)
-    throw MeshingError(FailureKind::other, -1,
-                       "the merged mesh has more than 2^31 points; this version numbers them with int32");
+  check_int32_sizes(0, static_cast<std::size_t>(welded));
   welded_ = welded;
   // Only the ids that go are kept (a few per cut vertex): no array over every point.
   if (drop_unused) {

@@ -9,6 +9,10 @@
 
 namespace partet {
 
+// Throws MeshingError when the merged mesh would have more than 2^31 tets or points (its ids are
+// int32).
+void check_int32_sizes(std::size_t tets, std::size_t points);
+
 // Welded ids: the split surface's points [0, S), then piece p's Steiner points from
 // S + steiner_before[p], then the points healing added. Band ids: the split surface's points, then
 // each piece's band Steiner points in piece order, then the points healing added. A bulk numbers

@@ -35,12 +35,6 @@ void reserve_with_room(std::vector<T>& array, std::size_t size) {
   array.reserve(size + size / kHealingRoom + 1024);
 }
 
-void check_int32_sizes(std::size_t tets, std::size_t points) {
-  if (tets > static_cast<std::size_t>(INT32_MAX) || points > static_cast<std::size_t>(INT32_MAX))
-    throw MeshingError(FailureKind::other, -1,
-                       "the merged mesh has more than 2^31 tetrahedra or points; this version numbers them with int32");
-}
-
 // A face of a bulk towards its band: its key and where the bulk has it (4 * tet + j).
 struct RimFace {
   FaceKey key;
@@ -361,9 +355,7 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   }
   band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
   TetMesh band = weld_blocks(std::move(split_points), blocks_);
-  band_used_before_.assign(band.points.size(), false);
-  for (const Tet& t : band.tets)
-    for (std::int32_t v : t) band_used_before_[v] = true;
+  band_used_before_ = used_vertices<bool>(band.points.size(), band.tets);
   return band;
 }
 

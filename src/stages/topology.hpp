@@ -112,12 +112,13 @@ class DisjointSets {
   std::vector<std::int32_t> root_;
 };
 
-// Which of vertex_count vertices the cells (triangles or tets) use.
-template <class Cell>
-std::vector<char> used_vertices(std::size_t vertex_count, const std::vector<Cell>& cells) {
-  std::vector<char> used(vertex_count, 0);
+// Which of vertex_count vertices the cells (triangles or tets) use: as bytes, or as bits
+// (used_vertices<bool>) for marks that live long.
+template <class Flag = char, class Cell>
+std::vector<Flag> used_vertices(std::size_t vertex_count, const std::vector<Cell>& cells) {
+  std::vector<Flag> used(vertex_count, false);
   for (const auto& c : cells)
-    for (auto v : c) used[v] = 1;
+    for (auto v : c) used[v] = true;
   return used;
 }
 
