@@ -223,8 +223,16 @@ TEST(SeamBand, BandsAndBulksAssembleIntoTheWeldedMesh) {
 // The bulks kept where their pieces were split (a worker rank, in the MPI layer).
 class KeptWhereMeshed : public BulkStore {
  public:
+  // numbers: as the MPI driver's owners, it numbers its bulks where they are (BulkStore::number).
+  explicit KeptWhereMeshed(bool numbers = false) : numbers_(numbers) {}
   void keep(int piece, TetBlock&& bulk) { bulks_[piece] = std::move(bulk); }
   bool put(int, const TetBlock&) override { return false; }
+  void number(const std::vector<BulkShare>& shares) override {
+    shares_ = shares.size();
+    if (numbers_)
+      for (const BulkShare& share : shares) number_bulk(bulks_.at(share.piece), share.numbering, share.first_steiner);
+  }
+  std::size_t shares() const { return shares_; }
   TetBlock take(int piece) override {
     TetBlock bulk = std::move(bulks_.at(piece));
     bulks_.erase(piece);
@@ -233,6 +241,8 @@ class KeptWhereMeshed : public BulkStore {
   std::size_t size() const { return bulks_.size(); }
 
  private:
+  bool numbers_;
+  std::size_t shares_ = 0;
   std::map<int, TetBlock> bulks_;
 };
 
@@ -300,6 +310,47 @@ TEST(SeamBand, EachBulkNumberedWithItsShareIsItsPartOfTheAssembledMesh) {
       EXPECT_EQ(mesh.neighbours, compute_neighbours(mesh.tets));
       EXPECT_TRUE(check_mesh(input, mesh).ok());
       if (!caps) EXPECT_EQ(dropped, 0u);  // only cut vertices go then, and they are split points
+    }
+}
+
+// The bulks kept where their pieces were meshed (their Steiner points numbered from 2^30 there)
+// and numbered there with their shares, all before the first comes back, give the same assembled
+// mesh as the bulks numbered by the welder as they come back; with healed caps, whose points go.
+TEST(SeamBand, BulksNumberedWhereTheyAreKeptGiveTheSameMesh) {
+  for (const char* name : {"torus", "nested", "genus3"})
+    for (const bool caps : {false, true}) {
+      SCOPED_TRACE(std::string(name) + (caps ? " caps healed" : " cut vertices only"));
+      const SurfaceMesh input = generate_surface(name, 1500);
+      const MeshedPieces s = mesh_pieces_in_batch(input, 5);
+      const SplitSurface& split = s.prepared.split;
+      const BandSpec spec = band_spec(split, caps, 1);
+      BandSpec there = spec;
+      there.split_point_count = 1 << 30;
+      if (caps) there.end_removed = 1 << 30;
+      std::vector<TetMesh> meshes;
+      for (const bool numbers_there : {false, true}) {
+        KeptWhereMeshed kept(numbers_there);
+        Welder welder(split, s.prepared.pieces);
+        welder.split_on_arrival(spec);
+        for (std::size_t p = 0; p < s.results.size(); ++p) {
+          if (p == 2) {  // one piece split by the welder, its bulk kept and numbered there
+            welder.add(PieceTetMesh(s.results[p]));
+            continue;
+          }
+          PieceBand band = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
+          kept.keep(band.index, std::move(band.bulk));
+          welder.add_split(std::move(band), kept);
+        }
+        TetMesh band = welder.finish_band(split.points, spec);
+        heal_seams(band, input, split, HealOptions{caps, 0, false}, regions_here(s.options));
+        meshes.push_back(welder.assemble(std::move(band)));
+        EXPECT_EQ(kept.shares(), s.results.size() - 1);  // a share for every bulk it kept
+        EXPECT_EQ(kept.size(), 0u);                        // and every one came back
+      }
+      expect_same_tet_mesh(meshes[1], meshes[0]);
+      EXPECT_EQ(meshes[1].piece, meshes[0].piece);
+      EXPECT_EQ(meshes[1].neighbours, meshes[0].neighbours);
+      EXPECT_TRUE(check_mesh(input, meshes[1]).ok());
     }
 }
 

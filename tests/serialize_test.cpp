@@ -166,7 +166,34 @@ TEST(Serialize, BandsAndBulksRoundTrip) {
     EXPECT_EQ(bulk.tets, sent.bulk.tets);
     EXPECT_EQ(bulk.neighbours, sent.bulk.neighbours);
     EXPECT_EQ(bulk.rim, sent.bulk.rim);
+    EXPECT_FALSE(bulk.numbered);
+    TetBlock numbered = sent.bulk;
+    numbered.numbered = true;
+    EXPECT_TRUE(deserialize_block(serialize_block(numbered)).numbered);
   }
+}
+
+// The numbering's shares of the kept bulks, as they go to the ranks that keep them.
+TEST(Serialize, BulkSharesRoundTrip) {
+  std::vector<BulkShare> sent(3);
+  sent[0] = {4, 1 << 30, BulkNumbering{}};
+  sent[0].numbering.split_points = 1000, sent[0].numbering.first_steiner = 1990;
+  sent[0].numbering.dropped_split = {3, 700, 999};
+  sent[0].numbering.dropped_steiner = {0, 5};
+  sent[1] = {0, 1000, BulkNumbering{}};
+  sent[1].numbering.split_points = 1000, sent[1].numbering.first_steiner = 997;
+  sent[2].piece = 65535;
+  const std::vector<BulkShare> back = deserialize_bulk_shares(serialize_bulk_shares(sent));
+  ASSERT_EQ(back.size(), sent.size());
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    EXPECT_EQ(back[i].piece, sent[i].piece);
+    EXPECT_EQ(back[i].first_steiner, sent[i].first_steiner);
+    EXPECT_EQ(back[i].numbering.split_points, sent[i].numbering.split_points);
+    EXPECT_EQ(back[i].numbering.first_steiner, sent[i].numbering.first_steiner);
+    EXPECT_EQ(back[i].numbering.dropped_split, sent[i].numbering.dropped_split);
+    EXPECT_EQ(back[i].numbering.dropped_steiner, sent[i].numbering.dropped_steiner);
+  }
+  EXPECT_TRUE(deserialize_bulk_shares(serialize_bulk_shares({})).empty());
 }
 
 TEST(Serialize, SpecialValuesAndNegativeIds) {

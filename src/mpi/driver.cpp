@@ -52,7 +52,7 @@ constexpr int kTagBulk = 8;      // a kept bulk, back to rank 0
 // the longest while nothing happens, so replies to small regions (seams, polish) are taken at
 // once and long pieces still leave the core to the TetGen processes.
 constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
-enum Command : int { kDone = 0, kMeshPieces = 1, kSendBulk = 2 };
+enum Command : int { kDone = 0, kMeshPieces = 1, kSendBulk = 2, kNumberBulks = 3 };
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
 // worker a piece's own time limit plus kReplyGraceSeconds to answer, and kWorkerSeconds for
@@ -120,6 +120,16 @@ Command receive_command() {
   return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, job_comm(), collective_limit()); }));
 }
 
+// Rank 0's text to every rank.
+std::string broadcast_text(const std::string& text) {
+  const int size =
+      bounded([&] { return broadcast_int(static_cast<int>(text.size()), 0, job_comm(), collective_limit()); });
+  std::string received = text;
+  received.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(received.data(), size, MPI_CHAR, 0, job_comm());
+  return received;
+}
+
 // How long rank 1 waits for the other checking ranks' findings on an input of `faces` faces:
 // kWorkerSeconds + 1 s per million faces (rank 0 waits as long for rank 1's verdict on 2 ranks,
 // twice as long on more).
@@ -159,13 +169,24 @@ void dump_piece(const MeshJob& job, const PieceSurface& piece) {
 }
 
 // The bulks of the pieces split where they were meshed (split_where_meshed), kept by the ranks
-// that meshed them until the welder needs them: then rank 0 broadcasts kSendBulk and the piece's
-// index, and its owner sends the bulk ("" if it has none). The workers wait for commands then.
+// that meshed them until the welder needs them. Before the assembly rank 0 broadcasts
+// kNumberBulks and the numbering's shares of the kept bulks: each owner numbers its own at once
+// (while rank 0 numbers those it keeps). Then, for each, rank 0 broadcasts kSendBulk and the
+// piece's index, and its owner sends the bulk ("" if it has none). The workers wait for commands
+// then.
 class RemoteBulks : public BulkStore {
  public:
   explicit RemoteBulks(RankStats& stats) : stats_(stats) {}
   void owned_by(int piece, int rank) { owners_[piece] = rank; }
   bool put(int, const TetBlock&) override { return false; }  // a bulk split again stays on rank 0
+  void number(const std::vector<BulkShare>& shares) override {
+    std::vector<BulkShare> kept;
+    for (const BulkShare& share : shares)
+      if (owners_.count(share.piece)) kept.push_back(share);
+    if (kept.empty()) return;
+    broadcast(kNumberBulks);
+    broadcast_text(serialize_bulk_shares(kept));
+  }
   TetBlock take(int piece) override {
     const auto owner = owners_.find(piece);
     if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
@@ -617,6 +638,7 @@ class KeptBulks {
   void new_attempt(std::int32_t attempt) {
     attempt_ = attempt;
     bulks_.clear();
+    shares_.clear();
     on_disk_.reset();
     if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
   }
@@ -631,7 +653,25 @@ class KeptBulks {
   }
   void forget(int piece) {
     bulks_.erase(piece);
+    shares_.erase(piece);
     if (on_disk_) on_disk_->drop(piece);
+  }
+  // Numbers the bulks kept in memory at once and those on disk as they are taken. A bulk that does
+  // not fit its share is forgotten (rank 0 then learns this rank no longer keeps it).
+  void number(std::vector<BulkShare> shares) {
+    for (BulkShare& share : shares) {
+      const int piece = share.piece;
+      if (auto it = bulks_.find(piece); it != bulks_.end()) {
+        try {
+          number_bulk(it->second, share.numbering, share.first_steiner);
+        } catch (const std::exception& e) {
+          log::error("piece " + std::to_string(piece) + ": " + e.what());
+          forget(piece);
+        }
+      } else if (on_disk_ && on_disk_->holds(piece)) {
+        shares_[piece] = std::move(share);
+      }
+    }
   }
   // Piece's bulk, once; nothing when this rank does not keep it.
   std::optional<TetBlock> take(int piece) {
@@ -640,7 +680,14 @@ class KeptBulks {
       bulks_.erase(it);
       return bulk;
     }
-    if (on_disk_ && on_disk_->holds(piece)) return on_disk_->take(piece);
+    if (on_disk_ && on_disk_->holds(piece)) {
+      TetBlock bulk = on_disk_->take(piece);
+      if (auto share = shares_.find(piece); share != shares_.end()) {
+        number_bulk(bulk, share->second.numbering, share->second.first_steiner);
+        shares_.erase(share);
+      }
+      return bulk;
+    }
     return std::nullopt;
   }
 
@@ -650,6 +697,7 @@ class KeptBulks {
   std::int32_t attempt_ = -1;
   std::map<int, TetBlock> bulks_;  // by piece, in memory
   std::unique_ptr<ScratchBulks> on_disk_;
+  std::map<int, BulkShare> shares_;  // by piece: the numbering of a bulk on disk, for its take
 };
 
 std::string out_of_memory_message(int rank);
@@ -699,6 +747,19 @@ void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+// A worker's side of kNumberBulks: it numbers the bulks it keeps with their shares. Shares it
+// cannot read leave its bulks as they are; rank 0 then numbers them itself.
+void number_kept_bulks(KeptBulks& kept) {
+  const std::string bytes = broadcast_text("");
+  const double start = MPI_Wtime();
+  try {
+    kept.number(deserialize_bulk_shares(bytes));
+  } catch (const std::exception& e) {
+    log::error(std::string("the numbering of the kept bulks: ") + e.what());
+  }
+  log::debug("numbered the kept bulks in " + std::to_string(MPI_Wtime() - start) + " s");
+}
+
 // A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
 // empty message; between rounds, send the bulks it kept when rank 0 asks for them.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
@@ -707,6 +768,10 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   for (Command command = receive_command(); command != kDone; command = receive_command()) {
     if (command == kSendBulk) {
       send_kept_bulk(kept, stats);
+      continue;
+    }
+    if (command == kNumberBulks) {
+      number_kept_bulks(kept);
       continue;
     }
     for (;;) {
@@ -777,16 +842,6 @@ std::string absolute_or_error(const std::string& path) {
   std::string absolute = absolute_path(path);
   if (absolute.empty() || absolute[0] != '/') throw OutputError("cannot find the working directory");
   return absolute;
-}
-
-// Rank 0's text to every rank.
-std::string broadcast_text(const std::string& text) {
-  const int size =
-      bounded([&] { return broadcast_int(static_cast<int>(text.size()), 0, job_comm(), collective_limit()); });
-  std::string received = text;
-  received.resize(static_cast<std::size_t>(size));
-  MPI_Bcast(received.data(), size, MPI_CHAR, 0, job_comm());
-  return received;
 }
 
 // A block of the HDF5 files goes to its rank as a header ("B", or "" when rank 0 cannot make it),

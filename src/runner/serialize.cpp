@@ -223,6 +223,8 @@ constexpr char kResultTag = 'R', kFailureTag = 'F', kBandTag = 'B';
 
 template <class Archive>
 void save_tet_block(Archive& ar, const TetBlock& block) {
+  const std::uint8_t numbered = block.numbered;
+  ar << numbered;
   save_block(ar, block.steiner_points);
   save_block(ar, block.tets);
   save_block(ar, block.neighbours);
@@ -231,6 +233,9 @@ void save_tet_block(Archive& ar, const TetBlock& block) {
 
 template <class Archive>
 void load_tet_block(Archive& ar, TetBlock& block) {
+  std::uint8_t numbered = 0;
+  ar >> numbered;
+  block.numbered = numbered != 0;
   load_block(ar, block.steiner_points);
   load_block(ar, block.tets);
   load_block(ar, block.neighbours);
@@ -326,6 +331,31 @@ std::string serialize_block(const TetBlock& block) {
 
 TetBlock deserialize_block(std::string_view bytes) {
   return decode<TetBlock>(bytes, [](auto& ar, TetBlock& block) { load_tet_block(ar, block); });
+}
+
+std::string serialize_bulk_shares(const std::vector<BulkShare>& shares) {
+  return encode(64 + shares.size() * 64, [&](auto& ar) {
+    const std::uint64_t count = shares.size();
+    ar << count;
+    for (const BulkShare& s : shares) {
+      ar << s.piece << s.first_steiner << s.numbering.split_points << s.numbering.first_steiner;
+      save_block(ar, s.numbering.dropped_split);
+      save_block(ar, s.numbering.dropped_steiner);
+    }
+  });
+}
+
+std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes) {
+  return decode<std::vector<BulkShare>>(bytes, [](auto& ar, std::vector<BulkShare>& shares) {
+    std::uint64_t count = 0;
+    ar >> count;
+    shares.resize(count);
+    for (BulkShare& s : shares) {
+      ar >> s.piece >> s.first_steiner >> s.numbering.split_points >> s.numbering.first_steiner;
+      load_block(ar, s.numbering.dropped_split);
+      load_block(ar, s.numbering.dropped_steiner);
+    }
+  });
 }
 
 namespace {

@@ -5,9 +5,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "partet/errors.hpp"
 #include "partet/mesh_types.hpp"
+#include "stages/assembly_numbering.hpp"
 #include "stages/closure.hpp"
 #include "stages/piece.hpp"
 #include "mesher/tetgen_mesher.hpp"
@@ -52,5 +54,8 @@ PieceOutcome deserialize_outcome(std::string_view bytes);
 // A bulk on its way to rank 0 from the rank that kept it.
 std::string serialize_block(const TetBlock& block);
 TetBlock deserialize_block(std::string_view bytes);
+// The numbering's shares of the bulks a rank keeps, from rank 0 (BulkStore::number).
+std::string serialize_bulk_shares(const std::vector<BulkShare>& shares);
+std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes);
 
 }  // namespace partet

@@ -79,6 +79,33 @@ BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
   return bulk;
 }
 
+std::int32_t BulkNumbering::split_kept_below(std::int32_t n) const {
+  return n - static_cast<std::int32_t>(std::lower_bound(dropped_split.begin(), dropped_split.end(), n) -
+                                       dropped_split.begin());
+}
+
+void number_bulk(TetBlock& bulk, const BulkNumbering& share, std::int32_t first_steiner) {
+  if (bulk.numbered) return;
+  const std::int32_t to_welded = share.split_points - first_steiner;  // a Steiner point's provisional id to welded
+  for (Tet& t : bulk.tets)
+    for (auto& v : t)
+      if ((v = share(v < first_steiner ? v : v + to_welded)) < 0)
+        throw InternalError("a point the assembly drops is used by a tet of a bulk");
+  if (!share.dropped_steiner.empty()) {
+    std::size_t kept = 0;
+    auto gone = share.dropped_steiner.begin();
+    for (std::size_t i = 0; i < bulk.steiner_points.size(); ++i) {
+      if (gone != share.dropped_steiner.end() && *gone == static_cast<std::int32_t>(i)) {
+        ++gone;
+        continue;
+      }
+      bulk.steiner_points[kept++] = bulk.steiner_points[i];
+    }
+    bulk.steiner_points.resize(kept);
+  }
+  bulk.numbered = true;
+}
+
 std::int32_t BulkNumbering::searched(std::int32_t v) const {
   auto shifted = [](const std::vector<std::int32_t>& dropped, std::int32_t i) -> std::int32_t {
     const auto below = std::lower_bound(dropped.begin(), dropped.end(), i);

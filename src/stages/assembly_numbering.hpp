@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "stages/seam_band.hpp"
 
 namespace partet {
 
@@ -42,10 +43,26 @@ struct BulkNumbering {
     }
     return searched(v);
   }
+  // How many of the split surface's first n points stay (the assembled ids below that of point n).
+  std::int32_t split_kept_below(std::int32_t n) const;
 
  private:
   std::int32_t searched(std::int32_t v) const;
 };
+
+// A bulk's share as it goes to where the bulk is kept: its piece, and the id there of the piece's
+// Steiner point 0 (a rank that split the piece numbered them from its own count of split points).
+struct BulkShare {
+  std::int32_t piece = 0;
+  std::int32_t first_steiner = 0;
+  BulkNumbering numbering;
+};
+
+// Numbers a bulk in place, where it is kept, as in the assembled mesh: its tets' points through
+// its share (its Steiner point i given as first_steiner + i), and only its Steiner points that stay,
+// in order (the first goes to share.first_steiner). Then bulk.numbered. Throws InternalError when
+// a tet uses a point that goes (the numbering was not made for this bulk).
+void number_bulk(TetBlock& bulk, const BulkNumbering& share, std::int32_t first_steiner);
 
 // Where each welded point goes in the assembled mesh. Healing re-meshes band tets only and keeps
 // the band's faces towards the bulks; a point a bulk shares with the band lies on such a face (the

@@ -1,6 +1,7 @@
 #include "stages/merge.hpp"
 
 #include <algorithm>
+#include <map>
 
 #include "partet/errors.hpp"
 #include "stages/tet_region.hpp"
@@ -263,9 +264,10 @@ Welder::Block& Welder::bulk_here(std::size_t p) {
   const StoredBulk stored = stored_[p];
   if (stored.stored) {
     Block bulk = stored.store->take(static_cast<int>(p));
-    if (bulk.tets.size() != stored.tets || bulk.steiner_points.size() != stored.steiner_points)
+    // A numbered bulk has only its Steiner points that stay (the assembly checks their count).
+    if (bulk.tets.size() != stored.tets || (!bulk.numbered && bulk.steiner_points.size() != stored.steiner_points))
       throw InternalError("the bulk of piece " + std::to_string(p) + " came back changed from where it was kept");
-    move_steiner_ids(bulk.tets, stored.first_steiner, first_steiner_);
+    if (!bulk.numbered) move_steiner_ids(bulk.tets, stored.first_steiner, first_steiner_);
     bulk.in = true;
     bulks_[p] = std::move(bulk);
     stored_[p] = StoredBulk();
@@ -380,6 +382,17 @@ AssemblyPoints Welder::assembly_points() {
   return points;
 }
 
+void Welder::number_bulks(const AssemblyNumbering& numbering) {
+  std::map<BulkStore*, std::vector<BulkShare>> elsewhere;
+  for (std::size_t p = 0; p < stored_.size(); ++p)
+    if (stored_[p].stored)
+      elsewhere[stored_[p].store].push_back(
+          {static_cast<std::int32_t>(p), stored_[p].first_steiner, numbering.for_bulk(p)});
+  for (auto& [store, shares] : elsewhere) store->number(shares);
+  for (std::size_t p = 0; p < stored_.size(); ++p)
+    if (!stored_[p].stored) number_bulk(bulks_[p], numbering.for_bulk(p), first_steiner_);
+}
+
 AssemblyNumbering Welder::numbering(const TetMesh& healed_band, bool drop_unused) {
   if (!all_split()) throw InternalError("the welder assembles only after finish_band");
   return AssemblyNumbering(assembly_points(), healed_band, drop_unused);
@@ -424,16 +437,22 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
   reserve_with_room(mesh.piece, tet_total);
   std::vector<RimFace> rim;
   std::vector<std::int32_t> on_caps;
+  number_bulks(numbering);
   for (std::size_t p = 0; p < k; ++p) {
+    const bool kept_elsewhere = stored_[p].stored;
+    const std::size_t steiner_points = bulk_steiner_points(p);
     Block& bulk = bulk_here(p);
     const BulkNumbering number = numbering.for_bulk(p);
-    for (std::size_t i = 0; i < bulk.steiner_points.size(); ++i)
-      if (const std::int32_t to = number(first_steiner_ + static_cast<std::int32_t>(i)); to >= 0)
-        mesh.points[to] = bulk.steiner_points[i];
+    number_bulk(bulk, number, first_steiner_);  // unless its store did
+    if (kept_elsewhere && bulk.steiner_points.size() + number.dropped_steiner.size() != steiner_points)
+      throw InternalError("the bulk of piece " + std::to_string(p) + " came back with other Steiner points");
+    std::copy(bulk.steiner_points.begin(), bulk.steiner_points.end(), mesh.points.begin() + number.first_steiner);
+    // Numbered, the input's vertices are still the first ids (fewer when some go).
+    const std::int32_t input_vertices = number.split_kept_below(split_.input_vertex_count);
     const auto base = static_cast<std::int32_t>(mesh.tets.size());
     for (const Tet& t : bulk.tets) {
-      if (may_touch_cap(t, split_.input_vertex_count)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
-      mesh.tets.push_back(renumbered(t, number));
+      if (may_touch_cap(t, input_vertices)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
+      mesh.tets.push_back(t);
     }
     for (Tet nb : bulk.neighbours) {
       for (auto& n : nb)

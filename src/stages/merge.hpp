@@ -21,6 +21,10 @@ class BulkStore {
   virtual bool put(int piece, const TetBlock& bulk) = 0;
   // Piece p's bulk as it was put, once. Throws Error when it was lost.
   virtual TetBlock take(int piece) = 0;
+  // Before the assembly takes them: the numbering's shares of the bulks kept here. A store that
+  // can numbers them where they are (number_bulk; the MPI driver's owners, all at once) and gives
+  // them back numbered; by default the welder numbers them as they come back.
+  virtual void number(const std::vector<BulkShare>& /*shares*/) {}
 };
 
 // Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
@@ -97,6 +101,8 @@ class Welder {
   // Piece p's bulk to the store, if there is one; and back.
   void store_bulk(std::size_t p);
   Block& bulk_here(std::size_t p);
+  // Before the assembly: each store numbers the bulks it keeps while this one numbers its own.
+  void number_bulks(const AssemblyNumbering& numbering);
   // Piece p's bulk's tets and Steiner points, wherever it is.
   std::size_t bulk_tets(std::size_t p) const;
   std::size_t bulk_steiner_points(std::size_t p) const;

@@ -63,6 +63,7 @@ class BandMarks {
 // Part of a piece's mesh in global vertex ids: its band, its bulk, or the whole piece.
 struct TetBlock {
   bool in = false;
+  bool numbered = false;  // a bulk numbered as in the assembled mesh (number_bulk), where it was kept
   std::vector<Point3> steiner_points;
   std::vector<Tet> tets;           // global ids; Steiner point s of the piece is the first Steiner id + s
   std::vector<Tet> neighbours;     // local tet ids
