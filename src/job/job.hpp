@@ -45,8 +45,9 @@ struct RankStats {
   double caps = 0, cap_seconds = 0;          // caps this rank triangulated, and the time it took
   double region_seconds = 0;                 // meshing the regions seam healing and the polish re-mesh
   double bulks_kept = 0, bulks_on_disk = 0;  // a worker: bulks it kept until rank 0 took them, those in --scratch
+  double bulk_number_seconds = 0;            // a worker: numbering the bulks it kept in memory, before the assembly
 };
-constexpr int kRankStatsDoubles = 17;
+constexpr int kRankStatsDoubles = 18;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -120,6 +120,7 @@ std::string report_json(const JobSummary& s) {
                               {"region_seconds", stats.region_seconds},
                               {"bulks_kept", stats.bulks_kept},
                               {"bulks_on_disk", stats.bulks_on_disk},
+                              {"bulk_number_seconds", stats.bulk_number_seconds},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();

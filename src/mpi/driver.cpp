@@ -749,15 +749,14 @@ void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
 
 // A worker's side of kNumberBulks: it numbers the bulks it keeps with their shares. Shares it
 // cannot read leave its bulks as they are; rank 0 then numbers them itself.
-void number_kept_bulks(KeptBulks& kept) {
+void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
   const std::string bytes = broadcast_text("");
-  const double start = MPI_Wtime();
+  AddSeconds timer{stats.bulk_number_seconds};
   try {
     kept.number(deserialize_bulk_shares(bytes));
   } catch (const std::exception& e) {
     log::error(std::string("the numbering of the kept bulks: ") + e.what());
   }
-  log::debug("numbered the kept bulks in " + std::to_string(MPI_Wtime() - start) + " s");
 }
 
 // A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
@@ -771,7 +770,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       continue;
     }
     if (command == kNumberBulks) {
-      number_kept_bulks(kept);
+      number_kept_bulks(kept, stats);
       continue;
     }
     for (;;) {

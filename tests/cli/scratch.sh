@@ -20,7 +20,7 @@ mkdir scratch
 # rank 0's, and on several ranks without a quality bound those the ranks that meshed them kept.
 for quality in "" "1.414"; do
   q=(); [ -n "$quality" ] && q=(-q "$quality")
-  run mesh torus.off -k 6 "${q[@]}" -o a --quiet || bad "q='$quality': without --scratch"
+  run mesh torus.off -k 6 "${q[@]}" -o a --report a.json --quiet || bad "q='$quality': without --scratch"
   run mesh torus.off -k 6 "${q[@]}" -o b --scratch scratch --report b.json --quiet || bad "q='$quality': with --scratch"
   same=1
   for f in node ele face neigh; do cmp -s a.$f b.$f || same=0; done
@@ -32,6 +32,13 @@ print(r['scratch']['bulks'], r['bulks_where_meshed'], int(sum(x['bulks_on_disk']
      { [ ${#launch[@]} -gt 0 ] || [ "$bulks" = 6 ]; } && [ -z "$left" ]; then
     ok "q='$quality': the same files with --scratch; of 6 bulks, $bulks waited on rank 0's disk, $on_disk on the disk of the ranks that meshed them; nothing left"
   else bad "q='$quality': same=$same bulks=$bulks kept=$kept on_disk=$on_disk left='$left'"; fi
+  # Without --scratch, the ranks that kept bulks in memory numbered them there before the assembly.
+  read -r kept numbering < <(python3 -c "import json; r = json.load(open('a.json'))
+print(r['bulks_where_meshed'], sum(x['bulk_number_seconds'] for x in r['rank'] if x['bulks_kept'] > 0) > 0)")
+  if [ "$kept" -gt 0 ]; then
+    [ "$numbering" = True ] && ok "q='$quality': the ranks that kept $kept bulks numbered them (bulk_number_seconds)" ||
+      bad "q='$quality': $kept bulks kept on other ranks, but no rank reports numbering them"
+  fi
 done
 
 # 2. Not a directory: exit 2 before any work, naming the option.
