@@ -453,6 +453,19 @@ void add_msh_partition_files(OutputSet& set, MeshFormat format, const MeshOutput
 
 }  // namespace
 
+std::vector<FileFamily> mesh_named_files(MeshFormat format, const std::string& prefix) {
+  const std::string directory = directory_of(prefix), base = prefix.substr(prefix.find_last_of('/') + 1);
+  switch (format) {
+    case MeshFormat::pvtu:
+      return {{directory, [base](const std::string& name) { return is_piece_file_name(name, base); }}};
+    case MeshFormat::msh_parts:
+    case MeshFormat::msh_parts_binary:
+      return {{directory, [base](const std::string& name) { return is_numbered_name(name, base + "_", ".msh"); }}};
+    default:
+      return {};
+  }
+}
+
 const std::vector<std::string>& mesh_format_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;

@@ -33,6 +33,9 @@ bool split_format_extension(const std::string& path, MeshFormat& format, std::st
 // the MSH partitions the first, PREFIX_1.msh (PREFIX_2.msh ... follow the mesh); for xdmf
 // PREFIX.xdmf, PREFIX_boundary.xdmf and PREFIX.h5 (see xdmf.hpp).
 std::vector<std::string> format_paths(MeshFormat format, const std::string& prefix);
+// The files the format writes for PREFIX that follow the mesh (a .pvtu set's piece files, the MSH
+// partitions, by name), as a family; none for the other formats.
+std::vector<FileFamily> mesh_named_files(MeshFormat format, const std::string& prefix);
 
 // The MSH partition files: PREFIX_<partition>.msh, from 1. partition_file_prefix: whether path is
 // one of them (a number without leading zeros), and its PREFIX.

@@ -587,16 +587,45 @@ void check_output_paths(const std::vector<std::string>& outputs, const std::vect
   }
 }
 
-void remove_stale_temporaries(const std::vector<std::string>& final_paths) {
-  for (const std::string& f : final_paths) {
-    const std::string directory = directory_of(f), prefix = fs::path(f).filename().string() + ".tmp-";
-    DIR* dir = ::opendir(directory.c_str());
+namespace {
+
+// The temporaries and second names the publish journals in a directory name: a killed run's files
+// that the next command on its prefix completes or puts back.
+std::set<std::string> named_in_journals(const std::string& directory) {
+  std::set<std::string> named;
+  DIR* dir = ::opendir(directory.c_str());
+  if (!dir) return named;
+  static const std::string journal_end = journal_path("");
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string name = entry->d_name;
+    if (name.size() <= journal_end.size() ||
+        name.compare(name.size() - journal_end.size(), journal_end.size(), journal_end) != 0)
+      continue;
+    FileDescriptor fd(::open((directory + "/" + name).c_str(), O_RDONLY | O_CLOEXEC));
+    if (fd.fd < 0) continue;
+    const Journal j = Journal::read(fd.fd);
+    for (const std::string& f : j.files) named.insert(j.temporary(f)), named.insert(j.old_copy(f));
+  }
+  ::closedir(dir);
+  return named;
+}
+
+}  // namespace
+
+void remove_stale_temporaries(const std::vector<std::string>& final_paths, std::vector<FileFamily> families) {
+  for (const std::string& f : final_paths)  // each final path is a family of one name
+    families.push_back({directory_of(f), [name = fs::path(f).filename().string()](const std::string& n) { return n == name; }});
+  for (const FileFamily& family : families) {
+    const std::set<std::string> needed = named_in_journals(family.directory);
+    DIR* dir = ::opendir(family.directory.c_str());
     if (!dir) continue;
     std::vector<std::string> stale;
     while (const dirent* entry = ::readdir(dir)) {
-      const std::string name = entry->d_name;
-      if (name.compare(0, prefix.size(), prefix) == 0 && temporary_owner_gone(directory + "/" + name))
-        stale.push_back(directory + "/" + name);
+      const std::string name = entry->d_name, path = family.directory + "/" + name;
+      const std::size_t suffix = name.rfind(".tmp-");  // a second name's ends in ".old": not the family's
+      if (suffix != std::string::npos && family.belongs(name.substr(0, suffix)) && needed.count(absolute(path)) == 0 &&
+          temporary_owner_gone(path))
+        stale.push_back(path);
     }
     ::closedir(dir);
     for (const std::string& s : stale) std::remove(s.c_str());

@@ -73,8 +73,17 @@ std::string settle_publish(const std::string& prefix, double wait_seconds = 120)
 // temporary suffix is added. Throws OptionError naming the path.
 void check_output_paths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
 
-// Removes temporaries that runs on the same final paths left behind when they were killed: only
-// those whose run is gone for sure (see file_owner.hpp), never a live run's, on any host.
-void remove_stale_temporaries(const std::vector<std::string>& final_paths);
+// Files of a set that only the mesh names (a .pvtu set's piece files, the MSH partitions): their
+// directory and which names are theirs.
+struct FileFamily {
+  std::string directory;
+  std::function<bool(const std::string& name)> belongs;
+};
+
+// Removes temporaries that runs on the same final paths, or on names of the families, left behind
+// when they were killed and their reaper could not remove them (it was killed too, or the node
+// went down): only those whose run is gone for sure (see file_owner.hpp), never a live run's, on
+// any host, and never one that a publish journal still needs.
+void remove_stale_temporaries(const std::vector<std::string>& final_paths, std::vector<FileFamily> families = {});
 
 }  // namespace partet

@@ -94,7 +94,10 @@ void check_outputs(const MeshJob& job) {
   check_output_paths(output_paths(job), {job.input});
   // A publish at this prefix that a killed run left half done is completed first.
   if (const std::string done = settle_publish(prefix); !done.empty()) log::warning(done);
-  remove_stale_temporaries(output_paths(job));
+  std::vector<FileFamily> families;
+  for (MeshFormat format : job.formats)
+    for (FileFamily& family : mesh_named_files(format, prefix)) families.push_back(std::move(family));
+  remove_stale_temporaries(output_paths(job), families);
   if (!job.options.scratch.empty()) {
     check_scratch_directory(job.options.scratch);
     remove_stale_scratch(job.options.scratch);

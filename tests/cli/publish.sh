@@ -124,6 +124,24 @@ else
   bad "SIGKILL at publish step 24 left no moved new file to test with (suffix '$suffix', files: $(listing))"
 fi
 
+# 2d. A publish killed at another prefix whose file is named like a piece file of this set (-o m_p5
+#     --format vtu): a run at m removes dead runs' temporaries of its piece files, but not that
+#     one, which the other prefix's journal needs; the next command there completes it.
+mkdir other_prefix && cd other_prefix && ln -s ../torus.off .
+(PARTET_TEST_PUBLISH_SIGNAL="0:9" "$partet" mesh torus.off -o m_p5 --format vtu --quiet > log 2>&1; true) 2> /dev/null
+waiting=$(ls | grep -c 'm_p5\.vtu\.tmp-')
+"$partet" mesh torus.off -o m -k 2 --format pvtu --quiet > log 2>&1
+code=$?
+kept=$(ls | grep -c 'm_p5\.vtu\.tmp-')
+"$partet" check torus.off m_p5.vtu > log 2>&1
+if [ "$waiting" = 1 ] && [ $code = 0 ] && [ "$kept" = 1 ] && grep -q "completed the publish of 1 file(s)" log &&
+  [ -s m_p5.vtu ] && ! ls | grep -q '\.tmp-'; then
+  ok "a killed publish at m_p5 (.vtu) beside a .pvtu set at m: its waiting file kept, then completed"
+else
+  bad "a killed publish at m_p5 beside a .pvtu set at m: waiting $waiting, kept $kept, exit $code: $(ls | tr '\n' ' ') $(cat log)"
+fi
+cd .. && rm -rf other_prefix
+
 # 3. Interrupted before the publish, with 82 files written (K=80 .pvtu): none is left behind.
 restore_old
 PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=4000 "$partet" mesh torus.off -o m -k 80 --format pvtu --quiet > log 2>&1 &

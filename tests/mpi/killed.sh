@@ -4,7 +4,8 @@
 # its files; (2) SIGKILL to rank 0 under the launcher while it writes; (3) SIGTERM to mpirun while
 # the ranks write: Open MPI's mpirun sends SIGKILL a millisecond or two after SIGTERM, which a
 # loaded rank's own cleanup loses. Each time the previous set at the prefix is
-# kept byte for byte, and no process of the run is left.
+# kept byte for byte, and no process of the run is left. (4) The reaper itself killed, then the
+# run: its temporaries stay, and the next run on the prefix removes them.
 # Usage: killed.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$(realpath "$1")
@@ -65,5 +66,41 @@ if start_writing "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS -x PARTET_TEST_IN
   grep -q interrupted log && bad "SIGTERM to mpirun: rank 0 cleaned up itself (no test of the reaper)"
   after_kill "SIGTERM to mpirun while writing, a rank's own cleanup too late"
 else bad "SIGTERM to mpirun: no temporary seen: $(cat log)"; fi
+
+# 4. The reaper killed first (SIGKILL), then the one-process run once every temporary is written
+# (TetGen files, a .pvtu set's piece files, MSH partitions), as when a node goes down: nothing
+# removes them then, but the previous set is kept, and the next run on the prefix removes them all
+# (their owner is gone), piece files and partitions included, and publishes its own set.
+reaper_of() {  # PID: the reaper that process started (the one holding the other end of its pipe)
+  local mine r
+  mine=$(for f in /proc/"$1"/fd/*; do readlink "$f"; done 2> /dev/null | grep '^pipe:' | sort -u)
+  [ -n "$mine" ] || return
+  for r in $(pgrep -x partet-reaper); do
+    for f in /proc/"$r"/fd/*; do readlink "$f"; done 2> /dev/null | grep -qxF "$mine" && { echo "$r"; return; }
+  done
+}
+every_temporary() { [ "$(ls | grep -c '\.tmp-')" -ge 13 ]; }  # 4 + 1 + 4 pieces and 4 partitions at least
+all=(mesh "$work/in.off" -o m --pieces 4 --format tetgen,pvtu,msh-parts)
+PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=20000 "$partet" "${all[@]}" > log 2>&1 &
+pid=$!
+if wait_while_running 120 every_temporary; then
+  sleep 1  # the last one's bytes
+  reaper=$(reaper_of "$pid")
+  [ -n "$reaper" ] && kill -KILL "$reaper"
+  kill -KILL "$pid"
+  wait "$pid" 2> /dev/null
+  left=$(ls | grep '\.tmp-' | sed 's/\.tmp-.*//' | tr '\n' ' ')
+  changed=""
+  for f in before/*; do cmp -s "$f" "$(basename "$f")" || changed+=" $(basename "$f")"; done
+  "$partet" "${all[@]}" --quiet > log 2>&1
+  code=$?
+  remaining=$(ls | grep '\.tmp-')
+  if [ -n "$reaper" ] && [[ "$left" == *m_p0.vtu* ]] && [[ "$left" == *m_1.msh* ]] && [ -z "$changed" ] && [ $code = 0 ] &&
+    [ -z "$remaining" ] && "$partet" check in.off m > /dev/null 2>&1; then
+    ok "reaper and run killed: the temporaries of $left stayed, the previous set kept; the next run removed them and published"
+  else
+    bad "reaper ('$reaper') and run killed: left '$left', changed '$changed'; the next run: exit $code, left '$remaining': $(tail -n 3 log)"
+  fi
+else bad "killed reaper: not every temporary seen: $(ls) $(cat log)"; fi
 
 summary
