@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <climits>
@@ -17,6 +18,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -205,9 +207,8 @@ std::string restore_previous(const Journal& j, const std::string& journal_path, 
     if (exists_here(j.old_copy(f))) std::rename(j.old_copy(f).c_str(), f.c_str());
   for (const std::string& f : j.files) sync_directory(directory_of(f));
   return "could not complete the publish that a stopped partet run (pid " + std::to_string(j.pid) +
-         ") left half done: the new file for '" + lost + "' was removed or replaced meanwhile; the previous files are " +
-         "back in place " +
-         "(journal '" + journal_path + "')";
+         ") left half done: the new file for '" + lost +
+         "' was removed or replaced meanwhile; the previous files are back in place (journal '" + journal_path + "')";
 }
 
 // Finishes the moves a complete journal lists: the new files were all written and synced before
@@ -615,15 +616,20 @@ std::set<std::string> named_in_journals(const std::string& directory) {
 void remove_stale_temporaries(const std::vector<std::string>& final_paths, std::vector<FileFamily> families) {
   for (const std::string& f : final_paths)  // each final path is a family of one name
     families.push_back({directory_of(f), [name = fs::path(f).filename().string()](const std::string& n) { return n == name; }});
-  for (const FileFamily& family : families) {
-    const std::set<std::string> needed = named_in_journals(family.directory);
-    DIR* dir = ::opendir(family.directory.c_str());
+  // Each directory is read once, with its journals, however many families it holds.
+  std::map<std::string, std::vector<const FileFamily*>> by_directory;
+  for (const FileFamily& family : families) by_directory[absolute(family.directory + "/.")].push_back(&family);
+  for (const auto& [directory, members] : by_directory) {
+    const std::set<std::string> needed = named_in_journals(directory);
+    DIR* dir = ::opendir(directory.c_str());
     if (!dir) continue;
     std::vector<std::string> stale;
     while (const dirent* entry = ::readdir(dir)) {
-      const std::string name = entry->d_name, path = family.directory + "/" + name;
-      const std::size_t suffix = name.rfind(".tmp-");  // a second name's ends in ".old": not the family's
-      if (suffix != std::string::npos && family.belongs(name.substr(0, suffix)) && needed.count(absolute(path)) == 0 &&
+      const std::string name = entry->d_name, path = absolute(directory + "/" + name);
+      const std::size_t suffix = name.rfind(".tmp-");  // a second name's ends in ".old": no family's
+      if (suffix == std::string::npos || needed.count(path) > 0) continue;
+      const std::string final_name = name.substr(0, suffix);
+      if (std::any_of(members.begin(), members.end(), [&](const FileFamily* f) { return f->belongs(final_name); }) &&
           temporary_owner_gone(path))
         stale.push_back(path);
     }

@@ -382,15 +382,14 @@ AssemblyPoints Welder::assembly_points() {
   return points;
 }
 
-void Welder::number_bulks(const AssemblyNumbering& numbering) {
+void Welder::number_bulks(const std::vector<BulkNumbering>& shares) {
   std::map<BulkStore*, std::vector<BulkShare>> elsewhere;
   for (std::size_t p = 0; p < stored_.size(); ++p)
     if (stored_[p].stored)
-      elsewhere[stored_[p].store].push_back(
-          {static_cast<std::int32_t>(p), stored_[p].first_steiner, numbering.for_bulk(p)});
-  for (auto& [store, shares] : elsewhere) store->number(shares);
+      elsewhere[stored_[p].store].push_back({static_cast<std::int32_t>(p), stored_[p].first_steiner, shares[p]});
+  for (auto& [store, kept] : elsewhere) store->number(kept);
   for (std::size_t p = 0; p < stored_.size(); ++p)
-    if (!stored_[p].stored) number_bulk(bulks_[p], numbering.for_bulk(p), first_steiner_);
+    if (!stored_[p].stored) number_bulk(bulks_[p], shares[p], first_steiner_);
 }
 
 AssemblyNumbering Welder::numbering(const TetMesh& healed_band, bool drop_unused) {
@@ -437,12 +436,14 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
   reserve_with_room(mesh.piece, tet_total);
   std::vector<RimFace> rim;
   std::vector<std::int32_t> on_caps;
-  number_bulks(numbering);
+  std::vector<BulkNumbering> shares;
+  for (std::size_t p = 0; p < k; ++p) shares.push_back(numbering.for_bulk(p));
+  number_bulks(shares);
   for (std::size_t p = 0; p < k; ++p) {
     const bool kept_elsewhere = stored_[p].stored;
     const std::size_t steiner_points = bulk_steiner_points(p);
     Block& bulk = bulk_here(p);
-    const BulkNumbering number = numbering.for_bulk(p);
+    const BulkNumbering& number = shares[p];
     number_bulk(bulk, number, first_steiner_);  // unless its store did
     if (kept_elsewhere && bulk.steiner_points.size() + number.dropped_steiner.size() != steiner_points)
       throw InternalError("the bulk of piece " + std::to_string(p) + " came back with other Steiner points");

@@ -101,8 +101,9 @@ class Welder {
   // Piece p's bulk to the store, if there is one; and back.
   void store_bulk(std::size_t p);
   Block& bulk_here(std::size_t p);
-  // Before the assembly: each store numbers the bulks it keeps while this one numbers its own.
-  void number_bulks(const AssemblyNumbering& numbering);
+  // Before the assembly, with each bulk's share (by piece): each store numbers the bulks it keeps
+  // while this one numbers its own.
+  void number_bulks(const std::vector<BulkNumbering>& shares);
   // Piece p's bulk's tets and Steiner points, wherever it is.
   std::size_t bulk_tets(std::size_t p) const;
   std::size_t bulk_steiner_points(std::size_t p) const;
