@@ -2,9 +2,11 @@
 // a run can end (error, crash, time limit) as a typed failure.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "stages/closure.hpp"
@@ -12,12 +14,17 @@
 #include "stages/generate.hpp"
 #include "stages/partition.hpp"
 #include "stages/piece.hpp"
+#include "runner/isolated_run.hpp"
 #include "runner/piece_runner.hpp"
 #include "runner/serialize.hpp"
 #include "stage_batches.hpp"
 
 namespace partet {
 namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 PieceRunner runner(bool isolate, double timeout = 0, const std::string& quality = "") {
   TetgenOptions tetgen;
@@ -98,6 +105,53 @@ TEST(PieceRunner, TimeLimitIsATypedFailure) {
   ASSERT_TRUE(outcome.failure);
   EXPECT_EQ(outcome.failure->kind, FailureKind::timed_out);
   EXPECT_NE(outcome.failure->text().find("did not finish"), std::string::npos) << outcome.failure->text();
+}
+
+// The limit counts CPU time: a child that waits for a core (here: sleeps) longer than its limit,
+// as beside a neighbouring job, still gives its result, so the outcome does not depend on the
+// load.
+TEST(PieceRunner, TimeWaitingForACoreDoesNotCount) {
+  const auto pieces = torus_pieces();
+  const auto start = std::chrono::steady_clock::now();
+  const PieceOutcome outcome = deserialize_outcome(runner(true, 1).mesh_to_reply(pieces[0], [] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  }));
+  EXPECT_GE(seconds_since(start), 1.5);
+  ASSERT_FALSE(outcome.failure) << outcome.failure->text();
+  EXPECT_FALSE(outcome.result.mesh.tets.empty());
+}
+
+TEST(PieceRunner, ChildUsingItsCpuTimeIsStopped) {
+  const auto pieces = torus_pieces();
+  const auto start = std::chrono::steady_clock::now();
+  const PieceOutcome outcome = deserialize_outcome(runner(true, 0.3).mesh_to_reply(pieces[0], [] {
+    for (volatile unsigned spin = 0;; spin = spin + 1) {
+    }
+  }));
+  const double seconds = seconds_since(start);
+  ASSERT_TRUE(outcome.failure);
+  EXPECT_EQ(outcome.failure->kind, FailureKind::timed_out);
+  EXPECT_NE(outcome.failure->text().find("did not finish within its 0.3 s of CPU time"), std::string::npos)
+      << outcome.failure->text();
+  EXPECT_GE(seconds, 0.3);
+  EXPECT_LT(seconds, 0.3 * kWallPerCpuSecond);  // ended by its CPU time, not by the wall time
+}
+
+// A child that cannot run at all (stopped, or a machine overloaded past kWallPerCpuSecond) still
+// ends, and the message says why.
+TEST(PieceRunner, ChildThatCannotRunEndsAtItsWallTime) {
+  const auto pieces = torus_pieces();
+  const auto start = std::chrono::steady_clock::now();
+  const PieceOutcome outcome = deserialize_outcome(runner(true, 0.3).mesh_to_reply(pieces[0], [] {
+    for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+  }));
+  ASSERT_TRUE(outcome.failure);
+  EXPECT_EQ(outcome.failure->kind, FailureKind::timed_out);
+  EXPECT_NE(outcome.failure->text().find("did not finish within 1 s, having used 0.0 of its 0.3 s of CPU time: its process "
+                                         "was stopped, or the machine is overloaded"),
+            std::string::npos)
+      << outcome.failure->text();
+  EXPECT_GE(seconds_since(start), 0.3 * kWallPerCpuSecond);
 }
 
 TEST(PieceRunner, CrashAndHookFailuresInAChild) {

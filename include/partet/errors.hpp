@@ -39,7 +39,7 @@ enum class FailureKind : std::int32_t {
   changed_boundary = 2,   // TetGen's result does not have exactly the given boundary
   bad_surface = 3,        // the surface is not closed, manifold and oriented
   crashed = 4,            // the meshing process died from a signal
-  timed_out = 5,          // the meshing process ran past its time limit
+  timed_out = 5,          // the meshing process used its CPU time (or 4 x that in wall time)
   no_result = 6,          // the meshing process ended without a result
   injected = 7,           // a test hook (PARTET_INJECT_FAILURE)
   other = 8,              // any other error inside the meshing process

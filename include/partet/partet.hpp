@@ -55,7 +55,9 @@ struct Result {
 };
 
 // Meshes in this process: the pieces one after another, each in a child process (so a TetGen
-// crash becomes a MeshingError). Not from two threads at once.
+// crash becomes a MeshingError). Not from two threads at once. The first call starts a thread
+// that stays, sleeping 50 ms at a time: it notices when the process was stopped (a suspended
+// job), so that the pause does not count against a piece's time limit.
 Result tetrahedralize(const SurfaceMesh& surface, const Options& options = {});
 
 // Collective over comm: every rank calls it; only rank 0's surface is read (the others may pass

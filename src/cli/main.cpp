@@ -432,8 +432,9 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->check(CLI::IsMember({"auto", "pca", "x", "y", "z"}))
       ->capture_default_str();
   mesh->add_option("--piece-timeout", job.options.run.timeout_seconds,
-                   "seconds before meshing one piece is given up (0: scaled with the piece's size; a rank that "
-                   "does not answer by then ends the job)")
+                   "CPU seconds before meshing one piece is given up (0: scaled with the piece's size); time "
+                   "waiting for a core does not count, up to 4 times this in wall time; a rank that does not "
+                   "answer by then ends the job")
       ->check(kFinite)
       ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();

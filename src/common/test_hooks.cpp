@@ -43,6 +43,11 @@ void piece_failure(int piece, int rank) {
   const std::string number = s.substr(0, colon == std::string::npos ? 0 : colon);  // not "worker:..."
   if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos || std::stoi(number) != piece)
     return;
+  if (s.substr(colon + 1) == "stall") {
+    // Wall time passes, no CPU time: what a process starved of its core sees.
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds_or("PARTET_TEST_STALL_S", 5)));
+    return;
+  }
   if (s.substr(colon + 1) == "abort") {
     std::fprintf(stderr, "partet: rank %d: piece %d: injected abort\n", rank, piece);
     std::fflush(stderr);

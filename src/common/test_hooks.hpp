@@ -1,7 +1,7 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict and cap modes too), tests/cli/outputs.sh,
-// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/check_tetgen_ranks.sh (also
+// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh, tests/mpi/check_tetgen_ranks.sh (also
 // check_failure), tests/mpi/cap_failure.sh.
 #pragma once
 #include <cstddef>
@@ -9,7 +9,8 @@
 namespace partet::test_hooks {
 
 // PARTET_INJECT_FAILURE="P:error" makes piece P fail with an error, "P:abort" makes the process
-// meshing piece P abort (on a worker that kills the rank, as a real crash would).
+// meshing piece P abort (on a worker that kills the rank, as a real crash would), "P:stall"
+// makes it sleep PARTET_TEST_STALL_S seconds (5 s) first, as a process starved of its core.
 void piece_failure(int piece, int rank);
 // PARTET_INJECT_FAILURE="cuts": every partition into more than one piece fails, as if TetGen could
 // not recover a cap (so only the one-piece fallback can mesh the input). True then.

@@ -20,6 +20,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "common/awake_clock.hpp"
 #include "common/log.hpp"
 #include "common/memory.hpp"
 #include "common/parallel.hpp"
@@ -35,6 +36,7 @@
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
+#include "runner/isolated_run.hpp"
 #include "runner/serialize.hpp"
 #include "stages/input_share.hpp"
 #include "stages/validate.hpp"
@@ -55,9 +57,9 @@ constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
 enum Command : int { kDone = 0, kMeshPieces = 1, kSendBulk = 2, kNumberBulks = 3 };
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
-// worker a piece's own time limit plus kReplyGraceSeconds to answer, and kWorkerSeconds for
-// anything else (taking a message, joining an agreement). A worker allows rank 0, which may
-// merge and write for long, kRootSeconds between messages.
+// worker a piece's own wall time limit (PieceRunner::wall_limit) plus kReplyGraceSeconds to answer, and kWorkerSeconds
+// for anything else (taking a message, joining an agreement). A worker allows rank 0, which may merge and write for
+// long, kRootSeconds between messages.
 constexpr double kReplyGraceSeconds = 10;
 constexpr double kWorkerSeconds = 120;
 constexpr double kRootSeconds = 3600;
@@ -398,17 +400,18 @@ class RootScheduler : public PieceScheduler {
         std::count_if(busy_.begin(), busy_.end(), [](const auto& worker) { return worker.second.cap; }));
   }
 
-  // A cap takes far less than a piece: a rank that has not answered within a piece's time limit
-  // (when one is set) or kWorkerSeconds is stopped or dead.
+  // A cap takes far less than a piece: a rank that has not answered within a piece's wall time
+  // limit (when one is set) or kWorkerSeconds is stopped or dead.
   double cap_limit() const {
     const double piece_limit = job_.options.run.timeout_seconds;
-    return piece_limit > 0 ? std::min(kWorkerSeconds, piece_limit + kReplyGraceSeconds) : kWorkerSeconds;
+    return piece_limit > 0 ? std::min(kWorkerSeconds, kWallPerCpuSecond * piece_limit + kReplyGraceSeconds)
+                           : kWorkerSeconds;
   }
 
   void send_cap(int worker, int plane) {
     AddSeconds timer{stats_.send_seconds};
     const std::string bytes = serialize_cap_task(cap_borders_.at(static_cast<std::size_t>(plane)));
-    busy_[worker] = {now_seconds() + cap_limit(), plane, true};
+    busy_[worker] = {awake_seconds() + cap_limit(), plane, true};
     try {
       stats_.bytes_sent +=
           static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, cap_limit()));
@@ -443,13 +446,13 @@ class RootScheduler : public PieceScheduler {
     if (piece) {
       record(*piece, worker);
       bytes = serialize_task(*piece, runner_.tetgen(), piece->seam_region || !split_order_ ? nullptr : &*split_order_);
-      busy_[worker] = {now_seconds() + runner_.time_limit(*piece) + kReplyGraceSeconds, piece->index, false};
+      busy_[worker] = {awake_seconds() + runner_.wall_limit(*piece) + kReplyGraceSeconds, piece->index, false};
       account_meshing();
     }
     // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
     // while idle is noticed here, within the same limit as one stopped while meshing.
     const double limit =
-        piece ? std::min(kWorkerSeconds, runner_.time_limit(*piece) + kReplyGraceSeconds) : kWorkerSeconds;
+        piece ? std::min(kWorkerSeconds, runner_.wall_limit(*piece) + kReplyGraceSeconds) : kWorkerSeconds;
     try {
       stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, limit));
     } catch (const Stalled&) {
@@ -460,10 +463,10 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
-  // A worker that does not answer within its piece's time limit (its TetGen child would have
-  // been stopped by then) is stopped, hung or dead.
+  // A worker that does not answer within its piece's wall time limit (its TetGen child would
+  // have been stopped by then) is stopped, hung or dead.
   void check_workers_answer() const {
-    const double now = now_seconds();
+    const double now = awake_seconds();
     for (const auto& [worker, busy] : busy_)
       if (now > busy.deadline)
         abort_job("rank " + std::to_string(worker) + " has not answered for " +
@@ -593,7 +596,7 @@ class RootScheduler : public PieceScheduler {
   std::vector<std::size_t> arrived_;         // positions stored but not delivered yet
   std::vector<int> idle_;                    // workers without a piece
   struct Busy {
-    double deadline;  // when its answer is overdue
+    double deadline;  // when its answer is overdue (awake_seconds: a suspended job's pause does not count)
     int piece;        // or plane, for a cap
     bool cap;
   };
@@ -1295,12 +1298,12 @@ std::string check_input_share(int rank, int size, std::uint64_t (&counts)[2]) {
 // Rank 1: its own and the other ranks' findings, merged in rank order, judged.
 std::string input_verdict(const std::string& own, int size, std::size_t faces) {
   // One deadline for all of them, so rank 0's wait for this verdict (twice the limit) ends later.
-  const double limit = input_check_limit(faces), deadline = now_seconds() + limit;
+  const double limit = input_check_limit(faces), deadline = awake_seconds() + limit;
   InputFindings merged;
   for (int rank = 1; rank < size; ++rank) {
     std::string findings = own;
     if (rank > 1) try {
-        findings = recv_bytes(rank, kTagFindings, job_comm(), kMaxChunk, std::max(deadline - now_seconds(), 1e-3));
+        findings = recv_bytes(rank, kTagFindings, job_comm(), kMaxChunk, std::max(deadline - awake_seconds(), 1e-3));
       } catch (const Stalled&) {
         return "Erank " + std::to_string(rank) + " has not reported its share of the input check within " +
                std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)";

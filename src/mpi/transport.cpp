@@ -4,6 +4,8 @@
 #include <chrono>
 #include <thread>
 
+#include "common/awake_clock.hpp"
+
 namespace partet::mpi {
 
 void wait_sleeping(MPI_Request& request, MPI_Status* status, double timeout_seconds) {
@@ -12,15 +14,15 @@ void wait_sleeping(MPI_Request& request, MPI_Status* status, double timeout_seco
     MPI_Test(&request, &done, status);
     if (done) return;
   }
-  const auto start = std::chrono::steady_clock::now();
+  // Counted in awake time: a job suspended and resumed as a whole does not time itself out.
+  const double start = awake_seconds();
   auto pause = std::chrono::microseconds(20);
   for (;;) {
     MPI_Test(&request, &done, status);
     if (done) return;
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(1000));
-    if (timeout_seconds > 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_seconds)
+    if (timeout_seconds > 0 && awake_seconds() - start > timeout_seconds)
       throw Stalled("no message for " + std::to_string(static_cast<long long>(timeout_seconds)) + " s");
   }
 }

@@ -7,6 +7,7 @@
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include <stdexcept>
 
 #include "partet/errors.hpp"
+#include "common/awake_clock.hpp"
 #include "common/memory.hpp"
 #include "runner/interrupts.hpp"
 
@@ -41,12 +43,18 @@ bool write_all(int fd, const char* data, std::size_t size) {
   return true;
 }
 
+std::chrono::steady_clock::duration steady_seconds(double seconds) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+double seconds_of(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
+
 }  // namespace
 
-IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeout_seconds, double memory_limit_mb)
-    : timeout_seconds_(timeout_seconds),
-      deadline_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                       std::chrono::duration<double>(timeout_seconds))) {
+IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double cpu_seconds, double memory_limit_mb)
+    : cpu_limit_(cpu_seconds) {
+  wall_deadline_ = awake_seconds() + kWallPerCpuSecond * cpu_seconds;
+  cpu_look_ = std::chrono::steady_clock::now() + steady_seconds(cpu_seconds);
   int fds[2];
   if (::pipe(fds) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
   output_fd_ = ::memfd_create("partet-child-output", MFD_CLOEXEC);  // best effort: -1 means no capture
@@ -89,6 +97,9 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double timeou
   ::close(fds[1]);
   fd_ = fds[0];
   ::fcntl(fd_, F_SETPIPE_SZ, 1 << 20);  // fewer wake-ups for large results (best effort)
+  // Without the child's CPU clock (never seen on Linux) the limit counts wall time.
+  has_cpu_clock_ = ::clock_getcpuclockid(child_, &cpu_clock_) == 0;
+  if (!has_cpu_clock_) wall_deadline_ -= (kWallPerCpuSecond - 1) * cpu_seconds;
 }
 
 IsolatedRun::~IsolatedRun() {
@@ -115,12 +126,18 @@ bool IsolatedRun::poll(int wait_ms) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
   for (;;) {
     const auto now = std::chrono::steady_clock::now();
-    if (now >= deadline_) {
-      finish(true);
+    const double wall_left = wall_deadline_ - awake_seconds();
+    if (wall_left <= 0) {
+      finish(ProcessEnd::stalled);
+      return true;
+    }
+    if (now >= cpu_look_ && used_its_cpu_time()) {
+      finish(ProcessEnd::timed_out);
       return true;
     }
     // Rounded up: a timeout rounded down to 0 ms would make this loop spin until `until`.
-    const auto left = std::chrono::ceil<std::chrono::milliseconds>(std::min(until, deadline_) - now);
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(
+        std::min({until, now + steady_seconds(wall_left), cpu_look_}) - now);
     pollfd pfd{fd_, POLLIN, 0};
     const int r = ::poll(&pfd, 1, static_cast<int>(std::max<long long>(0, left.count())));
     if (r < 0 && errno == EINTR) continue;
@@ -129,10 +146,21 @@ bool IsolatedRun::poll(int wait_ms) {
       continue;
     }
     if (!read_available()) {  // end of file: the child has ended
-      finish(false);
+      finish();
       return true;
     }
   }
+}
+
+bool IsolatedRun::used_its_cpu_time() {
+  timespec used{};
+  double left = 0.01;  // a clock that cannot be read (the child just ended?): look again soon
+  if (has_cpu_clock_ && ::clock_gettime(cpu_clock_, &used) == 0)
+    left = cpu_limit_ - (static_cast<double>(used.tv_sec) + 1e-9 * static_cast<double>(used.tv_nsec));
+  if (left <= 0) return true;
+  // Looks of a few milliseconds apart would only spin; the limit is met to within 10 ms.
+  cpu_look_ = std::chrono::steady_clock::now() + steady_seconds(std::max(left, 0.01));
+  return false;
 }
 
 bool IsolatedRun::read_available() {
@@ -173,17 +201,18 @@ void IsolatedRun::wait() {
   }
 }
 
-void IsolatedRun::finish(bool timed_out) {
+void IsolatedRun::finish(ProcessEnd killed_for) {
   ::close(fd_);
   fd_ = -1;
-  if (timed_out) ::kill(child_, SIGKILL);
+  if (killed_for != ProcessEnd::running) ::kill(child_, SIGKILL);
   int status = 0;
   rusage usage{};
   while (::wait4(child_, &status, 0, &usage) < 0 && errno == EINTR) {
   }
   peak_mb_ = static_cast<double>(usage.ru_maxrss) / 1024.0;
-  if (timed_out) {
-    end_ = ProcessEnd::timed_out;
+  cpu_seconds_ = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+  if (killed_for != ProcessEnd::running) {
+    end_ = killed_for;
   } else if (WIFSIGNALED(status)) {
     end_ = ProcessEnd::crashed;
     signal_ = WTERMSIG(status);

@@ -7,6 +7,7 @@
 
 #include "partet/errors.hpp"
 #include "runner/serialize.hpp"
+#include "common/format.hpp"
 #include "common/stage_timer.hpp"
 #include "runner/isolated_run.hpp"
 #include "common/memory.hpp"
@@ -78,6 +79,9 @@ std::string assertion_place(const std::string& output) {
   return " in TetGen's " + output.substr(scope + 2, open - scope - 2);
 }
 
+// Seconds as a user reads them: whole ones, and "0.5" below one.
+std::string whole_seconds(double seconds) { return format(seconds < 1 ? "%.1f" : "%.0f", seconds); }
+
 // How an isolated run ended, as a failure of `what` (e.g. "meshing", "TetGen").
 Failure process_failure(const IsolatedRun& run, int piece, const std::string& what) {
   switch (run.end()) {
@@ -91,10 +95,13 @@ Failure process_failure(const IsolatedRun& run, int piece, const std::string& wh
                                   : std::string(")"))};
     }
     case ProcessEnd::timed_out:
-      return {FailureKind::timed_out,
-              piece,
-              {},
-              what + " did not finish within " + std::to_string(static_cast<long long>(run.timeout_seconds())) + " s"};
+      return {FailureKind::timed_out, piece, {},
+              what + " did not finish within its " + whole_seconds(run.cpu_limit_seconds()) + " s of CPU time"};
+    case ProcessEnd::stalled:
+      return {FailureKind::timed_out, piece, {},
+              what + " did not finish within " + whole_seconds(run.wall_limit_seconds()) + " s, having used " +
+                  whole_seconds(run.cpu_seconds()) + " of its " + whole_seconds(run.cpu_limit_seconds()) +
+                  " s of CPU time: its process was stopped, or the machine is overloaded"};
     default:
       return {FailureKind::no_result, piece, {}, what + " ended without a result"};
   }
@@ -113,12 +120,12 @@ class InProcessJob : public PieceJob {
 class ChildProcessJob : public PieceJob {
  public:
   ChildProcessJob(const PieceSurface& piece, const TetgenOptions& tetgen, std::function<void()> before,
-                  double timeout_seconds, double limit_mb)
+                  double cpu_seconds, double limit_mb)
       : piece_(piece.index),
         triangles_(piece.triangles.size()),
         limit_mb_(limit_mb),
         run_([&piece, tetgen, before, limit_mb] { return piece_reply(piece, tetgen, before, limit_mb); },
-             timeout_seconds, limit_mb) {}
+             cpu_seconds, limit_mb) {}
   bool poll(int wait_ms) override { return run_.poll(wait_ms); }
   std::string take_reply() override {
     run_.wait();
@@ -158,6 +165,8 @@ double default_tetgen_timeout(std::size_t triangles, const TetgenOptions& option
 double PieceRunner::time_limit(const PieceSurface& piece) const {
   return run_.timeout_seconds > 0 ? run_.timeout_seconds : 10 + default_tetgen_timeout(piece.triangles.size(), tetgen_);
 }
+
+double PieceRunner::wall_limit(const PieceSurface& piece) const { return kWallPerCpuSecond * time_limit(piece); }
 
 std::unique_ptr<PieceJob> PieceRunner::start(const PieceSurface& piece, std::function<void()> before) const {
   if (!run_.isolate) return std::make_unique<InProcessJob>(piece_reply(piece, tetgen_, before, 0));

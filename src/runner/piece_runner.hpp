@@ -1,4 +1,4 @@
-// Where a piece is meshed: in this process, or in an isolated child process with a time limit.
+// Where a piece is meshed: in this process, or in an isolated child process with time limits.
 // The runner owns that decision, the process handling and the bytes a result travels as; the
 // stages stay pure and the MPI layer only moves those bytes.
 #pragma once
@@ -17,8 +17,10 @@ struct RunOptions {
   // Run TetGen in a forked child process: Debian's TetGen can abort() (failed assert) or loop
   // forever on hard inputs; in a child that becomes an ordinary failure.
   bool isolate = true;
-  // Seconds before a run is given up (isolated runs only); 0 = a limit scaled with the input
-  // size (5 s + 1 ms per triangle, x10 with quality refinement; +10 s for a whole piece).
+  // Seconds of CPU time before a run is given up (isolated runs only); 0 = a limit scaled with
+  // the input size (5 s + 1 ms per triangle, x10 with quality refinement; +10 s for a whole
+  // piece). Time spent waiting for a core does not count, up to kWallPerCpuSecond times the
+  // limit in wall time.
   double timeout_seconds = 0;
 };
 
@@ -47,8 +49,10 @@ class PieceRunner {
   PieceOutcome mesh(const PieceSurface& piece) const;
 
   const TetgenOptions& tetgen() const { return tetgen_; }
-  // The time limit of an isolated run on this piece, seconds.
+  // The limits of an isolated run on this piece: its CPU time, and the wall time it may take
+  // (so the longest a rank can take to answer for it), seconds.
   double time_limit(const PieceSurface& piece) const;
+  double wall_limit(const PieceSurface& piece) const;
 
  private:
   TetgenOptions tetgen_;

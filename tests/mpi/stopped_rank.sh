@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# A stopped (SIGSTOP) worker must not hang the job: rank 0 ends it within the piece time limit
-# plus a grace period, naming the rank, with a non-zero exit code and no output files.
+# A stopped (SIGSTOP) worker must not hang the job: rank 0 ends it within the piece's wall time
+# limit (4 x --piece-timeout) plus a grace period, naming the rank, with a non-zero exit code and no output files.
 #   meshing: rank 1 is stopped from outside while it works;
 #   idle:    rank 1 stops itself between pieces (PARTET_INJECT_FAILURE=worker:stop-when-idle), so
 #            rank 0's next piece, larger than MPI's eager limit, waits for someone to take it.
@@ -14,7 +14,7 @@
 #   share-oom: 4 ranks; rank 2 runs out of memory checking its share (worker:share-out-of-memory):
 #            the job ends at once with rank 2's own message.
 #   cap:     rank 1 stops itself when it is given a cap (worker:stop-on-cap): rank 0 must name
-#            it and the cap's plane within the piece time limit plus the grace period.
+#            it and the cap's plane within the piece's wall time limit plus the grace period.
 # Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
