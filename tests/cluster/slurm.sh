@@ -3,7 +3,8 @@
 # missing, writes a private configuration (this machine's CPUs and memory, non-default ports, all
 # state in a temporary directory), starts munged, slurmctld and slurmd, submits every sbatch
 # recipe in cluster/ (unchanged but for its arguments) on INPUT, waits for them, prints each
-# job's log (ending with its `partet check` result) and stops the daemons by PID, also on failure.
+# job's log (ending with its `partet check` result), suspends and resumes one more job (it must
+# give the files of a run outside Slurm), and stops the daemons by PID, also on failure.
 #
 # With --nodes 3 the cluster has three nodes: network namespaces with their own address on a
 # private bridge (tests/cluster/nodes.sh), hostname and /tmp, each running its own slurmd, all
@@ -252,6 +253,53 @@ if [ "$node_count" -gt 1 ] && [ $failed -eq 0 ]; then
   done
   ranks=$(/usr/bin/python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['ranks'])" "$run/jobs/srun/out.report.json")
   [ "$ranks" -eq "$node_count" ] || { echo "FAIL: the srun job's report says $ranks ranks"; failed=1; }
+fi
+# 6. A job that Slurm suspends (scontrol suspend: SIGSTOP to all of its processes) for longer
+# than every time limit, then resumes, goes on as if never stopped: the same files as a run
+# outside Slurm, no retry, no warning. Piece 1's process sleeps 2 s first (a test hook), so that
+# a piece is at work when the job is suspended; --piece-timeout 1 makes every limit (4 s for a
+# piece's process, 14 s for a rank's answer) shorter than the 16 s pause.
+if [ "$node_count" -eq 1 ] && [ $failed -eq 0 ]; then
+  mkdir -p "$run/jobs/suspend"
+  cd "$run/jobs/suspend"
+  "$partet" mesh ../torus.off -o ref --pieces 6 --piece-timeout 1 --quiet
+  id=$(PARTET_INJECT_FAILURE=1:stall PARTET_TEST_STALL_S=2 sbatch --parsable "${over[@]}" --ntasks=2 --mem=2G \
+    --output="$run/jobs/slurm-suspend.log" --wrap "srun --mpi=pmix '$partet' mesh ../torus.off -o out --pieces 6 \
+    --piece-timeout 1 --report out.json && '$partet' check ../torus.off out")
+  # A TetGen process: a partet process whose parent is one (no other job runs now; a process's
+  # name is its binary's, cut to 15 characters).
+  meshing_child() {
+    ps -e -o pid=,ppid=,comm= | awk -v name="$(basename "$partet" | cut -c1-15)" '{comm[$1] = $3; parent[$1] = $2}
+      END {for (p in comm) if (comm[p] == name && comm[parent[p]] == name) found = 1; exit !found}'
+  }
+  for i in $(seq 600); do
+    meshing_child && sleep 0.3 && meshing_child && break
+    sleep 0.05
+  done
+  scontrol suspend "$id"
+  state=$(squeue -h -j "$id" -o %T)
+  sleep 16
+  scontrol resume "$id"
+  deadline=$((SECONDS + 120))
+  while [ -n "$(squeue -h -j "$id" 2>/dev/null)" ] && [ $SECONDS -lt $deadline ]; do sleep 1; done
+  echo "---- slurm-suspend.log:"
+  cat "$run/jobs/slurm-suspend.log"
+  problem=""
+  [ "$state" = SUSPENDED ] || problem="the job was $state, not SUSPENDED, after scontrol suspend"
+  tail -n 1 "$run/jobs/slurm-suspend.log" | grep -q "check passed" || problem=${problem:-"no passed check"}
+  ! grep -qi warning "$run/jobs/slurm-suspend.log" || problem=${problem:-"it warned"}
+  for ext in node ele face neigh; do
+    cmp -s "ref.$ext" "out.$ext" || problem=${problem:-".$ext differs from a run outside Slurm"}
+  done
+  retries=$(/usr/bin/python3 -c "import json, sys; print(len(json.load(open(sys.argv[1]))['retries']))" out.json 2>/dev/null)
+  [ "$retries" = 0 ] || problem=${problem:-"retries: $retries"}
+  cd "$project"
+  if [ -z "$problem" ]; then
+    echo "ok: slurm-suspend: suspended 16 s mid-piece and resumed; the same files as a run outside Slurm, no retry"
+  else
+    echo "FAIL: slurm-suspend: $problem"
+    failed=1
+  fi
 fi
 if [ $failed -ne 0 ]; then
   echo "---- slurmctld log:"; tail -n 30 "$run/slurmctld.log"

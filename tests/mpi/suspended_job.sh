@@ -28,10 +28,12 @@ setsid bash -c "$(declare -f mesh); work='$work' partet='$partet' mpiexec='$mpie
 launcher=$!
 session=$launcher
 # Stop the job once piece 1 is in its stall, as a scheduler could at any moment: a rank's TetGen
-# process (a partet process whose parent is one) that lives longer than a small piece takes.
+# process (a partet process whose parent is one; a process's name is its binary's, cut to 15
+# characters) that lives longer than a small piece takes.
 meshing_child() {
-  ps -o pid=,ppid=,comm= -s "$session" | awk '{comm[$1] = $3; parent[$1] = $2}
-    END {for (p in comm) if (comm[p] == "partet" && comm[parent[p]] == "partet") found = 1; exit !found}'
+  ps -o pid=,ppid=,comm= -s "$session" | awk -v name="$(basename "$partet" | cut -c1-15)" \
+    '{comm[$1] = $3; parent[$1] = $2}
+    END {for (p in comm) if (comm[p] == name && comm[parent[p]] == name) found = 1; exit !found}'
 }
 for i in $(seq 300); do
   meshing_child && sleep 0.3 && meshing_child && break
