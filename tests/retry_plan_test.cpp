@@ -99,6 +99,24 @@ TEST(RetryPlan, MovesPlanesThenOtherAxesThenFewerPiecesThenOnePiece) {
   }
 }
 
+// The input as one piece out of time: more time is what it needs, not split faces, and it is not
+// said to be TetGen's trouble with the input.
+TEST(RetryPlan, OnePieceOutOfTimeIsNotTheInputsFault) {
+  RetryPlan plan(large_input(), asked(1), 0);
+  try {
+    plan.next(failure(FailureKind::timed_out));
+    FAIL() << "no error";
+  } catch (const InputMeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::timed_out);
+    EXPECT_FALSE(e.split_faces_may_help);
+    EXPECT_NE(std::string(e.what()).find("the input as one piece (as TetGen alone would mesh it) did not finish: "
+                                         "made-up failure"),
+              std::string::npos)
+        << e.what();
+    EXPECT_EQ(std::string(e.what()).find("no partition can help"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RetryPlan, PcaFallsBackToEveryCoordinateAxis) {
   RetryPlan plan(large_input(), asked(4, CutAxis::pca), 0);
   std::vector<CutAxis> axes{plan.options().axis};

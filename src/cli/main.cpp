@@ -326,10 +326,11 @@ int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
     ranks = status.ranks;
     if (!status.error.empty()) {
       // The library's messages name no flags; what the user can change is said here.
-      const bool advise = status.meshing_failed && job.options.pieces > 1;
+      const bool advise = status.meshing_failed && job.options.pieces > 1 && !status.out_of_time;
       const bool split = status.split_faces_may_help && !job.options.allow_split_faces;
       const std::string error =
           status.error + (advise ? "; try another --pieces value or --axis" : "") +
+          (status.out_of_time ? "; --piece-timeout gives each piece more CPU time" : "") +
           (split ? " (--allow-split-faces accepts a mesh that splits some input triangles, as tetgen -p without -Y "
                    "gives)"
                  : "");

@@ -168,12 +168,17 @@ void RetryPlan::input_trouble(const AttemptFailure& failed) const {
            (failed.input_faces.empty() ? std::string("parts of this input")
                                        : "input faces " + listed(failed.input_faces)) +
            " for intersecting or too close (within its tolerance)";
+  else if (f.kind == FailureKind::timed_out)
+    what = "the input as one piece (as TetGen alone would mesh it) did not finish: " + f.message;
   else
     what = "TetGen alone fails on this input too: " + f.message;
   // TetGen's own trouble keeping every input triangle whole (-Y): without that promise it may
-  // manage. Faces it takes for intersecting stay so either way.
-  const bool split_faces_may_help = f.kind != FailureKind::self_intersection && f.kind != FailureKind::too_close;
-  trouble.message = what + "; partet keeps every input triangle, so no partition can help";
+  // manage. Faces it takes for intersecting stay so either way; and more time is what a time
+  // limit needs, not split faces.
+  const bool split_faces_may_help =
+      f.kind != FailureKind::self_intersection && f.kind != FailureKind::too_close && f.kind != FailureKind::timed_out;
+  trouble.message =
+      what + (f.kind == FailureKind::timed_out ? "" : "; partet keeps every input triangle, so no partition can help");
   throw InputMeshingError(trouble, split_faces_may_help);
 }
 

@@ -1433,6 +1433,7 @@ void on_root(RankState& state, Step step) {
     const auto* input_trouble = dynamic_cast<const InputMeshingError*>(&e);
     state.status.meshing_failed = input_trouble == nullptr;
     state.status.split_faces_may_help = input_trouble && input_trouble->split_faces_may_help;
+    state.status.out_of_time = e.failure.kind == FailureKind::timed_out;
   } catch (const OptionError& e) {
     state.status.error = e.what();
     state.status.usage_error = true;

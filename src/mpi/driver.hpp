@@ -17,6 +17,7 @@ struct JobStatus {
   std::string error;            // on rank 0, when exit_code != 0
   bool meshing_failed = false;  // the error is a meshing failure another partition may help with
   bool split_faces_may_help = false;  // TetGen alone failed keeping every input triangle whole
+  bool out_of_time = false;     // a piece, or the input as one piece, used its time limit
   bool usage_error = false;     // the command line asks for something impossible (exit code 2)
   RunFigures figures;           // rank 0, with MeshJob::compare_tetgen
   int ranks = 1;

@@ -126,13 +126,14 @@ bool IsolatedRun::poll(int wait_ms) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
   for (;;) {
     const auto now = std::chrono::steady_clock::now();
+    // The CPU time first: a child past both limits has had its time.
     const double wall_left = wall_deadline_ - awake_seconds();
-    if (wall_left <= 0) {
-      finish(ProcessEnd::stalled);
+    if ((now >= cpu_look_ || wall_left <= 0) && used_its_cpu_time()) {
+      finish(ProcessEnd::timed_out);
       return true;
     }
-    if (now >= cpu_look_ && used_its_cpu_time()) {
-      finish(ProcessEnd::timed_out);
+    if (wall_left <= 0) {
+      finish(ProcessEnd::stalled);
       return true;
     }
     // Rounded up: a timeout rounded down to 0 ms would make this loop spin until `until`.

@@ -264,7 +264,7 @@ if [ "$node_count" -eq 1 ] && [ $failed -eq 0 ]; then
   cd "$run/jobs/suspend"
   "$partet" mesh ../torus.off -o ref --pieces 6 --piece-timeout 1 --quiet
   id=$(PARTET_INJECT_FAILURE=1:stall PARTET_TEST_STALL_S=2 sbatch --parsable "${over[@]}" --ntasks=2 --mem=2G \
-    --output="$run/jobs/slurm-suspend.log" --wrap "srun --mpi=pmix '$partet' mesh ../torus.off -o out --pieces 6 \
+    --output="$run/jobs/slurm-suspend.log" --wrap "srun --mpi=pmix --kill-on-bad-exit=1 '$partet' mesh ../torus.off -o out --pieces 6 \
     --piece-timeout 1 --report out.json && '$partet' check ../torus.off out")
   # A TetGen process: a partet process whose parent is one (no other job runs now; a process's
   # name is its binary's, cut to 15 characters).

@@ -48,6 +48,18 @@ elapsed=$(( $(date +%s) - start ))
 [ "$elapsed" -le 30 ] || fail "took ${elapsed} s (limit 30 s)"
 expected="piece 1: meshing did not finish within 4 s, having used 0.0 of its 1 s of CPU time: its process was stopped, or the machine is overloaded"
 grep -qF "$expected" "$work/log" || fail "no message '$expected'"
+grep -qF -- "--piece-timeout gives each piece more CPU time" "$work/log" || fail "no advice to give it more time"
 ls "$work"/stopped.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/stopped.*)"
+
+# A limit too short for the input as one piece (about 1 s of CPU time here): said as such, with
+# the advice to give it more time, not to split faces.
+"$partet" mesh "$work/torus.off" -o "$work/short" --pieces 1 --piece-timeout 0.2 > "$work/short.log" 2>&1
+short=$?
+[ "$short" -ne 0 ] || fail "0.2 s of CPU time was enough for the input as one piece"
+# (On a loaded machine its 0.8 s of wall time may end it first: the same message, with the reason.)
+grep -q "the input as one piece (as TetGen alone would mesh it) did not finish: meshing did not finish within .*0.2 s \
+of CPU time.*; --piece-timeout gives each piece more CPU time$" "$work/short.log" ||
+  fail "the message for the input out of time: $(cat "$work/short.log")"
+! grep -q "allow-split-faces\|no partition can help" "$work/short.log" || fail "split faces advised for a time limit"
 echo "ok: stalls within the wall time changed nothing (one process and $ranks ranks); past it: exit $code after" \
-  "${elapsed} s: $(grep -m1 -F "$expected" "$work/log")"
+  "${elapsed} s: $(grep -m1 -F "$expected" "$work/log"); too short for the input: $(grep -m1 error: "$work/short.log")"
