@@ -49,9 +49,4 @@ double awake_seconds() {
   return now - pauses - unseen;
 }
 
-double paused_seconds() {
-  start_watching();
-  return paused.load();
-}
-
 }  // namespace partet

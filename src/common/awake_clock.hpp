@@ -12,8 +12,6 @@ namespace partet {
 // kLongestUnseenPause between two looks of a thread that looks every few milliseconds counts,
 // all but that much.
 double awake_seconds();
-// The pauses seen so far in this process, seconds.
-double paused_seconds();
 
 inline constexpr double kLongestUnseenPause = 1.0;
 
