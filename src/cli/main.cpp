@@ -35,6 +35,7 @@
 #include "runner/interrupts.hpp"
 #include "stages/quality_json.hpp"
 #include "mpi/distributed_check.hpp"
+#include "io/parallel_hdf5.hpp"
 
 namespace {
 
@@ -533,7 +534,8 @@ CLI::App* add_info_command(CLI::App& app, CommandLine& c) {
                                   "describe a surface (counts, bounds, shells, genus, closed/manifold/oriented, "
                                   "self-intersections) or a tet mesh (counts, volume, solids, quality)");
   info->add_option("file", c.info_file,
-                   "a surface (.off .obj .ply .stl) or TetGen files (PREFIX, PREFIX.node or PREFIX.ele)")
+                   "a surface (.off .obj .ply .stl), TetGen files (PREFIX, PREFIX.node or PREFIX.ele) or a tet "
+                   "mesh in another format partet writes (.vtu, .pvtu, .msh or a partition file, .mesh, .xdmf)")
       ->required();
   info->add_flag("--json", c.info_json, "print the description as JSON");
   return info;
@@ -596,9 +598,57 @@ bool tet_mesh_prefix(const std::string& file, std::string& prefix) {
   return std::filesystem::exists(file + ".node", ec);  // not opened here: a FIFO would block
 }
 
-int print_tet_mesh_info(const std::string& prefix, bool json) {
+// An XDMF set's tets, read in this process (parallel HDF5 needs MPI, on one rank here).
+partet::TetMesh read_xdmf_here(int argc, char** argv, const std::string& run) {
+  if (const std::string problem = unwritable_session_directory(); !problem.empty()) throw partet::Error(problem);
+  MPI_Init(&argc, &argv);
+  partet::MeshTotals totals;
+  partet::MeshBlock block;
+  try {
+    block = partet::read_mesh_hdf5(MPI_COMM_SELF, run + ".h5", run + "_boundary.h5", totals);
+  } catch (...) {
+    MPI_Finalize();
+    throw;
+  }
+  MPI_Finalize();
+  if (block.points.size() > static_cast<std::size_t>(INT32_MAX) || block.tets.size() > static_cast<std::size_t>(INT32_MAX))
+    throw partet::InputError("'" + run + ".h5' holds more than 2^31 points or tets, more than one process can "
+                             "describe: check it on several ranks instead (mpirun -n N partet check INPUT " +
+                             run + ".xdmf)");
+  partet::TetMesh mesh;
+  mesh.points = std::move(block.points);
+  mesh.tets.reserve(block.tets.size());
+  for (const auto& t : block.tets) {
+    partet::Tet tet;
+    for (int j = 0; j < 4; ++j) {
+      if (t[j] < 0 || t[j] >= static_cast<std::int64_t>(mesh.points.size()))
+        throw partet::InputError("'" + run + ".h5' has a tet with point " + std::to_string(t[j]) + " of " +
+                                 std::to_string(mesh.points.size()));
+      tet[j] = static_cast<std::int32_t>(t[j]);
+    }
+    mesh.tets.push_back(tet);
+  }
+  return mesh;
+}
+
+// The tets FILE names, its publish settled first: TetGen files at PREFIX, a file of another format
+// partet writes (its set: a .pvtu index, MSH partitions), or an XDMF set.
+partet::TetMesh read_tet_mesh_to_describe(int argc, char** argv, const std::string& file, const std::string& prefix) {
+  std::string run;
+  if (names_format(file, partet::MeshFormat::xdmf, &run)) {
+    settle(run);
+    return read_xdmf_here(argc, argv, run);
+  }
+  if (partet::reads_mesh_file(file)) {
+    settle_named(file);
+    return std::move(partet::read_mesh_set(file).mesh);
+  }
   settle(prefix);
-  const partet::TetMeshInfo i = partet::tet_mesh_info(partet::read_tetgen_files(prefix));
+  return partet::read_tetgen_files(prefix);
+}
+
+int print_tet_mesh_info(const partet::TetMesh& mesh, const std::string& prefix, bool json) {
+  const partet::TetMeshInfo i = partet::tet_mesh_info(mesh);
   if (json) {
     std::printf("%s\n", nlohmann::json{{"kind", "tet mesh"}, {"vertices", i.vertices}, {"tets", i.tets},
                                        {"boundary_faces", i.boundary_faces}, {"solids", i.solids},
@@ -616,10 +666,13 @@ int print_tet_mesh_info(const std::string& prefix, bool json) {
   return 0;
 }
 
-int run_info(const CommandLine& c) {
+int run_info(int argc, char** argv, const CommandLine& c) {
   std::string prefix;
-  return tet_mesh_prefix(c.info_file, prefix) ? print_tet_mesh_info(prefix, c.info_json)
-                                              : print_surface_info(c.info_file, c.info_json);
+  const bool tetgen = tet_mesh_prefix(c.info_file, prefix);
+  if (!tetgen && !partet::reads_mesh_file(c.info_file) && !names_format(c.info_file, partet::MeshFormat::xdmf))
+    return print_surface_info(c.info_file, c.info_json);
+  const std::string shown = tetgen ? prefix : c.info_file;
+  return print_tet_mesh_info(read_tet_mesh_to_describe(argc, argv, c.info_file, prefix), shown, c.info_json);
 }
 
 CLI::App* add_refine_command(CLI::App& app, CommandLine& c) {
@@ -730,7 +783,7 @@ int main(int argc, char** argv) {
                        c.check_split ? partet::BoundaryRule::split_allowed : partet::BoundaryRule::exact);
     if (*generate) return run_generate(c);
     if (*refine) return run_refine(c);
-    if (*info) return run_info(c);
+    if (*info) return run_info(argc, argv, c);
   } catch (const partet::OptionError& e) {
     partet::log::error(e.what());
     return 2;  // what the command line asks for cannot be done

@@ -66,6 +66,30 @@ echo "ok: $(grep self-intersections crossing.txt)"
   || fail "mesh: volume differs from the surface's"
 "$partet" info m | head -n 1
 echo "ok: tet mesh volume equals the surface's, boundary faces equal the input faces"
+# Every other format partet writes describes the same mesh as the TetGen files (a set named by any
+# of its files: the .pvtu index, an MSH partition).
+"$partet" mesh genus3.off -o all --pieces 3 --format tetgen,vtu,pvtu,msh,medit,xdmf --quiet
+"$partet" mesh genus3.off -o parts --pieces 3 --format msh-parts-binary --quiet
+"$partet" info all --json > all.json
+for file in all.vtu all.pvtu all.msh parts_2.msh all.mesh all.xdmf; do
+  "$partet" info "$file" --json > other.json || fail "info $file"
+  /usr/bin/python3 - all.json other.json <<'PY' || fail "info $file describes another mesh than the TetGen files"
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+for key in ("vertices", "tets", "boundary_faces", "solids", "inverted_tets"):
+    assert a[key] == b[key], (key, a[key], b[key])
+assert abs(a["volume"] - b["volume"]) <= 1e-12 * abs(a["volume"]), (a["volume"], b["volume"])
+PY
+done
+echo "ok: info on .vtu, .pvtu, .msh, an MSH partition, .mesh and .xdmf: the TetGen files' mesh"
+# A publish killed just after its journal was written: info on the set's file completes it first.
+{ PARTET_TEST_PUBLISH_SIGNAL="0:9" "$partet" mesh genus3.off -o killed --pieces 3 --format vtu --quiet > log 2>&1; } 2> /dev/null ||
+  true
+[ ! -e killed.vtu ] || fail "killed publish: killed.vtu already in place"
+"$partet" info killed.vtu > killed.txt 2>&1 || { cat killed.txt; fail "info on a killed publish's file"; }
+grep -q "completed the publish" killed.txt && grep -q "^tet mesh killed.vtu: " killed.txt ||
+  { cat killed.txt; fail "info did not complete the killed publish"; }
+echo "ok: info killed.vtu after a publish killed at its journal: completed, then described"
 # --compare-tetgen: with one piece partet is TetGen alone, so the tet counts must agree exactly.
 "$partet" mesh genus3.off -o one --pieces 1 --compare-tetgen > compare.txt
 grep -q "TetGen alone" compare.txt || { cat compare.txt; fail "no comparison printed"; }
