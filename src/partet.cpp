@@ -10,6 +10,7 @@
 #include "job/job.hpp"
 #include "job/pipeline.hpp"
 #include "mpi/driver.hpp"
+#include "runner/piece_checkpoint.hpp"
 #include "stages/check.hpp"
 
 namespace partet {
@@ -22,12 +23,14 @@ MeshOptions mesh_options(const Options& options) {
   m.tetgen.quality = parse_quality(options.quality);
   m.allow_split_faces = options.allow_split_faces;
   m.scratch = options.scratch;
+  m.run.checkpoint = options.checkpoint;
   return m;
 }
 
-// Errors the caller can act on before any work: the scratch directory (rank 0's).
+// Errors the caller can act on before any work: the scratch and checkpoint directories (rank 0's).
 void check_directories(const MeshOptions& options) {
   if (!options.scratch.empty()) check_scratch_directory(options.scratch);
+  if (!options.run.checkpoint.empty()) check_checkpoint_directory(options.run.checkpoint);
 }
 
 // The caller's surface, validated and scaled to unit size (the exponent goes to *exponent).

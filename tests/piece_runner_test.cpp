@@ -2,7 +2,11 @@
 // a run can end (error, crash, time limit) as a typed failure.
 #include <gtest/gtest.h>
 
+#include <dirent.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -15,6 +19,7 @@
 #include "stages/partition.hpp"
 #include "stages/piece.hpp"
 #include "runner/isolated_run.hpp"
+#include "runner/piece_checkpoint.hpp"
 #include "runner/piece_runner.hpp"
 #include "runner/serialize.hpp"
 #include "stage_batches.hpp"
@@ -181,6 +186,48 @@ TEST(PieceRunner, BackgroundJobsCanBePolled) {
   EXPECT_FALSE(outcome.result.mesh.tets.empty());
   EXPECT_TRUE(runner(true).runs_in_background());
   EXPECT_FALSE(runner(false).runs_in_background());
+}
+
+TEST(PieceCheckpoint, KeepsResultsOnlyAndTakesOnlyTheSameInput) {
+  const auto pieces = torus_pieces();
+  char pattern[] = "/tmp/partet-checkpoint-XXXXXX";
+  ASSERT_NE(::mkdtemp(pattern), nullptr);
+  const std::string dir = pattern, first = dir + "/first", second = dir + "/second";
+  RunOptions run;
+  run.checkpoint = first;
+  const PieceRunner keeping(TetgenOptions{}, run);
+  // A failure is not kept; a result is, and a second run takes it (figures 0: nothing ran).
+  EXPECT_TRUE(keeping.mesh(open_piece()).failure);
+  const PieceOutcome meshed = keeping.mesh(pieces[1]);
+  ASSERT_FALSE(meshed.failure);
+  const auto files = [](const std::string& d) {
+    std::vector<std::string> names;
+    if (DIR* handle = ::opendir(d.c_str())) {
+      while (const dirent* entry = ::readdir(handle))
+        if (entry->d_name[0] != '.') names.push_back(entry->d_name);
+      ::closedir(handle);
+    }
+    return names;
+  };
+  ASSERT_EQ(files(first).size(), 1u);
+  const PieceOutcome taken = keeping.mesh(pieces[1]);
+  ASSERT_FALSE(taken.failure);
+  EXPECT_EQ(taken.result.mesh.tets, meshed.result.mesh.tets);
+  EXPECT_EQ(taken.result.mesh.steiner_points, meshed.result.mesh.steiner_points);
+  EXPECT_EQ(taken.seconds, 0);
+  // Another input under the same name (a hash collision): not taken.
+  const PieceCheckpoint checkpoint(second);
+  const std::string key = PieceCheckpoint::key_of(pieces[2], TetgenOptions{});
+  checkpoint.keep(key, 2, runner(false).mesh_to_reply(pieces[2]));
+  ASSERT_EQ(files(second).size(), 1u);
+  const std::string other = second + "/" + files(second).front();
+  ASSERT_EQ(std::rename((first + "/" + files(first).front()).c_str(), other.c_str()), 0);
+  EXPECT_FALSE(checkpoint.find(key, 2));
+  // Other TetGen options: not taken.
+  TetgenOptions quality;
+  quality.quality = "1.5";
+  EXPECT_FALSE(PieceCheckpoint(first).find(PieceCheckpoint::key_of(pieces[1], quality), 1));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

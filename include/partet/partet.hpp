@@ -34,6 +34,11 @@ struct Options {
   // in files in this directory (rank 0's) until the result is assembled, instead of in memory.
   // A directory that cannot be written is an OptionError.
   std::string scratch;
+  // Non-empty: every meshed piece is kept in this directory (made if missing), and a call on the
+  // same surface with the same options takes the pieces it finds there instead of meshing them
+  // again, so a run that was stopped loses none of them; the result is the same. An OptionError
+  // when it cannot be made or written.
+  std::string checkpoint;
 };
 
 struct Report {

@@ -445,6 +445,11 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
                    "fewer pieces, then the whole input as one piece)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  mesh->add_option("--checkpoint", job.options.run.checkpoint,
+                   "keep every meshed piece in DIR (made if missing): a rerun of the same job with the same DIR takes "
+                   "the pieces found there instead of meshing them again, so a run stopped by a time limit, a "
+                   "preemption, a crash or Ctrl-C loses none of the pieces it had meshed; same output")
+      ->type_name("DIR");
   mesh->add_option("--scratch", job.options.scratch,
                    "the paper's memory mode: each piece's mesh, but for the tets around the cuts, waits in a file "
                    "in DIR (on the node of the rank holding it) until the output is assembled, instead of in memory")

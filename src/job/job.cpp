@@ -12,6 +12,7 @@
 #include "io/scratch_bulks.hpp"
 #include "io/tetgen_files.hpp"
 #include "partet/errors.hpp"
+#include "runner/piece_checkpoint.hpp"
 #include "stages/topology.hpp"
 #include "stages/validate.hpp"
 
@@ -102,6 +103,7 @@ void check_outputs(const MeshJob& job) {
     check_scratch_directory(job.options.scratch);
     remove_stale_scratch(job.options.scratch);
   }
+  if (!job.options.run.checkpoint.empty()) check_checkpoint_directory(job.options.run.checkpoint);
 }
 
 CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times) {

@@ -11,6 +11,8 @@
 #include "common/stage_timer.hpp"
 #include "runner/isolated_run.hpp"
 #include "common/memory.hpp"
+#include "common/log.hpp"
+#include "runner/piece_checkpoint.hpp"
 
 namespace partet {
 namespace {
@@ -152,6 +154,25 @@ class ChildProcessJob : public PieceJob {
   IsolatedRun run_;
 };
 
+// A job whose result is kept in the checkpoint once it is taken.
+class CheckpointedJob : public PieceJob {
+ public:
+  CheckpointedJob(std::unique_ptr<PieceJob> job, PieceCheckpoint checkpoint, std::string key, int index)
+      : job_(std::move(job)), checkpoint_(std::move(checkpoint)), key_(std::move(key)), index_(index) {}
+  bool poll(int wait_ms) override { return job_->poll(wait_ms); }
+  std::string take_reply() override {
+    std::string reply = job_->take_reply();
+    checkpoint_.keep(key_, index_, reply);
+    return reply;
+  }
+
+ private:
+  std::unique_ptr<PieceJob> job_;
+  PieceCheckpoint checkpoint_;
+  std::string key_;
+  int index_;
+};
+
 }  // namespace
 
 double memory_limit_mb(std::size_t triangles) {
@@ -169,6 +190,18 @@ double PieceRunner::time_limit(const PieceSurface& piece) const {
 double PieceRunner::wall_limit(const PieceSurface& piece) const { return kWallPerCpuSecond * time_limit(piece); }
 
 std::unique_ptr<PieceJob> PieceRunner::start(const PieceSurface& piece, std::function<void()> before) const {
+  if (run_.checkpoint.empty() || piece.seam_region) return start_meshing(piece, std::move(before));
+  const PieceCheckpoint checkpoint(run_.checkpoint);
+  std::string key = PieceCheckpoint::key_of(piece, tetgen_);
+  if (std::optional<std::string> reply = checkpoint.find(key, piece.index)) {
+    log::info("piece " + std::to_string(piece.index) + " taken from the checkpoint (meshed by an earlier run)");
+    return std::make_unique<InProcessJob>(std::move(*reply));
+  }
+  return std::make_unique<CheckpointedJob>(start_meshing(piece, std::move(before)), checkpoint, std::move(key),
+                                           piece.index);
+}
+
+std::unique_ptr<PieceJob> PieceRunner::start_meshing(const PieceSurface& piece, std::function<void()> before) const {
   if (!run_.isolate) return std::make_unique<InProcessJob>(piece_reply(piece, tetgen_, before, 0));
   return std::make_unique<ChildProcessJob>(piece, tetgen_, std::move(before), time_limit(piece),
                                            memory_limit_mb(piece.triangles.size()));

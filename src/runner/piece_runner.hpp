@@ -22,6 +22,10 @@ struct RunOptions {
   // piece). Time spent waiting for a core does not count, up to kWallPerCpuSecond times the
   // limit in wall time.
   double timeout_seconds = 0;
+  // Non-empty: a directory where every piece meshed is kept, and where a piece already meshed by
+  // an earlier run of the same job is taken from instead of being meshed again
+  // (piece_checkpoint.hpp). Seam regions are not kept.
+  std::string checkpoint;
 };
 
 // A piece being meshed. Its reply is serialize_outcome's bytes.
@@ -55,6 +59,8 @@ class PieceRunner {
   double wall_limit(const PieceSurface& piece) const;
 
  private:
+  // start without the checkpoint.
+  std::unique_ptr<PieceJob> start_meshing(const PieceSurface& piece, std::function<void()> before) const;
   TetgenOptions tetgen_;
   RunOptions run_;
 };

@@ -403,8 +403,19 @@ CapOutcome deserialize_cap_outcome(std::string_view bytes) {
   return outcome;
 }
 
+namespace {
+constexpr std::size_t kHead = 1 + 2 * sizeof(double);
+}  // namespace
+
+bool is_result_reply(std::string_view bytes) { return bytes.size() > kHead && bytes[0] == kResultTag; }
+
+void set_reply_figures(std::string& bytes, double seconds, double memory_mb) {
+  if (bytes.size() < kHead) throw InternalError("a meshing reply is too short");
+  std::memcpy(bytes.data() + 1, &seconds, sizeof(double));
+  std::memcpy(bytes.data() + 1 + sizeof(double), &memory_mb, sizeof(double));
+}
+
 PieceOutcome deserialize_outcome(std::string_view bytes) {
-  constexpr std::size_t kHead = 1 + 2 * sizeof(double);
   if (bytes.size() < kHead || (bytes[0] != kResultTag && bytes[0] != kFailureTag && bytes[0] != kBandTag))
     throw InternalError("a meshing reply has no valid tag");
   PieceOutcome outcome;

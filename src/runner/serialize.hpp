@@ -50,6 +50,10 @@ CapOutcome deserialize_cap_outcome(std::string_view bytes);
 std::string serialize_outcome(const PieceOutcome& outcome);
 // Throws InternalError on bytes that are no reply.
 PieceOutcome deserialize_outcome(std::string_view bytes);
+// Whether a reply holds a result (not a failure or a band).
+bool is_result_reply(std::string_view bytes);
+// Sets a reply's seconds and memory in place.
+void set_reply_figures(std::string& bytes, double seconds, double memory_mb);
 
 // A bulk on its way to rank 0 from the rank that kept it.
 std::string serialize_block(const TetBlock& block);

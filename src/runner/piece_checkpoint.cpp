@@ -1,0 +1,166 @@
+#include "runner/piece_checkpoint.hpp"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "common/log.hpp"
+#include "io/file_owner.hpp"
+#include "partet/errors.hpp"
+#include "runner/serialize.hpp"
+
+namespace partet {
+namespace {
+
+// The file's first bytes. The number changes with the form of the replies (serialize.cpp), so a
+// file an older partet wrote is skipped rather than misread.
+constexpr char kMagic[] = "partet piece checkpoint 1\n";
+constexpr std::size_t kMagicSize = sizeof kMagic - 1;
+
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull) {
+  for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
+  return h;
+}
+
+std::string u64_bytes(std::uint64_t value) { return std::string(reinterpret_cast<const char*>(&value), 8); }
+
+std::uint64_t u64_at(std::string_view bytes, std::size_t at) {
+  std::uint64_t value = 0;
+  std::memcpy(&value, bytes.data() + at, 8);
+  return value;
+}
+
+// The whole file, or nothing when it cannot be opened (errno says why) or read.
+std::optional<std::string> read_whole(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  std::string bytes;
+  struct stat info {};
+  if (::fstat(fd, &info) == 0 && info.st_size > 0) bytes.reserve(static_cast<std::size_t>(info.st_size));
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      ::close(fd);
+      return std::nullopt;
+    }
+    if (n == 0) break;
+    bytes.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return bytes;
+}
+
+bool write_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    bytes.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+// One warning per process for files that cannot be written: the run goes on without them.
+void warn_unwritable(const std::string& path, int error) {
+  static bool warned = false;
+  if (warned) return;
+  warned = true;
+  log::warning("cannot keep meshed pieces in the checkpoint ('" + path + "': " + std::strerror(error) +
+               "); this run goes on, but a rerun will mesh them again");
+}
+
+}  // namespace
+
+std::string PieceCheckpoint::key_of(const PieceSurface& piece, const TetgenOptions& tetgen) {
+  return serialize_task(piece, tetgen);
+}
+
+std::string PieceCheckpoint::path_of(const std::string& key, int index) const {
+  char name[64];
+  std::snprintf(name, sizeof name, "piece-%d-%016llx.bin", index, static_cast<unsigned long long>(fnv1a(key)));
+  return directory_ + "/" + name;
+}
+
+std::optional<std::string> PieceCheckpoint::find(const std::string& key, int index) const {
+  const std::string path = path_of(key, index);
+  const std::optional<std::string> file = read_whole(path);
+  if (!file) {
+    if (errno != ENOENT)
+      log::warning("cannot read the checkpoint '" + path + "' (" + std::strerror(errno) + "): meshing piece " +
+                   std::to_string(index) + " again");
+    return std::nullopt;
+  }
+  // magic, key size, key, reply size, reply, checksum of key and reply
+  const std::string_view bytes(*file);
+  const std::size_t key_at = kMagicSize + 8;
+  bool whole = bytes.size() >= key_at + 8 + 8 + 8 && bytes.substr(0, kMagicSize) == kMagic &&
+               u64_at(bytes, kMagicSize) == key.size() && bytes.size() >= key_at + key.size() + 16;
+  const std::size_t reply_at = key_at + key.size() + 8;
+  const std::uint64_t reply_size = whole ? u64_at(bytes, reply_at - 8) : 0;
+  whole = whole && bytes.size() == reply_at + reply_size + 8 &&
+          u64_at(bytes, reply_at + reply_size) == fnv1a(bytes.substr(key_at, key.size() + 8 + reply_size));
+  if (!whole) {
+    log::warning("the checkpoint '" + path + "' is incomplete or damaged: meshing piece " + std::to_string(index) +
+                 " again");
+    return std::nullopt;
+  }
+  if (bytes.substr(key_at, key.size()) != key) return std::nullopt;  // another input with the same hash
+  std::string reply(bytes.substr(reply_at, reply_size));
+  if (!is_result_reply(reply)) return std::nullopt;
+  set_reply_figures(reply, 0, 0);
+  return reply;
+}
+
+void PieceCheckpoint::keep(const std::string& key, int index, const std::string& reply) const {
+  if (!is_result_reply(reply)) return;
+  const std::string path = path_of(key, index), temporary = path + temporary_suffix();
+  if (::mkdir(directory_.c_str(), 0777) != 0 && errno != EEXIST) return warn_unwritable(directory_, errno);
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return warn_unwritable(temporary, errno);
+  const std::string head = kMagic + u64_bytes(key.size());
+  const std::string reply_size = u64_bytes(reply.size());
+  const std::uint64_t sum = fnv1a(reply, fnv1a(reply_size, fnv1a(key)));
+  const bool written = write_all(fd, head) && write_all(fd, key) && write_all(fd, reply_size) && write_all(fd, reply) &&
+                       write_all(fd, u64_bytes(sum)) && ::fsync(fd) == 0;
+  const int error = errno;
+  ::close(fd);
+  if (!written || ::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int cause = written ? errno : error;
+    ::unlink(temporary.c_str());
+    return warn_unwritable(path, cause);
+  }
+}
+
+void check_checkpoint_directory(const std::string& directory) {
+  if (::mkdir(directory.c_str(), 0777) != 0 && errno != EEXIST)
+    throw OptionError("--checkpoint: cannot make '" + directory + "' (" + std::strerror(errno) + ")");
+  struct stat info {};
+  if (::stat(directory.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
+    throw OptionError("--checkpoint: '" + directory + "' is not a directory");
+  if (::access(directory.c_str(), W_OK | X_OK) != 0)
+    throw OptionError("--checkpoint: cannot write in '" + directory + "' (" + std::strerror(errno) + ")");
+  // What killed runs were writing when they ended.
+  if (DIR* dir = ::opendir(directory.c_str())) {
+    std::vector<std::string> stale;
+    while (const dirent* entry = ::readdir(dir)) {
+      const std::string name = entry->d_name, path = directory + "/" + name;
+      long pid = 0;
+      std::string host;
+      if (name.rfind("piece-", 0) == 0 && parse_temporary_suffix(name, pid, host) && temporary_owner_gone(path))
+        stale.push_back(path);
+    }
+    ::closedir(dir);
+    for (const std::string& path : stale) ::unlink(path.c_str());
+  }
+}
+
+}  // namespace partet
