@@ -3,8 +3,9 @@
 # missing, writes a private configuration (this machine's CPUs and memory, non-default ports, all
 # state in a temporary directory), starts munged, slurmctld and slurmd, submits every sbatch
 # recipe in cluster/ (unchanged but for its arguments) on INPUT, waits for them, prints each
-# job's log (ending with its `partet check` result), suspends and resumes one more job (it must
-# give the files of a run outside Slurm), and stops the daemons by PID, also on failure.
+# job's log (ending with its `partet check` result), suspends and resumes one more job and
+# requeues another mid-run (each must give the files of a run outside Slurm), and stops the
+# daemons by PID, also on failure.
 #
 # With --nodes 3 the cluster has three nodes: network namespaces with their own address on a
 # private bridge (tests/cluster/nodes.sh), hostname and /tmp, each running its own slurmd, all
@@ -186,7 +187,7 @@ else
   # A mistyped option under srun: every rank rejects it before MPI starts, and rank 0's message
   # must still come out (the other ranks wait for it) with the usage exit code.
   code=0
-  srun -N "$node_count" --ntasks-per-node=1 --mpi=pmix --mem=100M --chdir="$run/jobs" \
+  srun -N "$node_count" --ntasks-per-node=1 --mpi=pmix --kill-on-bad-exit=1 --mem=100M --chdir="$run/jobs" \
     "$partet" mesh "$input" -o "$run/jobs/bad" --pieces 0 > "$run/usage.log" 2>&1 || code=$?
   grep -q -- "--pieces: Value 0 not in range" "$run/usage.log" && [ "$code" -ne 0 ] ||
     { echo "FAIL: a usage error under srun (exit $code) said:"; cat "$run/usage.log"; exit 1; }
@@ -298,6 +299,48 @@ if [ "$node_count" -eq 1 ] && [ $failed -eq 0 ]; then
     echo "ok: slurm-suspend: suspended 16 s mid-piece and resumed; the same files as a run outside Slurm, no retry"
   else
     echo "FAIL: slurm-suspend: $problem"
+    failed=1
+  fi
+fi
+# 7. The srun recipe as shipped (--requeue, --checkpoint PREFIX.pieces) requeued by Slurm while
+# a piece is at work (scontrol requeue: the job is killed and queued again, as at a preemption):
+# the rerun takes the 3 pieces the first run kept, meshes the fourth, and writes the files a run
+# outside Slurm writes; the recipe removes the checkpoint once the check passed. Piece 3's process
+# sleeps 6 s first (a test hook, in both runs), so the others are kept before the requeue.
+if [ "$node_count" -eq 1 ] && [ $failed -eq 0 ]; then
+  mkdir -p "$run/jobs/requeue"
+  cd "$run/jobs/requeue"
+  started=$SECONDS
+  "$partet" mesh ../torus.off -o ref --pieces 4 --quiet
+  id=$(PARTET_INJECT_FAILURE=3:stall PARTET_TEST_STALL_S=6 sbatch --parsable "${over[@]}" --ntasks=2 --mem=2G \
+    --output="$run/jobs/slurm-requeue.log" "$project/cluster/slurm-srun.sbatch" ../torus.off out)
+  kept() { [ "$(ls out.pieces 2> /dev/null | grep -c '^piece-.*\.bin$')" -ge 3 ]; }
+  for i in $(seq 600); do kept && break; sleep 0.1; done
+  kept_before=$(ls out.pieces 2> /dev/null | grep -c '^piece-.*\.bin$')
+  scontrol requeue "$id"
+  # Slurm makes a requeued job wait 2 minutes before it may start again; here it may at once.
+  for i in $(seq 100); do [ "$(squeue -h -j "$id" -o %T)" = PENDING ] && break; sleep 0.1; done
+  scontrol update JobId="$id" StartTime=now
+  deadline=$((SECONDS + 180))
+  while [ -n "$(squeue -h -j "$id" 2>/dev/null)" ] && [ $SECONDS -lt $deadline ]; do sleep 1; done
+  echo "---- slurm-requeue.log:"
+  cat "$run/jobs/slurm-requeue.log"
+  problem=""
+  [ "$kept_before" = 3 ] || problem="$kept_before pieces kept before the requeue, not 3"
+  restarts=$(scontrol show job "$id" | grep -o "Restarts=[0-9]*")
+  [ "$restarts" = Restarts=1 ] || problem=${problem:-"the job shows $restarts"}
+  tail -n 1 "$run/jobs/slurm-requeue.log" | grep -q "check passed" || problem=${problem:-"no passed check"}
+  taken=$(grep -c "taken from the checkpoint" "$run/jobs/slurm-requeue.log")
+  [ "$taken" = 3 ] || problem=${problem:-"$taken pieces taken from the checkpoint, not 3"}
+  for ext in node ele face neigh; do
+    cmp -s "ref.$ext" "out.$ext" || problem=${problem:-".$ext differs from a run outside Slurm"}
+  done
+  [ ! -e out.pieces ] || problem=${problem:-"the checkpoint was not removed after the check"}
+  cd "$project"
+  if [ -z "$problem" ]; then
+    echo "ok: slurm-requeue: requeued with 3 of 4 pieces kept; the rerun took them and wrote the files of a run outside Slurm ($((SECONDS - started)) s)"
+  else
+    echo "FAIL: slurm-requeue: $problem"
     failed=1
   fi
 fi
