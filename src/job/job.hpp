@@ -46,8 +46,9 @@ struct RankStats {
   double region_seconds = 0;                 // meshing the regions seam healing and the polish re-mesh
   double bulks_kept = 0, bulks_on_disk = 0;  // a worker: bulks it kept until rank 0 took them, those in --scratch
   double bulk_number_seconds = 0;            // a worker: numbering the bulks it kept in memory, before the assembly
+  double pieces_from_checkpoint = 0;         // pieces taken from --checkpoint instead of meshed (in `pieces` too)
 };
-constexpr int kRankStatsDoubles = 18;
+constexpr int kRankStatsDoubles = 19;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -121,6 +121,7 @@ std::string report_json(const JobSummary& s) {
                               {"bulks_kept", stats.bulks_kept},
                               {"bulks_on_disk", stats.bulks_on_disk},
                               {"bulk_number_seconds", stats.bulk_number_seconds},
+                              {"pieces_from_checkpoint", stats.pieces_from_checkpoint},
                               {"bytes_received", stats.bytes_received}});
   }
   report["cut_planes"] = nlohmann::json::array();
@@ -178,6 +179,11 @@ void print_summary(const JobSummary& s) {
     log::info(format("scratch: %lld pieces' meshes (%.0f MB) waited in %s",
                      static_cast<long long>(s.result.scratch_bulks),
                      static_cast<double>(s.result.scratch_bytes) / (1 << 20), s.job.options.scratch.c_str()));
+  double taken = 0;
+  for (const auto& r : s.ranks) taken += r.pieces_from_checkpoint;
+  if (taken > 0)
+    log::info(format("checkpoint: %.0f pieces taken from %s (meshed by an earlier run)", taken,
+                     s.job.options.run.checkpoint.c_str()));
   if (!s.result.retries.empty()) log::info("recovered after " + std::to_string(s.result.retries.size()) + " retries");
   if (s.result.split_input_faces > 0)
     log::warning(std::to_string(s.result.split_input_faces) + " input triangles are split, into " +

@@ -488,6 +488,7 @@ class RootScheduler : public PieceScheduler {
 
   bool finish_own_piece() {
     store(own_position_, deserialize_outcome(own_->take_reply()));
+    stats_.pieces_from_checkpoint += own_->from_checkpoint();
     own_.reset();
     account_meshing();
     (pieces_[own_position_]->seam_region ? stats_.region_seconds : stats_.tetgen_seconds) += now_seconds() - own_start_;
@@ -799,9 +800,11 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       std::string reply;
       {
         AddSeconds timer{region ? stats.region_seconds : stats.tetgen_seconds};
-        reply = runner.mesh_to_reply(piece, [&piece, rank, region] {
+        const std::unique_ptr<PieceJob> job = runner.start(piece, [&piece, rank, region] {
           if (!region) test_hooks::piece_failure(piece.index, rank);
         });
+        reply = job->take_reply();
+        stats.pieces_from_checkpoint += job->from_checkpoint();
         if (split) reply = split_here(std::move(reply), piece, *split, kept);
       }
       if (!region) stats.pieces += 1;

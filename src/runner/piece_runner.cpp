@@ -154,6 +154,13 @@ class ChildProcessJob : public PieceJob {
   IsolatedRun run_;
 };
 
+// A piece an earlier run meshed, its reply taken from the checkpoint.
+class CheckpointJob : public InProcessJob {
+ public:
+  using InProcessJob::InProcessJob;
+  bool from_checkpoint() const override { return true; }
+};
+
 // A job whose result is kept in the checkpoint once it is taken.
 class CheckpointedJob : public PieceJob {
  public:
@@ -195,7 +202,7 @@ std::unique_ptr<PieceJob> PieceRunner::start(const PieceSurface& piece, std::fun
   std::string key = PieceCheckpoint::key_of(piece, tetgen_);
   if (std::optional<std::string> reply = checkpoint.find(key, piece.index)) {
     log::info("piece " + std::to_string(piece.index) + " taken from the checkpoint (meshed by an earlier run)");
-    return std::make_unique<InProcessJob>(std::move(*reply));
+    return std::make_unique<CheckpointJob>(std::move(*reply));
   }
   return std::make_unique<CheckpointedJob>(start_meshing(piece, std::move(before)), checkpoint, std::move(key),
                                            piece.index);

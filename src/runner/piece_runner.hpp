@@ -36,6 +36,8 @@ class PieceJob {
   virtual bool poll(int wait_ms) = 0;
   // Blocks until the reply is ready and returns it (once).
   virtual std::string take_reply() = 0;
+  // Whether the reply was taken from the checkpoint (an earlier run meshed the piece).
+  virtual bool from_checkpoint() const { return false; }
 };
 
 class PieceRunner {

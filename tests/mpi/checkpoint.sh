@@ -46,12 +46,15 @@ else
 fi
 
 # 2. The rerun.
-"${on_ranks[@]}" "$partet" "${mesh_args[@]}" -o rerun --checkpoint ck > rerun.log 2>&1 || bad "the rerun failed: $(cat rerun.log)"
+"${on_ranks[@]}" "$partet" "${mesh_args[@]}" -o rerun --checkpoint ck --report rerun.json > rerun.log 2>&1 ||
+  bad "the rerun failed: $(cat rerun.log)"
+counted=$(python3 -c 'import json,sys; print(int(sum(r["pieces_from_checkpoint"] for r in json.load(open(sys.argv[1]))["rank"])))' rerun.json)
 if same_as_ref rerun && [ "$(taken rerun.log)" = 5 ] && ! grep -q "piece 4 taken" rerun.log &&
-  [ "$(ls ck | grep -c '^piece-.*\.bin$')" = 6 ]; then
-  ok "rerun on $ranks ranks: the reference files byte for byte, 5 pieces taken from the checkpoint, piece 4 meshed"
+  [ "$(ls ck | grep -c '^piece-.*\.bin$')" = 6 ] && [ "$counted" = 5 ] &&
+  grep -q "checkpoint: 5 pieces taken from ck" rerun.log; then
+  ok "rerun on $ranks ranks: the reference files byte for byte, 5 pieces taken from the checkpoint (said and reported), piece 4 meshed"
 else
-  bad "rerun: same files: $(same_as_ref rerun && echo yes || echo no), pieces taken: $(taken rerun.log), kept: $(ls ck | tr '\n' ' ')"
+  bad "rerun: same files: $(same_as_ref rerun && echo yes || echo no), pieces taken: $(taken rerun.log), reported: $counted, kept: $(ls ck | tr '\n' ' ')"
 fi
 
 # 2b. The same with SIGKILL to every process of the run (as a node that dies, or the OOM killer):
@@ -62,7 +65,7 @@ pid=$!
 kept_killed() { [ "$(ls ck_killed 2> /dev/null | grep -c '^piece-.*\.bin$')" -ge 5 ]; }
 if wait_while_running 120 kept_killed; then
   pkill -KILL -f "$work/ck_killed"
-  wait "$pid" 2> /dev/null
+  { wait "$pid"; } 2> /dev/null
   "${on_ranks[@]}" "$partet" "${mesh_args[@]}" -o after_kill --checkpoint "$work/ck_killed" > after_kill.log 2>&1 ||
     bad "the rerun after SIGKILL failed: $(cat after_kill.log)"
   if same_as_ref after_kill && [ "$(taken after_kill.log)" = 5 ]; then
