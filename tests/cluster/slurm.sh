@@ -220,6 +220,16 @@ for log in $logs; do
     failed=1
   fi
 done
+# The recipes keep their pieces (--checkpoint PREFIX.pieces) and remove them after the check.
+left=0
+for recipe in srun mpirun multinode; do
+  if ! grep -q -- "--checkpoint" "$project/cluster/slurm-$recipe.sbatch"; then
+    echo "FAIL: slurm-$recipe.sbatch keeps no checkpoint"; left=1
+  elif [ -n "$(ls -d "$run/jobs/$recipe"/*.pieces 2> /dev/null)" ]; then
+    echo "FAIL: slurm-$recipe: its checkpoint is still there after the check"; left=1
+  fi
+done
+[ $left -eq 0 ] && echo "ok: the srun, mpirun and multinode recipes run with --checkpoint and left none after the check" || failed=1
 # On several nodes the XDMF set is checked by all of the job's ranks, one per node.
 if [ "$node_count" -gt 1 ]; then
   if grep -q "checked on $node_count ranks" "$run/jobs/slurm-multinode.log" 2>/dev/null; then
