@@ -29,6 +29,7 @@
 #include "common/log.hpp"
 #include "runner/interrupts.hpp"
 #include "common/test_hooks.hpp"
+#include "common/write_all.hpp"
 
 namespace partet {
 namespace {
@@ -152,15 +153,7 @@ struct Journal {
 
 void write_journal(int fd, const Journal& journal, const std::string& path) {
   const std::string text = journal.text();
-  const char* p = text.data();
-  std::size_t left = text.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) refuse(path, std::strerror(errno));
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
+  if (!write_all(fd, text.data(), text.size())) refuse(path, std::strerror(errno));
   if (::fsync(fd) != 0 && errno != EINVAL) refuse(path, std::strerror(errno));
   sync_directory(directory_of(path));
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/log.hpp"
+#include "common/paths.hpp"
 #include "common/test_hooks.hpp"
 #include "io/file_owner.hpp"
 #include "partet/errors.hpp"
@@ -185,13 +186,7 @@ TetBlock ScratchBulks::take(int piece) {
   return bulk;
 }
 
-void check_scratch_directory(const std::string& directory) {
-  struct stat info {};
-  if (::stat(directory.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
-    throw OptionError("--scratch: '" + directory + "' is not a directory");
-  if (::access(directory.c_str(), W_OK | X_OK) != 0)
-    throw OptionError("--scratch: cannot write in '" + directory + "' (" + std::strerror(errno) + ")");
-}
+void check_scratch_directory(const std::string& directory) { check_writable_directory("--scratch", directory); }
 
 }  // namespace partet
 

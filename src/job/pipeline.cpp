@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "common/fnv1a.hpp"
 #include "common/log.hpp"
 #include "common/memory.hpp"
 #include "common/test_hooks.hpp"
@@ -50,14 +51,8 @@ class ResultCache {
   };
   // FNV-1a over the coordinates and triangles: a quick key (hits are confirmed by comparing).
   static std::uint64_t fingerprint(const PieceSurface& piece) {
-    std::uint64_t h = 1469598103934665603ull;
-    auto mix = [&h](const void* data, std::size_t bytes) {
-      const auto* b = static_cast<const unsigned char*>(data);
-      for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
-    };
-    if (!piece.points.empty()) mix(piece.points.data(), piece.points.size() * sizeof(Point3));
-    if (!piece.triangles.empty()) mix(piece.triangles.data(), piece.triangles.size() * sizeof(Triangle));
-    return h;
+    return fnv1a(piece.triangles.data(), piece.triangles.size() * sizeof(Triangle),
+                 fnv1a(piece.points.data(), piece.points.size() * sizeof(Point3)));
   }
   std::unordered_map<std::uint64_t, Entry> entries_;
 };

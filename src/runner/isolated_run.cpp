@@ -20,6 +20,7 @@
 #include "partet/errors.hpp"
 #include "common/awake_clock.hpp"
 #include "common/memory.hpp"
+#include "common/write_all.hpp"
 #include "runner/interrupts.hpp"
 
 namespace partet {
@@ -30,17 +31,6 @@ void limit_memory(double megabytes) {
   rlimit r{};
   r.rlim_cur = r.rlim_max = static_cast<rlim_t>(limit);
   ::setrlimit(RLIMIT_AS, &r);
-}
-
-bool write_all(int fd, const char* data, std::size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    data += n;
-    size -= static_cast<std::size_t>(n);
-  }
-  return true;
 }
 
 std::chrono::steady_clock::duration steady_seconds(double seconds) {

@@ -9,10 +9,15 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <vector>
 
+#include "common/fnv1a.hpp"
 #include "common/log.hpp"
+#include "common/paths.hpp"
+#include "common/write_all.hpp"
 #include "io/file_owner.hpp"
+#include "io/file_text.hpp"
 #include "partet/errors.hpp"
 #include "runner/serialize.hpp"
 
@@ -24,11 +29,6 @@ namespace {
 constexpr char kMagic[] = "partet piece checkpoint 1\n";
 constexpr std::size_t kMagicSize = sizeof kMagic - 1;
 
-std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-  return h;
-}
-
 std::string u64_bytes(std::uint64_t value) { return std::string(reinterpret_cast<const char*>(&value), 8); }
 
 std::uint64_t u64_at(std::string_view bytes, std::size_t at) {
@@ -37,37 +37,7 @@ std::uint64_t u64_at(std::string_view bytes, std::size_t at) {
   return value;
 }
 
-// The whole file, or nothing when it cannot be opened (errno says why) or read.
-std::optional<std::string> read_whole(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return std::nullopt;
-  std::string bytes;
-  struct stat info {};
-  if (::fstat(fd, &info) == 0 && info.st_size > 0) bytes.reserve(static_cast<std::size_t>(info.st_size));
-  char buffer[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      ::close(fd);
-      return std::nullopt;
-    }
-    if (n == 0) break;
-    bytes.append(buffer, static_cast<std::size_t>(n));
-  }
-  ::close(fd);
-  return bytes;
-}
-
-bool write_all(int fd, std::string_view bytes) {
-  while (!bytes.empty()) {
-    const ssize_t n = ::write(fd, bytes.data(), bytes.size());
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    bytes.remove_prefix(static_cast<std::size_t>(n));
-  }
-  return true;
-}
+bool write_all(int fd, std::string_view bytes) { return partet::write_all(fd, bytes.data(), bytes.size()); }
 
 // One warning per process for files that cannot be written: the run goes on without them.
 void warn_unwritable(const std::string& path, int error) {
@@ -92,15 +62,17 @@ std::string PieceCheckpoint::path_of(const std::string& key, int index) const {
 
 std::optional<std::string> PieceCheckpoint::find(const std::string& key, int index) const {
   const std::string path = path_of(key, index);
-  const std::optional<std::string> file = read_whole(path);
-  if (!file) {
-    if (errno != ENOENT)
-      log::warning("cannot read the checkpoint '" + path + "' (" + std::strerror(errno) + "): meshing piece " +
-                   std::to_string(index) + " again");
+  std::error_code missing;
+  if (!std::filesystem::exists(path, missing)) return std::nullopt;
+  std::string file;
+  try {
+    file = file_text(path);
+  } catch (const InputError& e) {
+    log::warning(std::string(e.what()) + ": meshing piece " + std::to_string(index) + " again");
     return std::nullopt;
   }
   // magic, key size, key, reply size, reply, checksum of key and reply
-  const std::string_view bytes(*file);
+  const std::string_view bytes(file);
   const std::size_t key_at = kMagicSize + 8;
   bool whole = bytes.size() >= key_at + 8 + 8 + 8 && bytes.substr(0, kMagicSize) == kMagic &&
                u64_at(bytes, kMagicSize) == key.size() && bytes.size() >= key_at + key.size() + 16;
@@ -114,7 +86,9 @@ std::optional<std::string> PieceCheckpoint::find(const std::string& key, int ind
     return std::nullopt;
   }
   if (bytes.substr(key_at, key.size()) != key) return std::nullopt;  // another input with the same hash
-  std::string reply(bytes.substr(reply_at, reply_size));
+  // The reply in place of the file's bytes: no second copy of a piece's mesh.
+  std::string reply = std::move(file);
+  reply.erase(reply_at + reply_size).erase(0, reply_at);
   if (!is_result_reply(reply)) return std::nullopt;
   set_reply_figures(reply, 0, 0);
   return reply;
@@ -143,11 +117,7 @@ void PieceCheckpoint::keep(const std::string& key, int index, const std::string&
 void check_checkpoint_directory(const std::string& directory) {
   if (::mkdir(directory.c_str(), 0777) != 0 && errno != EEXIST)
     throw OptionError("--checkpoint: cannot make '" + directory + "' (" + std::strerror(errno) + ")");
-  struct stat info {};
-  if (::stat(directory.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
-    throw OptionError("--checkpoint: '" + directory + "' is not a directory");
-  if (::access(directory.c_str(), W_OK | X_OK) != 0)
-    throw OptionError("--checkpoint: cannot write in '" + directory + "' (" + std::strerror(errno) + ")");
+  check_writable_directory("--checkpoint", directory);
   // What killed runs were writing when they ended.
   if (DIR* dir = ::opendir(directory.c_str())) {
     std::vector<std::string> stale;
