@@ -3,16 +3,20 @@
 #include <gtest/gtest.h>
 
 #include <dirent.h>
+#include <fcntl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "io/file_owner.hpp"
 #include "stages/closure.hpp"
 #include "partet/errors.hpp"
 #include "stages/generate.hpp"
@@ -227,6 +231,52 @@ TEST(PieceCheckpoint, KeepsResultsOnlyAndTakesOnlyTheSameInput) {
   TetgenOptions quality;
   quality.quality = "1.5";
   EXPECT_FALSE(PieceCheckpoint(first).find(PieceCheckpoint::key_of(pieces[1], quality), 1));
+  std::filesystem::remove_all(dir);
+}
+
+// What a killed run was writing goes when the next run starts; what a live run (on this host or
+// another, which only its lock tells) is writing stays, however old; a DIR that is a file is
+// refused.
+TEST(PieceCheckpoint, ADeadRunsTemporariesGoALiveRunsStay) {
+  char pattern[] = "/tmp/partet-checkpoint-XXXXXX";
+  ASSERT_NE(::mkdtemp(pattern), nullptr);
+  const std::string dir = pattern;
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const std::string other_host = host_tag() == "00000000" ? "00000001" : "00000000";
+  const auto temporary = [&](long pid, const std::string& host) {
+    return dir + "/piece-3-00000000000000ab.bin.tmp-" + std::to_string(pid) + "-" + host + "-0000abcd";
+  };
+  const std::string dead = temporary(child, host_tag()), living = temporary(::getpid(), host_tag());
+  const std::string elsewhere_dead = temporary(child, other_host);
+  const std::string elsewhere_new = temporary(child + 1, other_host);
+  const std::string elsewhere_locked = temporary(child + 2, other_host);
+  const std::string kept = dir + "/piece-3-00000000000000ab.bin";
+  for (const std::string& path : {dead, living, elsewhere_dead, elsewhere_new, elsewhere_locked, kept})
+    std::ofstream(path) << "x";
+  const auto long_ago = std::filesystem::file_time_type::clock::now() - std::chrono::minutes(10);
+  for (const std::string& path : {dead, elsewhere_dead, elsewhere_locked, kept})
+    std::filesystem::last_write_time(path, long_ago);
+  // Another description of the file holds the lock, as the writing run's would.
+  const int holder = ::open(elsewhere_locked.c_str(), O_RDWR | O_CLOEXEC);
+  ASSERT_GE(holder, 0);
+  ASSERT_EQ(try_lock(holder), LockTry::acquired);
+  check_checkpoint_directory(dir);
+  ::close(holder);
+  EXPECT_FALSE(std::filesystem::exists(dead));
+  EXPECT_TRUE(std::filesystem::exists(living));
+  EXPECT_FALSE(std::filesystem::exists(elsewhere_dead));
+  EXPECT_TRUE(std::filesystem::exists(elsewhere_new));  // not yet locked, maybe
+  EXPECT_TRUE(std::filesystem::exists(elsewhere_locked));
+  EXPECT_TRUE(std::filesystem::exists(kept));
+  try {
+    check_checkpoint_directory(kept);
+    ADD_FAILURE() << "a file taken for the checkpoint directory";
+  } catch (const OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("is not a directory"), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

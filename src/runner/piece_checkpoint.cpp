@@ -1,7 +1,6 @@
 #include "runner/piece_checkpoint.hpp"
 
 #include <dirent.h>
-#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -98,15 +97,17 @@ void PieceCheckpoint::keep(const std::string& key, int index, const std::string&
   if (!is_result_reply(reply)) return;
   const std::string path = path_of(key, index), temporary = path + temporary_suffix();
   if (::mkdir(directory_.c_str(), 0777) != 0 && errno != EEXIST) return warn_unwritable(directory_, errno);
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return warn_unwritable(temporary, errno);
+  // Locked while it is written, so a run starting on another node never takes it for a dead
+  // run's leftover (temporary_owner_gone), however long the write takes.
+  OwnedFile file;
+  if (!file.create(temporary)) return warn_unwritable(temporary, errno);
+  const int fd = file.fd();
   const std::string head = kMagic + u64_bytes(key.size());
   const std::string reply_size = u64_bytes(reply.size());
   const std::uint64_t sum = fnv1a(reply, fnv1a(reply_size, fnv1a(key)));
   const bool written = write_all(fd, head) && write_all(fd, key) && write_all(fd, reply_size) && write_all(fd, reply) &&
                        write_all(fd, u64_bytes(sum)) && ::fsync(fd) == 0;
   const int error = errno;
-  ::close(fd);
   if (!written || ::rename(temporary.c_str(), path.c_str()) != 0) {
     const int cause = written ? errno : error;
     ::unlink(temporary.c_str());

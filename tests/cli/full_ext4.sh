@@ -4,7 +4,8 @@
 # leave no temporary behind, and leave the previous mesh at the same prefix byte for byte; in one
 # process and on 2 ranks (rank 1 formats half of the lines rank 0 writes). The disk is an ext4
 # image on a loop device; without loop mounts (not root, or a container that forbids them) the
-# test exits 77 (skipped). Then --scratch on the full disk: a warning, and the same mesh as in memory.
+# test exits 77 (skipped). Then --scratch on the full disk: a warning, and the same mesh as in memory;
+# and --checkpoint on it: a warning, the same mesh, nothing left in the checkpoint.
 # Usage: full_ext4.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -39,6 +40,7 @@ done
 
 # --scratch on the full disk: the bulks that cannot be written stay in memory, with a warning;
 # the run succeeds with the same mesh as without, and leaves nothing on the disk.
+mkdir disk/ck  # for --checkpoint below: a directory that exists on the disk once it is full
 dd if=/dev/zero of=disk/filler bs=1M > /dev/null 2>&1 || true
 dd if=/dev/zero of=disk/filler2 bs=1k > /dev/null 2>&1 || true  # what a whole MB no longer fits in
 for n in 1 2; do
@@ -50,7 +52,23 @@ for n in 1 2; do
   for f in node ele face neigh; do
     cmp -s plain.$f spilled.$f || { echo "FAIL: $n rank(s): spilled.$f differs"; exit 1; }
   done
-  left=$(cd disk && ls -A | grep -v -x -e lost+found -e filler -e filler2 -e 'm\.\(node\|ele\|face\|neigh\)' || true)
+  left=$(cd disk && ls -A | grep -v -x -e lost+found -e filler -e filler2 -e ck -e 'm\.\(node\|ele\|face\|neigh\)' || true)
   [ -z "$left" ] || { echo "FAIL: $n rank(s): files left on the scratch disk: $left"; exit 1; }
   echo "ok: $n rank(s): --scratch on a full disk: a warning, the same mesh as in memory, nothing left"
+done
+
+# --checkpoint on the full disk: the pieces that cannot be kept cost one warning per rank; the
+# run succeeds with the same mesh, and no piece file or temporary is left in the checkpoint.
+for n in 1 2; do
+  "$mpiexec" -n $n "$partet" mesh small.off -o kept --pieces 4 --checkpoint disk/ck > log 2>&1 \
+    || { echo "FAIL: $n rank(s): --checkpoint on a full disk failed:"; cat log; exit 1; }
+  grep -q "cannot keep meshed pieces in the checkpoint ('disk/ck/piece-[0-9]*-[0-9a-f]*\.bin[^']*': No space left on device)" log \
+    || { echo "FAIL: $n rank(s): no warning of the full checkpoint disk:"; cat log; exit 1; }
+  [ "$(grep -c "cannot keep meshed pieces" log)" -le $n ] || { echo "FAIL: $n rank(s): more than one warning per rank:"; cat log; exit 1; }
+  for f in node ele face neigh; do
+    cmp -s plain.$f kept.$f || { echo "FAIL: $n rank(s): kept.$f differs"; exit 1; }
+  done
+  left=$(ls -A disk/ck)
+  [ -z "$left" ] || { echo "FAIL: $n rank(s): files left in the checkpoint: $left"; exit 1; }
+  echo "ok: $n rank(s): --checkpoint on a full disk: $(grep -c "cannot keep meshed pieces" log) warning(s), the same mesh, nothing left"
 done
