@@ -11,7 +11,9 @@
 #      files; the file is whole again afterwards;
 #   4. in one process (another rank count): every piece taken, same files;
 #   5. other options (a quality bound): no piece taken (what TetGen is given differs);
-#   6. a DIR that cannot be made is refused before any work.
+#   6. a DIR that cannot be made is refused before any work;
+#   7. two runs at once sharing a new DIR: both write the reference files, DIR ends with the 6
+#      pieces and no temporary.
 # Usage: checkpoint.sh PARTET MPIEXEC RANKS
 set -uo pipefail
 partet=$1 mpiexec=$2 ranks=$3
@@ -105,4 +107,18 @@ fi
 code=$?
 [ "$code" = 2 ] && grep -q "checkpoint: cannot make 'missing/ck'" none.log && ok "a checkpoint directory that cannot be made: exit 2, said" ||
   bad "missing parent: exit $code, said: $(cat none.log)"
+
+# 7. Two runs at once, one DIR.
+"${on_ranks[@]}" "$partet" "${mesh_args[@]}" -o twin_a --checkpoint shared > twin_a.log 2>&1 &
+twin=$!
+"${on_ranks[@]}" "$partet" "${mesh_args[@]}" -o twin_b --checkpoint shared > twin_b.log 2>&1
+code_b=$?
+wait "$twin"
+code_a=$?
+if [ "$code_a$code_b" = 00 ] && same_as_ref twin_a && same_as_ref twin_b && ! grep -qi warning twin_a.log twin_b.log &&
+  [ "$(ls shared | grep -c '^piece-.*\.bin$')" = 6 ] && ! ls shared | grep -q '\.tmp-'; then
+  ok "two runs at once sharing one checkpoint: both the reference files, 6 pieces kept, no temporary left"
+else
+  bad "two runs at once: exit $code_a/$code_b, same files: $(same_as_ref twin_a && same_as_ref twin_b && echo yes || echo no), DIR: $(ls shared | tr '\n' ' ')"
+fi
 summary
