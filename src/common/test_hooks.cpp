@@ -82,6 +82,16 @@ void share_failure(int rank) {
   if (rank == 2 && injected("worker:share-out-of-memory")) throw std::bad_alloc();
 }
 
+void meshing_stop(int rank) {
+  static bool stopped = false;  // once: resumed, it goes on
+  if (rank == 1 && !stopped && injected("worker:stop-while-meshing")) {
+    stopped = true;
+    ::raise(SIGSTOP);
+  }
+}
+
+double silence_seconds(double fallback) { return seconds_or("PARTET_TEST_SILENCE_S", fallback); }
+
 void share_stop(int rank) {
   if (rank == 2 && injected("worker:stop-before-findings")) ::raise(SIGSTOP);
 }

@@ -1,6 +1,6 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
-// tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict and cap modes too), tests/cli/outputs.sh,
+// tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict, cap and silent modes too), tests/cli/outputs.sh,
 // tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh, tests/mpi/check_tetgen_ranks.sh (also
 // check_failure), tests/mpi/cap_failure.sh.
 #pragma once
@@ -27,6 +27,12 @@ void cap_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);
+// PARTET_INJECT_FAILURE="worker:stop-while-meshing": rank 1 stops itself (SIGSTOP) once it has
+// told rank 0 that its first piece's TetGen process is at work, so it falls silent mid-piece.
+void meshing_stop(int rank);
+// PARTET_TEST_SILENCE_S=S: how long rank 0 lets a rank whose TetGen process is at work be silent
+// before it takes the rank for stopped or lost (else fallback).
+double silence_seconds(double fallback);
 // PARTET_INJECT_FAILURE="worker:stop-before-verdict": rank 1 stops itself (SIGSTOP) once it has
 // checked the input, before it reports the verdict rank 0 waits for.
 void verdict_stop(int rank);

@@ -33,6 +33,7 @@
 #include "io/tetgen_files.hpp"
 #include "io/write_surface.hpp"
 #include "job/root_run.hpp"
+#include "mpi/heartbeat.hpp"
 #include "mpi/transport.hpp"
 #include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
@@ -58,7 +59,8 @@ enum Command : int { kDone = 0, kMeshPieces = 1, kSendBulk = 2, kNumberBulks = 3
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
 // worker a piece's own wall time limit (PieceRunner::wall_limit) plus kReplyGraceSeconds to answer, and kWorkerSeconds
-// for anything else (taking a message, joining an agreement). A worker allows rank 0, which may merge and write for
+// for anything else (taking a message, joining an agreement); while the worker's TetGen process is at work, its
+// heartbeats must not stop for kSilentSeconds (heartbeat.hpp). A worker allows rank 0, which may merge and write for
 // long, kRootSeconds between messages.
 constexpr double kReplyGraceSeconds = 10;
 constexpr double kWorkerSeconds = 120;
@@ -230,6 +232,7 @@ class RootScheduler : public PieceScheduler {
         stats_(stats),
         records_(records),
         job_start_(job_start),
+        silence_limit_(silence_limit()),
         remote_(stats) {}
 
   // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
@@ -361,6 +364,7 @@ class RootScheduler : public PieceScheduler {
         idle = sleep_idle(idle);
     }
     for (int w = 1; w < size_; ++w) send_piece(w, nullptr);  // round over
+    take_alive();  // the last ones, sent before the replies, so none is left for later
     deliver(arrived);
   }
 
@@ -411,7 +415,7 @@ class RootScheduler : public PieceScheduler {
   void send_cap(int worker, int plane) {
     AddSeconds timer{stats_.send_seconds};
     const std::string bytes = serialize_cap_task(cap_borders_.at(static_cast<std::size_t>(plane)));
-    busy_[worker] = {awake_seconds() + cap_limit(), plane, true};
+    busy_[worker] = {awake_seconds() + cap_limit(), plane, true, ++tasks_[worker]};
     try {
       stats_.bytes_sent +=
           static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, cap_limit()));
@@ -446,7 +450,8 @@ class RootScheduler : public PieceScheduler {
     if (piece) {
       record(*piece, worker);
       bytes = serialize_task(*piece, runner_.tetgen(), piece->seam_region || !split_order_ ? nullptr : &*split_order_);
-      busy_[worker] = {awake_seconds() + runner_.wall_limit(*piece) + kReplyGraceSeconds, piece->index, false};
+      busy_[worker] = {awake_seconds() + runner_.wall_limit(*piece) + kReplyGraceSeconds, piece->index, false,
+                       ++tasks_[worker]};
       account_meshing();
     }
     // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
@@ -464,14 +469,32 @@ class RootScheduler : public PieceScheduler {
   }
 
   // A worker that does not answer within its piece's wall time limit (its TetGen child would
-  // have been stopped by then) is stopped, hung or dead.
-  void check_workers_answer() const {
+  // have been stopped by then), or falls silent while its TetGen process is at work, is
+  // stopped, hung or dead.
+  void check_workers_answer() {
+    take_alive();
     const double now = awake_seconds();
-    for (const auto& [worker, busy] : busy_)
+    for (const auto& [worker, busy] : busy_) {
+      if (busy.meshing && now - busy.heard > silence_limit_)
+        abort_job("rank " + std::to_string(worker) + " has not been heard from for " +
+                  std::to_string(static_cast<int>(silence_limit_)) + " s while meshing piece " +
+                  std::to_string(busy.piece) + " (stopped, hung, or its node lost?)");
       if (now > busy.deadline)
         abort_job("rank " + std::to_string(worker) + " has not answered for " +
                   (busy.cap ? "the cap of plane " : "piece ") + std::to_string(busy.piece) +
                   " within its time limit (stopped or dead?)");
+    }
+  }
+
+  // The workers' heartbeats that have come: each says whether its TetGen process is at work on
+  // its latest task (one for a task already answered is late, and changes nothing).
+  void take_alive() {
+    for (const auto& [worker, alive] : take_heartbeats(job_comm())) {
+      const auto busy = busy_.find(worker);
+      if (busy == busy_.end() || busy->second.task != alive.task) continue;
+      busy->second.meshing = alive.meshing != 0;
+      busy->second.heard = awake_seconds();
+    }
   }
 
   void start_own_piece() {
@@ -600,8 +623,12 @@ class RootScheduler : public PieceScheduler {
     double deadline;  // when its answer is overdue (awake_seconds: a suspended job's pause does not count)
     int piece;        // or plane, for a cap
     bool cap;
+    std::uint64_t task;    // the worker's task number (its heartbeats name it)
+    double heard = 0;      // its latest heartbeat (awake_seconds)
+    bool meshing = false;  // its TetGen process is at work: its heartbeats must not stop
   };
-  std::map<int, Busy> busy_;  // workers with a piece
+  std::map<int, Busy> busy_;            // workers with a piece
+  std::map<int, std::uint64_t> tasks_;  // per worker: the tasks sent (pieces, regions, caps)
   std::size_t remaining_ = 0;
   std::deque<int> cap_queue_;       // planes whose caps nobody builds yet
   std::map<int, CapOutcome> caps_;  // by plane: built, not yet taken by cap()
@@ -613,6 +640,7 @@ class RootScheduler : public PieceScheduler {
   std::size_t meshing_ = 0;                // pieces or regions being meshed now, on all ranks
   double meshing_since_ = 0;               // when that count last changed
   double job_start_;                       // for the progress lines
+  double silence_limit_;                   // silence_limit()
   int rounds_ = 0;                         // rounds begun
   std::size_t done_ = 0;                   // pieces or regions finished this round
   RemoteBulks remote_;                     // the bulks the workers keep
@@ -763,11 +791,23 @@ void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
   }
 }
 
+// Waits for a piece's reply, telling rank 0 meanwhile that this rank is alive (heartbeat.hpp).
+std::string reply_with_heartbeats(PieceJob& job, std::uint64_t task, int rank) {
+  Heartbeat heartbeat(job_comm(), task);
+  do {
+    heartbeat.meshing();
+    test_hooks::meshing_stop(rank);
+  } while (!job.poll(250));
+  heartbeat.done();
+  return job.take_reply();
+}
+
 // A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
 // empty message; between rounds, send the bulks it kept when rank 0 asks for them.
 void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
   if (!job.options.scratch.empty()) remove_stale_scratch(job.options.scratch);  // this node's dead runs'
   KeptBulks kept(job.options.scratch, stats);
+  std::uint64_t tasks = 0;  // taken: pieces, regions and caps, as rank 0 counts them
   for (Command command = receive_command(); command != kDone; command = receive_command()) {
     if (command == kSendBulk) {
       send_kept_bulk(kept, stats);
@@ -785,6 +825,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
       }
       stats.bytes_received += static_cast<double>(bytes.size());
       if (bytes.empty()) break;
+      ++tasks;
       if (task_kind(bytes) == TaskKind::cap) {
         build_cap_for_root(bytes, rank, stats);
         continue;
@@ -803,7 +844,7 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
         const std::unique_ptr<PieceJob> job = runner.start(piece, [&piece, rank, region] {
           if (!region) test_hooks::piece_failure(piece.index, rank);
         });
-        reply = job->take_reply();
+        reply = reply_with_heartbeats(*job, tasks, rank);
         stats.pieces_from_checkpoint += job->from_checkpoint();
         if (split) reply = split_here(std::move(reply), piece, *split, kept);
       }

@@ -15,7 +15,11 @@
 #            the job ends at once with rank 2's own message.
 #   cap:     rank 1 stops itself when it is given a cap (worker:stop-on-cap): rank 0 must name
 #            it and the cap's plane within the piece's wall time limit plus the grace period.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap]
+#   silent:  rank 1 stops itself once it has said its first piece's TetGen process is at work
+#            (worker:stop-while-meshing), with the default piece limits (over 80 s here): rank 0
+#            must name it once its heartbeats have stopped for PARTET_TEST_SILENCE_S (3 s here;
+#            normally 60 s), long before the piece's limit.
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -23,19 +27,21 @@ trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 "$partet" generate torus --faces 60000 -o "$work/torus.off" > /dev/null || exit 1
 # The fault each mode injects; the input check's modes shorten its waits (rank 1 waits 3 s for
 # the other checking ranks; rank 0 3 s for rank 1's verdict on 2 ranks, 6 s on 4).
-inject=() ranks=(-n 2) fault="" check_waits=0
+inject=() ranks=(-n 2) fault="" check_waits=0 limits=(--piece-timeout 2)
 case $mode in
   idle) fault=worker:stop-when-idle ;;
   cap) fault=worker:stop-on-cap ;;
   verdict) fault=worker:stop-before-verdict check_waits=1 ;;
   share) fault=worker:stop-before-findings check_waits=1 ranks=(-n 4 --oversubscribe) ;;
   share-oom) fault=worker:share-out-of-memory check_waits=1 ranks=(-n 4 --oversubscribe) ;;
+  silent) fault=worker:stop-while-meshing limits=() ;;
 esac
 [ -z "$fault" ] || { export PARTET_INJECT_FAILURE=$fault; inject+=(-x PARTET_INJECT_FAILURE); }
 [ "$check_waits" = 0 ] || { export PARTET_TEST_VERDICT_WAIT_S=3; inject+=(-x PARTET_TEST_VERDICT_WAIT_S); }
+[ "$mode" != silent ] || { export PARTET_TEST_SILENCE_S=3; inject+=(-x PARTET_TEST_SILENCE_S); }
 start=$(date +%s)
 timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
-  --piece-timeout 2 > "$work/log" 2>&1 &
+  "${limits[@]}" > "$work/log" 2>&1 &
 launcher=$!
 if [ "$mode" = meshing ]; then
   # Stop rank 1 while it works.
@@ -63,10 +69,12 @@ case $mode in
   share) expected="rank 2 has not reported its share of the input check within 3 s" ;;
   share-oom) expected="rank 2 ran out of memory" ;;
   cap) expected="rank 1 has not answered for the cap of plane 0" ;;
+  silent) expected="rank 1 has not been heard from for 3 s while meshing piece" ;;
   *) expected="rank 1 has not answered" ;;
 esac
 grep -q "$expected" "$work/log" || fail "no message '$expected'"
 [ "$mode" != share ] || ! grep -q "rank 1 has not" "$work/log" || fail "rank 1 blamed for rank 2's silence"
 [ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
+[ "$mode" != silent ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 "$expected" "$work/log")"
