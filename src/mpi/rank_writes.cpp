@@ -1,0 +1,405 @@
+#include "mpi/rank_writes.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <exception>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/paths.hpp"
+#include "common/test_hooks.hpp"
+#include "io/buffered_file.hpp"
+#include "io/parallel_hdf5.hpp"
+#include "io/tetgen_files.hpp"
+#include "io/xdmf.hpp"
+#include "mpi/ranks.hpp"
+#include "partet/errors.hpp"
+
+namespace partet::mpi {
+namespace {
+
+constexpr int kTagText = 6;
+// Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
+constexpr std::size_t kTextChunk = std::size_t{8} << 20;
+// Rows per part of a block (32 MB of .node rows, 16 MB of .ele rows).
+constexpr std::size_t kRowPart = std::size_t{1} << 20;
+
+// How many parts the block of rows [first, last) travels in: kRowPart rows each, the last
+// shorter; an empty block is one empty part. Sender and receiver both count by this.
+std::size_t row_part_count(std::size_t first, std::size_t last) {
+  return std::max<std::size_t>(1, (last - first + kRowPart - 1) / kRowPart);
+}
+
+// An absolute path, or an OutputError when the working directory cannot be named.
+std::string absolute_or_error(const std::string& path) {
+  std::string absolute = absolute_path(path);
+  if (absolute.empty() || absolute[0] != '/') throw OutputError("cannot find the working directory");
+  return absolute;
+}
+
+// A block of the HDF5 files goes to its rank as a header ("B", or "" when rank 0 cannot make it),
+// then its six arrays' bytes, straight from the mesh (mesh_block_view): no copy of it on either
+// side.
+constexpr int kBlockArrays = 6;
+
+void send_block(const MeshBlockView& block, bool ok, int rank) {
+  const auto send = [rank](const auto& run) {
+    const std::string_view bytes(reinterpret_cast<const char*>(run.data), run.size * sizeof(*run.data));
+    bounded([&] { return send_bytes(bytes, rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  };
+  bounded([&] { return send_bytes(ok ? "B" : "", rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  if (!ok) return;
+  send(block.points), send(block.tets), send(block.tet_region), send(block.tet_piece);
+  send(block.faces), send(block.face_marker);
+}
+
+// A worker's block as it came: the six arrays' bytes, viewed in place.
+struct ReceivedBlock {
+  bool made = false;  // rank 0 could make it
+  std::string arrays[kBlockArrays];
+
+  static ReceivedBlock receive() {
+    ReceivedBlock block;
+    const auto receive_one = [] {
+      return bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    };
+    block.made = !receive_one().empty();
+    if (block.made)
+      for (std::string& bytes : block.arrays) bytes = receive_one();
+    return block;
+  }
+
+  // The view, or nothing when the arrays do not fit together (lost or cut bytes).
+  std::optional<MeshBlockView> view() const {
+    if (!made) return std::nullopt;
+    MeshBlockView block;
+    const bool whole = as_runs(std::vector<std::string_view>(std::begin(arrays), std::end(arrays)), block.points,
+                               block.tets, block.tet_region, block.tet_piece, block.faces, block.face_marker);
+    if (!whole || block.tet_region.size != block.tets.size || block.tet_piece.size != block.tets.size ||
+        block.face_marker.size != block.faces.size)
+      return std::nullopt;
+    return block;
+  }
+};
+
+// Rank 0's Hdf5Write. A block it cannot make goes as a header alone, so every rank still joins
+// the collective write and learns of the failure there.
+MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& relative) {
+  // Absolute paths: the ranks' working directories may differ.
+  Hdf5Paths paths = relative;
+  paths.mesh = absolute_or_error(relative.mesh), paths.boundary = absolute_or_error(relative.boundary);
+  broadcast_text("hdf5\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown + '\n' + paths.boundary_shown);
+  int size = 1;
+  MPI_Comm_size(job_comm(), &size);
+  std::vector<std::int32_t> region;
+  bool ok = true;
+  try {
+    region = region_of_tets(output.mesh);
+  } catch (const std::bad_alloc&) {
+    ok = false;
+  }
+  MadeColumns made;
+  for (int r = 1; r < size; ++r) {
+    MeshBlockView block;
+    if (ok) try {
+        block = mesh_block_view(output, region, r, size, made);
+      } catch (const std::bad_alloc&) {
+        ok = false;
+      }
+    send_block(block, ok, r);
+  }
+  MeshBlockView own;
+  if (ok) own = mesh_block_view(output, region, 0, size, made);
+  return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+}
+
+// Rank 0's TetgenLines. It goes on taking every rank's chunks after a failure of its own (a full
+// disk), so no rank is left waiting, then throws the first failure.
+void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out) {
+  int size = 1;
+  MPI_Comm_size(job_comm(), &size);
+  broadcast_text("rows\n" + std::to_string(static_cast<int>(rows.file)) + '\n' + std::to_string(rows.count) + '\n' +
+                 std::to_string(rows.split_from));
+  const std::size_t bytes_per_row = row_bytes(rows.file);
+  for (int r = 1; r < size; ++r) {
+    const auto [first, last] = run_of(rows.count, r, size);
+    for (std::size_t i = 0; i < row_part_count(first, last); ++i) {
+      const std::size_t row = first + i * kRowPart;
+      const std::string_view part(rows.data + row * bytes_per_row,
+                                  (std::min(last, row + kRowPart) - row) * bytes_per_row);
+      bounded([&] { return send_bytes(part, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+    }
+  }
+  std::exception_ptr failure;
+  try {
+    const auto [first, last] = run_of(rows.count, 0, size);
+    write_tetgen_lines(rows, first, last - first, out);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  for (int r = 1; r < size; ++r)
+    for (;;) {
+      const std::string chunk = bounded([&] { return recv_bytes(r, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); });
+      if (chunk.empty()) break;
+      if (failure) continue;
+      if (chunk[0] == 'E') {
+        failure = std::make_exception_ptr(OutputError(chunk.substr(1)));
+        continue;
+      }
+      try {
+        out.bytes(chunk.data() + 1, chunk.size() - 1);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+  if (failure) std::rethrow_exception(failure);
+}
+
+// A worker's side of a rows order: formats its block and sends the text back in chunks.
+void format_rows_block(std::istringstream& order) {
+  int file = 0;
+  std::size_t count = 0, split_from = 0;
+  order >> file >> count >> split_from;
+  int size = 1;
+  MPI_Comm_size(job_comm(), &size);
+  const auto [first, last] = run_of(count, my_rank(), size);
+  std::vector<std::string> parts(row_part_count(first, last));
+  for (std::string& part : parts)
+    part = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  const auto kind = static_cast<TetgenFile>(file);
+  const std::size_t bytes_per_row = row_bytes(kind);
+  auto send = [](const std::string& chunk) {
+    bounded([&] { return send_bytes(chunk, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  };
+  try {
+    std::size_t received = 0;
+    for (const std::string& part : parts) received += part.size();
+    if (received != (last - first) * bytes_per_row || test_hooks::block_lost(my_rank()))
+      throw OutputError("rank " + std::to_string(my_rank()) + " did not receive its block of the " +
+                        std::string(extension(kind)) + " file's rows");
+    // The whole block first (rank 0 is formatting its own meanwhile), then the chunks. Each
+    // part's text is a string of its own: one string for the block would be copied as it grows.
+    std::vector<std::string> texts(parts.size());
+    for (std::size_t i = 0, row = first; i < parts.size(); ++i) {
+      const std::size_t rows_in_part = parts[i].size() / bytes_per_row;
+      append_tetgen_lines(texts[i], kind, parts[i].data(), row, rows_in_part, split_from);
+      row += rows_in_part;
+      std::string().swap(parts[i]);
+    }
+    std::string chunk;
+    for (std::string& text : texts) {
+      for (std::size_t done = 0; done < text.size(); done += kTextChunk) {
+        chunk.assign("T");
+        chunk.append(text, done, kTextChunk);
+        send(chunk);
+      }
+      std::string().swap(text);
+    }
+  } catch (const std::exception& e) {
+    send(std::string("E") + e.what());
+  }
+  send("");
+}
+
+// The files of a set with one file per piece (a .pvtu set's, the MSH partitions), written by
+// every rank that sees the output directory, each file by whichever is free: every such rank is sent a file at once,
+// then another each time it answers for the last, while rank 0 writes one itself between looks (so rank 0 never waits
+// for a rank, and a faster node writes more). Rank 0 has made every file's temporary, so a rank that can open one
+// shares rank 0's directory (the names hold rank 0's host and process id); a rank that cannot (a directory local to
+// rank 0's node) is sent none. The exchange:
+//   order (broadcast): "pieces\n", the format's name and '\n', then per file its temporary and
+//                      final name, each ended by '\0';
+//   rank -> 0: "1" or "0": whether it can open the first file's temporary;
+//   0 -> rank: "B" + the file's index + "/" + the number of arrays, then the arrays of the
+//              file's PieceArrays ("N" + index alone when rank 0 could not make them); "" when
+//              there are no more;
+//   rank -> 0: per file, "" once written, or "E" + why not.
+constexpr char kPiecesOrder[] = "pieces";
+
+std::string piece_files_order(MeshFormat format, const std::vector<PieceFile>& files) {
+  std::string order = std::string(kPiecesOrder) + '\n' + mesh_format_name(format) + '\n';
+  for (const PieceFile& file : files) order += absolute_or_error(file.temporary) + '\0' + file.shown + '\0';
+  return order;
+}
+
+// Rank 0's PieceFilesWrite. After a failure it deals no more files, takes the answers still due,
+// then throws the first failure.
+class PieceFileDealer {
+ public:
+  PieceFileDealer(MeshFormat format, const std::vector<PieceFile>& files, const PieceArraysOf& arrays_of,
+                  RankStats& stats)
+      : format_(format), files_(files), arrays_of_(arrays_of), stats_(stats) {
+    MPI_Comm_size(job_comm(), &size_);
+    busy_.assign(static_cast<std::size_t>(size_), false);
+  }
+
+  void run() {
+    broadcast_text(piece_files_order(format_, files_));
+    find_writers();
+    for (int rank : writers_) send_next(rank);
+    while (next_ < files_.size()) {
+      for (int rank : writers_)
+        if (busy_[rank] && answered(rank)) take_answer(rank), send_next(rank);
+      if (next_ < files_.size()) write_own(next_++);
+    }
+    for (int rank : writers_)
+      if (busy_[rank]) take_answer(rank);
+    for (int rank = 1; rank < size_; ++rank) send_to(rank, "");  // no more files
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  void find_writers() {
+    for (int rank = 1; rank < size_; ++rank)
+      if (bounded([&] { return recv_bytes(rank, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); }) == "1")
+        writers_.push_back(rank);
+  }
+
+  static void send_to(int rank, std::string_view bytes) {
+    bounded([&] { return send_bytes(bytes, rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  }
+
+  void send_next(int rank) {
+    if (next_ >= files_.size() || failure_) return;
+    const std::size_t i = next_++;
+    std::optional<PieceArrays> arrays;
+    try {
+      arrays = arrays_of_(files_[i].piece);
+    } catch (const std::bad_alloc&) {
+      failure_ = std::make_exception_ptr(OutputError("rank 0 ran out of memory making '" + files_[i].shown + "'"));
+    } catch (...) {
+      failure_ = std::current_exception();  // the rank is still told, so it does not wait for the file
+    }
+    send_to(rank, arrays ? "B" + std::to_string(i) + "/" + std::to_string(arrays->size()) : "N" + std::to_string(i));
+    if (arrays)
+      for (std::string_view bytes : *arrays) send_to(rank, bytes);
+    busy_[rank] = true;
+  }
+
+  static bool answered(int rank) {
+    int arrived = 0;
+    MPI_Iprobe(rank, kTagText, job_comm(), &arrived, MPI_STATUS_IGNORE);
+    return arrived != 0;
+  }
+
+  void take_answer(int rank) {
+    const std::string answer =
+        bounded([&] { return recv_bytes(rank, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); });
+    busy_[rank] = false;
+    if (!answer.empty() && !failure_) failure_ = std::make_exception_ptr(OutputError(answer.substr(1)));
+  }
+
+  void write_own(std::size_t i) {
+    if (failure_) return;
+    try {
+      write_piece_file(format_, arrays_of_(files_[i].piece), files_[i].temporary, files_[i].shown);
+      ++stats_.piece_files_written;
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+  }
+
+  MeshFormat format_;
+  const std::vector<PieceFile>& files_;
+  const PieceArraysOf& arrays_of_;
+  RankStats& stats_;
+  int size_ = 1;
+  std::vector<int> writers_;  // the other ranks that see the output directory
+  std::vector<bool> busy_;    // per rank: it was sent a file it has not answered for
+  std::size_t next_ = 0;      // the first file not yet dealt
+  std::exception_ptr failure_;
+};
+
+// A piece file's arrays as they came ("B" + index + "/" + count: that many arrays follow).
+std::vector<std::string> receive_piece_arrays(const std::string& header) {
+  std::vector<std::string> arrays;
+  if (header[0] != 'B' || header.find('/') == std::string::npos) return arrays;
+  arrays.resize(std::stoul(header.substr(header.find('/') + 1)));
+  for (std::string& bytes : arrays)
+    bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  return arrays;
+}
+
+// A worker's side of a pieces order: says whether it sees the output directory, then writes each
+// file it is sent and answers for it, until rank 0 says there are no more.
+void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
+  std::string format_name;
+  std::getline(order, format_name);
+  const MeshFormat format = mesh_format(format_name);
+  std::vector<PieceFile> files;
+  std::string temporary, shown;
+  while (std::getline(order, temporary, '\0') && std::getline(order, shown, '\0'))
+    files.push_back({0, temporary, shown});
+  const int fd = files.empty() ? -1 : ::open(files[0].temporary.c_str(), O_WRONLY | O_CLOEXEC);  // never creates it
+  if (fd >= 0) ::close(fd);
+  bounded([&] { return send_bytes(fd >= 0 ? "1" : "0", 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  for (;;) {
+    const std::string header = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    if (header.empty()) return;
+    const std::size_t i = std::stoul(header.substr(1));
+    std::string answer;
+    try {
+      std::vector<std::string> received = receive_piece_arrays(header);
+      if (test_hooks::block_lost(my_rank())) received.clear();
+      if (i >= files.size() || received.empty())
+        throw OutputError("rank " + std::to_string(my_rank()) + " did not receive the content of '" +
+                          (i < files.size() ? files[i].shown : header) + "'");
+      write_piece_file(format, PieceArrays(received.begin(), received.end()), files[i].temporary, files[i].shown);
+      ++stats.piece_files_written;
+    } catch (const std::exception& e) {
+      answer = std::string("E") + e.what();
+    }
+    bounded([&] { return send_bytes(answer, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  }
+}
+
+// A worker's side of the HDF5 files of an XDMF set.
+void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
+  Hdf5Paths paths;
+  std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
+  std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
+  const ReceivedBlock received = ReceivedBlock::receive();
+  std::optional<MeshBlockView> block = received.view();
+  if (test_hooks::block_lost(my_rank())) block.reset();
+  try {
+    write_mesh_hdf5(job_comm(), block.value_or(MeshBlockView()), paths,
+                    block ? WriteTrouble::none : WriteTrouble::no_block);
+  } catch (const std::exception& e) {
+    status.error = e.what();  // rank 0 has the same error and reports it
+  }
+}
+
+}  // namespace
+
+RankWriters rank_writers(int size, RankStats& stats) {
+  RankWriters writers{write_hdf5_on_every_rank, {}, {}};
+  if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
+  writers.piece_files = [&stats](MeshFormat format, const std::vector<PieceFile>& files,
+                                 const PieceArraysOf& arrays_of) {
+    PieceFileDealer(format, files, arrays_of, stats).run();
+  };
+  return writers;
+}
+
+void end_writes() { broadcast_text(""); }
+
+void join_writes(JobStatus& status, RankStats& stats) {
+  const AddSeconds timer{stats.write_seconds};
+  for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
+    std::istringstream lines(order);
+    std::string kind;
+    std::getline(lines, kind);
+    if (kind == "hdf5")
+      join_hdf5_write(lines, status);
+    else if (kind == kPiecesOrder)
+      write_piece_files_sent(lines, stats);
+    else
+      format_rows_block(lines);
+  }
+}
+
+}  // namespace partet::mpi

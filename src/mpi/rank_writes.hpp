@@ -1,0 +1,28 @@
+// Writing with every rank (step 9; internal header). Rank 0 broadcasts an order ("hdf5", "rows"
+// or "pieces", then its details on further lines), and sends each rank its block; an empty order
+// ends the writes. (Until the pieces' tets stay with the ranks that meshed them, rank 0 deals the
+// blocks out.)
+// - hdf5: the HDF5 files of an XDMF set, written by every rank at once (parallel HDF5).
+// - rows: the lines of a TetGen file; each rank formats its block of rows while rank 0 formats
+//   its own, then sends the text back in chunks ("T" + text; "E" + a message when it cannot;
+//   then an empty chunk), which rank 0 writes in order after its own block. The block comes in
+//   parts of kRowPart rows, so a rank frees each part as it formats it: it holds its text and
+//   one part, not its whole block beside its text.
+// - pieces: the files of a set with one file per piece (a .pvtu set's, the MSH partitions); each
+//   rank that sees the output directory writes some, each file going to whichever rank is free
+//   (see PieceFileDealer).
+#pragma once
+#include "io/mesh_formats.hpp"
+#include "job/job.hpp"
+#include "mpi/driver.hpp"
+
+namespace partet::mpi {
+
+// Rank 0's writers, which have every rank of a job on `size` ranks take part.
+RankWriters rank_writers(int size, RankStats& stats);
+// Rank 0: no more writes.
+void end_writes();
+// A worker's side: joins each write rank 0 orders until it says there are no more.
+void join_writes(JobStatus& status, RankStats& stats);
+
+}  // namespace partet::mpi

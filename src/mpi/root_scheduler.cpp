@@ -1,0 +1,515 @@
+#include "mpi/root_scheduler.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/awake_clock.hpp"
+#include "common/log.hpp"
+#include "common/test_hooks.hpp"
+#include "mpi/heartbeat.hpp"
+#include "mpi/input_check_ranks.hpp"
+#include "mpi/ranks.hpp"
+#include "mpi/worker.hpp"
+#include "partet/errors.hpp"
+#include "runner/isolated_run.hpp"
+#include "runner/serialize.hpp"
+
+namespace partet::mpi {
+namespace {
+
+// How long rank 0 sleeps between looks at MPI when idle: the pause doubles from the shortest to
+// the longest while nothing happens, so replies to small regions (seams, polish) are taken at
+// once and long pieces still leave the core to the TetGen processes.
+constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
+
+// The bulks of the pieces split where they were meshed (split_where_meshed), kept by the ranks
+// that meshed them until the welder needs them. Before the assembly rank 0 broadcasts
+// kNumberBulks and the numbering's shares of the kept bulks: each owner numbers its own at once
+// (while rank 0 numbers those it keeps). Then, for each, rank 0 broadcasts kSendBulk and the
+// piece's index, and its owner sends the bulk ("" if it has none). The workers wait for commands
+// then.
+class RemoteBulks : public BulkStore {
+ public:
+  explicit RemoteBulks(RankStats& stats) : stats_(stats) {}
+  void owned_by(int piece, int rank) { owners_[piece] = rank; }
+  bool put(int, const TetBlock&) override { return false; }  // a bulk split again stays on rank 0
+  void number(const std::vector<BulkShare>& shares) override {
+    std::vector<BulkShare> kept;
+    for (const BulkShare& share : shares)
+      if (owners_.count(share.piece)) kept.push_back(share);
+    if (kept.empty()) return;
+    broadcast(kNumberBulks);
+    broadcast_text(serialize_bulk_shares(kept));
+  }
+  TetBlock take(int piece) override {
+    const auto owner = owners_.find(piece);
+    if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
+    const int rank = owner->second;
+    owners_.erase(owner);
+    broadcast(kSendBulk);
+    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
+    AddSeconds timer{stats_.receive_seconds};
+    std::string bytes;
+    try {
+      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds);
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(rank) + " did not send the mesh of piece " + std::to_string(piece) +
+                " it kept within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+    }
+    stats_.bytes_received += static_cast<double>(bytes.size());
+    if (bytes.empty())
+      throw InternalError("rank " + std::to_string(rank) + " no longer keeps the mesh of piece " +
+                          std::to_string(piece));
+    return deserialize_block(bytes);
+  }
+
+ private:
+  RankStats& stats_;
+  std::map<int, int> owners_;  // piece -> the rank keeping its bulk
+};
+
+// Rank 0's side of the meshing, a dynamic master/worker queue: each piece goes to whichever
+// rank is free as soon as it is closed; once all are closed, the rest go largest first. Rank 0
+// meshes pieces too when the runner works in the background (a child process it polls between
+// MPI messages), from the end of the closure on, so with -np 2 both cores work. Outcomes are
+// stored by submission, so the result does not depend on which rank meshed what.
+class RootScheduler : public PieceScheduler {
+ public:
+  RootScheduler(const MeshJob& job, int size, RankStats& stats, std::map<int, PieceRecord>& records, double job_start)
+      : job_(job),
+        runner_(job.options.tetgen, job.options.run),
+        size_(size),
+        stats_(stats),
+        records_(records),
+        job_start_(job_start),
+        silence_limit_(silence_limit()),
+        remote_(stats) {}
+
+  // The other ranks are checking the input (check_input_on_rank); confirm_input waits for rank 1's verdict.
+  void expect_input_verdict(std::size_t faces) {
+    verdict_pending_ = true;
+    // With other checking ranks, twice rank 1's own wait for them (input_verdict): when one of
+    // them stalls, rank 1's verdict naming it comes first, not a timeout here naming rank 1.
+    // On 2 ranks rank 1 waits for nobody, and neither need rank 0 wait longer.
+    verdict_limit_ = (size_ > 2 ? 2 : 1) * input_check_limit(faces);
+  }
+
+  bool confirm_input() override {
+    if (!verdict_pending_) return false;
+    verdict_pending_ = false;
+    std::string verdict;
+    try {
+      verdict = recv_bytes(1, kTagVerdict, job_comm(), kMaxChunk, verdict_limit_);
+    } catch (const Stalled&) {
+      abort_job("rank 1 has not reported its check of the input within " +
+                std::to_string(static_cast<int>(verdict_limit_)) + " s (stopped or dead?)");
+    }
+    if (verdict.empty()) return true;
+    if (verdict[0] == 'I') throw InputError(verdict.substr(1));
+    // A checking rank failed or fell silent: the input is not known to be valid, and another
+    // partition would not change that (nor wake a stopped rank).
+    abort_job(verdict.substr(1));
+  }
+
+  BulkStore* split_where_meshed(const BandSpec& spec) override {
+    if (size_ < 2) return nullptr;
+    split_order_ = SplitOrder{spec, ++split_attempts_};
+    return &remote_;
+  }
+
+  void begin_round(const TetgenOptions& tetgen) override {
+    split_order_.reset();
+    runner_ = PieceRunner(tetgen, job_.options.run);
+    ++rounds_;
+    done_ = 0;
+    broadcast(kMeshPieces);
+    pieces_.clear();
+    position_.clear();
+    queue_.clear();
+    outcomes_.clear();
+    arrived_.clear();
+    cap_queue_.clear();
+    caps_.clear();
+    idle_.clear();
+    for (int w = 1; w < size_; ++w) idle_.push_back(w);
+    remaining_ = 0;
+  }
+
+  void submit(const PieceSurface& piece) override {
+    position_[piece.index] = pieces_.size();
+    pieces_.push_back(&piece);
+    outcomes_.emplace_back();
+    queue_.push_back(pieces_.size() - 1);
+    ++remaining_;
+    dispatch();
+  }
+
+  // Every cap goes to a queue in plane order. A free worker takes a piece when one is waiting and
+  // else the next cap (which brings the next pieces closer), so no rank idles while either kind
+  // of work is there; this rank builds the next queued cap itself while it waits for one that
+  // another rank builds.
+  void share_caps(std::vector<CapBorder> borders) override {
+    cap_borders_ = std::move(borders);
+    for (const CapBorder& border : cap_borders_)
+      if (!border.chords.empty()) cap_queue_.push_back(border.plane);
+    dispatch();
+  }
+
+  CapShape cap(int plane) override {
+    const CapBorder& border = cap_borders_.at(static_cast<std::size_t>(plane));
+    if (border.chords.empty()) return triangulate_cap(border);  // nothing to close on this plane
+    std::chrono::microseconds idle = kShortestIdle;
+    for (;;) {
+      bool replied = false;
+      while (receive_reply()) replied = true;
+      // Returned before any dispatch: a rank freed just now takes the piece this cap completes,
+      // not another cap.
+      if (auto done = caps_.find(plane); done != caps_.end()) {
+        CapOutcome outcome = std::move(done->second);
+        caps_.erase(done);
+        if (outcome.failure) throw PartitionError(*outcome.failure);
+        return std::move(outcome.shape);
+      }
+      dispatch();
+      // Not handed out yet: build it here. Being built elsewhere: build the next one meanwhile.
+      auto queued = std::find(cap_queue_.begin(), cap_queue_.end(), plane);
+      if (queued == cap_queue_.end()) queued = cap_queue_.begin();
+      if (queued != cap_queue_.end()) {
+        const int here = *queued;
+        cap_queue_.erase(queued);
+        build_cap_here(here);
+        idle = kShortestIdle;
+      } else {
+        check_workers_answer();
+        idle = replied ? kShortestIdle : sleep_idle(idle);
+      }
+    }
+  }
+
+  void progress() override {
+    while (receive_reply()) {
+    }
+    check_workers_answer();
+    if (own_ && own_->poll(0)) finish_own_piece();
+    dispatch();
+  }
+
+  void end_round(const Arrived& arrived) override {
+    cap_queue_.clear();  // after a closure that failed: the caps not handed out are not needed
+    std::stable_sort(queue_.begin(), queue_.end(), [&](std::size_t a, std::size_t b) {
+      return pieces_[a]->triangles.size() > pieces_[b]->triangles.size();
+    });
+    const bool root_meshes = runner_.runs_in_background() || size_ == 1;
+    std::chrono::microseconds idle = kShortestIdle;
+    while (remaining_ > 0 || caps_out() > 0) {
+      dispatch();
+      if (root_meshes && !own_ && !queue_.empty()) start_own_piece();
+      deliver(arrived);  // once every free rank (this one too) has its next piece
+      bool progress = receive_reply();
+      if (own_ && own_->poll(0)) progress = finish_own_piece();
+      check_workers_answer();
+      if (progress)
+        idle = kShortestIdle;
+      else
+        idle = sleep_idle(idle);
+    }
+    for (int w = 1; w < size_; ++w) send_piece(w, nullptr);  // round over
+    take_alive();  // the last ones, sent before the replies, so none is left for later
+    deliver(arrived);
+  }
+
+ private:
+  // Sleeps in the kernel (on the child's pipe when there is one, which wakes it when the child
+  // is done) between looks at MPI; returns the next pause.
+  std::chrono::microseconds sleep_idle(std::chrono::microseconds pause) {
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(pause);
+    if (own_ && ms.count() > 0)
+      own_->poll(static_cast<int>(ms.count()));
+    else
+      std::this_thread::sleep_for(pause);
+    return std::min(pause * 2, kLongestIdle);
+  }
+
+  void dispatch() {
+    while (!idle_.empty() && (!cap_queue_.empty() || !queue_.empty())) {
+      const int worker = idle_.back();
+      idle_.pop_back();
+      if (!queue_.empty()) {
+        send_piece(worker, pieces_[take_next()]);
+      } else {
+        const int plane = cap_queue_.front();
+        cap_queue_.pop_front();
+        send_cap(worker, plane);
+      }
+    }
+  }
+
+  void build_cap_here(int plane) {
+    caps_[plane] = triangulated(cap_borders_.at(static_cast<std::size_t>(plane)), stats_);
+  }
+
+  // Caps other ranks are building.
+  std::size_t caps_out() const {
+    return static_cast<std::size_t>(
+        std::count_if(busy_.begin(), busy_.end(), [](const auto& worker) { return worker.second.cap; }));
+  }
+
+  // A cap takes far less than a piece: a rank that has not answered within a piece's wall time
+  // limit (when one is set) or kWorkerSeconds is stopped or dead.
+  double cap_limit() const {
+    const double piece_limit = job_.options.run.timeout_seconds;
+    return piece_limit > 0 ? std::min(kWorkerSeconds, kWallPerCpuSecond * piece_limit + kReplyGraceSeconds)
+                           : kWorkerSeconds;
+  }
+
+  void send_cap(int worker, int plane) {
+    AddSeconds timer{stats_.send_seconds};
+    const std::string bytes = serialize_cap_task(cap_borders_.at(static_cast<std::size_t>(plane)));
+    busy_[worker] = {awake_seconds() + cap_limit(), plane, true, ++tasks_[worker]};
+    try {
+      stats_.bytes_sent +=
+          static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, cap_limit()));
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(worker) + " did not take the cap of plane " + std::to_string(plane) +
+                " within " + std::to_string(static_cast<int>(cap_limit())) + " s (stopped or dead?)");
+    }
+  }
+
+  // Hands the outcomes stored since the last call to the pipeline. Each is moved out first, so
+  // a callback that submits more work (which grows outcomes_ and arrived_) holds no reference
+  // into them.
+  void deliver(const Arrived& arrived) {
+    std::vector<std::size_t> positions;
+    positions.swap(arrived_);
+    for (std::size_t position : positions) {
+      PieceOutcome outcome = std::move(outcomes_[position]);
+      arrived(position, std::move(outcome));
+    }
+  }
+
+  std::size_t take_next() {
+    const std::size_t next = queue_.front();
+    queue_.erase(queue_.begin());
+    return next;
+  }
+
+  // Sends a piece to a worker, or an empty message: round over.
+  void send_piece(int worker, const PieceSurface* piece) {
+    AddSeconds timer{stats_.send_seconds};
+    std::string bytes;
+    if (piece) {
+      record(*piece, worker);
+      bytes = serialize_task(*piece, runner_.tetgen(), piece->seam_region || !split_order_ ? nullptr : &*split_order_);
+      busy_[worker] = {awake_seconds() + runner_.wall_limit(*piece) + kReplyGraceSeconds, piece->index, false,
+                       ++tasks_[worker]};
+      account_meshing();
+    }
+    // A piece larger than MPI's eager limit waits for the worker to take it: a worker stopped
+    // while idle is noticed here, within the same limit as one stopped while meshing.
+    const double limit =
+        piece ? std::min(kWorkerSeconds, runner_.wall_limit(*piece) + kReplyGraceSeconds) : kWorkerSeconds;
+    try {
+      stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, limit));
+    } catch (const Stalled&) {
+      abort_job(piece ? "rank " + std::to_string(worker) + " has not answered for piece " +
+                            std::to_string(piece->index) + " within its time limit (stopped or dead?)"
+                      : "rank " + std::to_string(worker) + " did not take a message within " +
+                            std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)");
+    }
+  }
+
+  // A worker that does not answer within its piece's wall time limit (its TetGen child would
+  // have been stopped by then), or falls silent while its TetGen process is at work, is
+  // stopped, hung or dead.
+  void check_workers_answer() {
+    take_alive();
+    const double now = awake_seconds();
+    for (const auto& [worker, busy] : busy_) {
+      if (busy.meshing && now - busy.heard > silence_limit_)
+        abort_job("rank " + std::to_string(worker) + " has not been heard from for " +
+                  std::to_string(static_cast<int>(silence_limit_)) + " s while meshing piece " +
+                  std::to_string(busy.piece) + " (stopped, hung, or its node lost?)");
+      if (now > busy.deadline)
+        abort_job("rank " + std::to_string(worker) + " has not answered for " +
+                  (busy.cap ? "the cap of plane " : "piece ") + std::to_string(busy.piece) +
+                  " within its time limit (stopped or dead?)");
+    }
+  }
+
+  // The workers' heartbeats that have come: each says whether its TetGen process is at work on
+  // its latest task (one for a task already answered is late, and changes nothing).
+  void take_alive() {
+    for (const auto& [worker, alive] : take_heartbeats(job_comm())) {
+      const auto busy = busy_.find(worker);
+      if (busy == busy_.end() || busy->second.task != alive.task) continue;
+      busy->second.meshing = alive.meshing != 0;
+      busy->second.heard = awake_seconds();
+    }
+  }
+
+  void start_own_piece() {
+    own_position_ = take_next();
+    const PieceSurface& piece = *pieces_[own_position_];
+    record(piece, 0);
+    own_start_ = now_seconds();
+    if (!piece.seam_region) dump_piece(job_, piece);
+    own_ = runner_.start(piece, [&piece] {
+      if (!piece.seam_region) test_hooks::piece_failure(piece.index, 0);
+    });
+    account_meshing();
+  }
+
+  bool finish_own_piece() {
+    store(own_position_, deserialize_outcome(own_->take_reply()));
+    stats_.pieces_from_checkpoint += own_->from_checkpoint();
+    own_.reset();
+    account_meshing();
+    (pieces_[own_position_]->seam_region ? stats_.region_seconds : stats_.tetgen_seconds) += now_seconds() - own_start_;
+    if (!pieces_[own_position_]->seam_region) stats_.pieces += 1;
+    report_progress(own_position_, 0);
+    return true;
+  }
+
+  // One line per finished piece or seam region: "pieces 5/16 done, 41.2 s, rank 1 idle". The
+  // total is the pieces asked for in the first round (they are still being closed), the pieces
+  // submitted in later ones (retries re-mesh only the pieces that changed).
+  void report_progress(std::size_t position, int rank) {
+    ++done_;
+    const bool seams = pieces_[position]->seam_region;
+    std::size_t total = pieces_.size();
+    if (!seams && rounds_ == 1) total = std::max(total, static_cast<std::size_t>(job_.options.pieces));
+    std::string line = std::string(seams ? "seam regions " : "pieces ") + std::to_string(done_) + "/" +
+                       std::to_string(total) + " done, " + std::to_string(now_seconds() - job_start_);
+    line.erase(line.find('.') + 2);  // one decimal
+    line += " s (" + std::string(seams ? "region " : "piece ") + std::to_string(pieces_[position]->index) +
+            " on rank " + std::to_string(rank) + ")";
+    if (queue_.empty() && done_ < total) {
+      std::vector<int> idle = idle_;
+      if (!own_ && (runner_.runs_in_background() || size_ == 1)) idle.push_back(0);
+      std::sort(idle.begin(), idle.end());
+      for (std::size_t i = 0; i < idle.size(); ++i)
+        line += (i == 0 ? (idle.size() == 1 ? ", rank " : ", ranks ") : ", ") + std::to_string(idle[i]);
+      if (!idle.empty()) line += " idle";
+    }
+    log::info(line);
+  }
+
+  // Takes a worker's reply if one has arrived; the worker is free again.
+  bool receive_reply() {
+    int arrived = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kTagReply, job_comm(), &arrived, &status);
+    if (!arrived) return false;
+    const int worker = status.MPI_SOURCE;
+    std::size_t position = 0;
+    {
+      AddSeconds timer{stats_.receive_seconds};
+      const std::string reply = recv_bytes(worker, kTagReply, job_comm());
+      stats_.bytes_received += static_cast<double>(reply.size());
+      if (is_cap_outcome(reply)) {
+        CapOutcome outcome = deserialize_cap_outcome(reply);
+        const int plane = busy_.at(worker).piece;
+        if (!outcome.failure && outcome.shape.plane != plane)
+          throw InternalError("rank " + std::to_string(worker) + " sent the cap of another plane");
+        caps_[plane] = std::move(outcome);
+        idle_.push_back(worker);
+        busy_.erase(worker);
+        return true;
+      }
+      PieceOutcome outcome = deserialize_outcome(reply);
+      const int index = outcome.failure ? outcome.failure->piece
+                        : outcome.band  ? outcome.band->index
+                                        : outcome.result.index;
+      position = position_.at(index);
+      if (outcome.band) remote_.owned_by(index, worker);
+      store(position, std::move(outcome));
+    }
+    idle_.push_back(worker);
+    busy_.erase(worker);
+    account_meshing();
+    report_progress(position, worker);
+    return true;
+  }
+
+  // Adds the time since the last change to the meshing wall time if some rank was meshing.
+  void account_meshing() {
+    const double now = now_seconds();
+    if (meshing_ > 0) stats_.meshing_wall_seconds += now - meshing_since_;
+    meshing_since_ = now;
+    meshing_ = busy_.size() + (own_ ? 1 : 0);
+  }
+
+  // Where each piece (not seam region) was meshed, for the report.
+  void record(const PieceSurface& piece, int rank) {
+    if (!piece.seam_region)
+      records_[piece.index] = {piece.index, rank, static_cast<std::int64_t>(piece.triangles.size()), 0, 0, 0};
+  }
+
+  void store(std::size_t position, PieceOutcome&& outcome) {
+    if (!pieces_[position]->seam_region) {
+      records_[pieces_[position]->index].seconds = outcome.seconds;
+      records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
+      records_[pieces_[position]->index].tets =
+          outcome.band ? static_cast<std::int64_t>(outcome.band->band.tets.size()) + outcome.band->bulk_tets
+                       : static_cast<std::int64_t>(outcome.result.mesh.tets.size());
+    }
+    outcomes_[position] = std::move(outcome);
+    arrived_.push_back(position);
+    --remaining_;
+  }
+
+  const MeshJob& job_;
+  PieceRunner runner_;  // this round's TetGen options
+  int size_;
+  RankStats& stats_;
+  std::map<int, PieceRecord>& records_;      // by piece index: the latest meshing of each piece
+  std::vector<const PieceSurface*> pieces_;  // submitted this round
+  std::map<int, std::size_t> position_;      // piece index -> position in pieces_
+  std::vector<std::size_t> queue_;           // positions not handed out yet
+  std::vector<PieceOutcome> outcomes_;       // by position, until delivered
+  std::vector<std::size_t> arrived_;         // positions stored but not delivered yet
+  std::vector<int> idle_;                    // workers without a piece
+  struct Busy {
+    double deadline;  // when its answer is overdue (awake_seconds: a suspended job's pause does not count)
+    int piece;        // or plane, for a cap
+    bool cap;
+    std::uint64_t task;    // the worker's task number (its heartbeats name it)
+    double heard = 0;      // its latest heartbeat (awake_seconds)
+    bool meshing = false;  // its TetGen process is at work: its heartbeats must not stop
+  };
+  std::map<int, Busy> busy_;            // workers with a piece
+  std::map<int, std::uint64_t> tasks_;  // per worker: the tasks sent (pieces, regions, caps)
+  std::size_t remaining_ = 0;
+  std::deque<int> cap_queue_;       // planes whose caps nobody builds yet
+  std::map<int, CapOutcome> caps_;  // by plane: built, not yet taken by cap()
+  std::unique_ptr<PieceJob> own_;
+  std::size_t own_position_ = 0;
+  double own_start_ = 0;
+  bool verdict_pending_ = false;  // rank 1's check of the input not heard yet
+  double verdict_limit_ = 0;
+  std::size_t meshing_ = 0;                // pieces or regions being meshed now, on all ranks
+  double meshing_since_ = 0;               // when that count last changed
+  double job_start_;                       // for the progress lines
+  double silence_limit_;                   // silence_limit()
+  int rounds_ = 0;                         // rounds begun
+  std::size_t done_ = 0;                   // pieces or regions finished this round
+  RemoteBulks remote_;                     // the bulks the workers keep
+  std::optional<SplitOrder> split_order_;  // this round's pieces are split where meshed
+  std::int32_t split_attempts_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<PieceScheduler> root_scheduler(const MeshJob& job, int size, RankStats& stats,
+                                               std::map<int, PieceRecord>& records, double job_start,
+                                               std::optional<std::size_t> input_verdict_faces) {
+  auto scheduler = std::make_unique<RootScheduler>(job, size, stats, records, job_start);
+  if (input_verdict_faces) scheduler->expect_input_verdict(*input_verdict_faces);
+  return scheduler;
+}
+
+}  // namespace partet::mpi

@@ -1,0 +1,249 @@
+#include "mpi/worker.hpp"
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/log.hpp"
+#include "common/test_hooks.hpp"
+#include "io/scratch_bulks.hpp"
+#include "io/write_surface.hpp"
+#include "mpi/heartbeat.hpp"
+#include "mpi/ranks.hpp"
+#include "runner/piece_runner.hpp"
+#include "runner/serialize.hpp"
+#include "stages/merge.hpp"
+
+namespace partet::mpi {
+namespace {
+
+// A worker's part of the closure: triangulates the cap and sends rank 0 its shape, or the failure.
+void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
+  test_hooks::cap_stop(rank);
+  const CapBorder border = deserialize_cap_task(task);
+  const CapOutcome outcome = triangulated(border, stats, [&border] { test_hooks::worker_cap_failure(border.plane); });
+  const std::string reply = serialize_cap_outcome(outcome);
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent += static_cast<double>(
+      bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
+// The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
+// --scratch in one nameless file in that directory on this rank's node (in memory where it cannot
+// write).
+class KeptBulks {
+ public:
+  KeptBulks(const std::string& scratch, RankStats& stats) : scratch_(scratch), stats_(stats) { new_attempt(-1); }
+  std::int32_t attempt() const { return attempt_; }
+  // Drops the bulks of earlier attempts (and their files).
+  void new_attempt(std::int32_t attempt) {
+    attempt_ = attempt;
+    bulks_.clear();
+    shares_.clear();
+    on_disk_.reset();
+    if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
+  }
+  void keep(int piece, TetBlock&& bulk) {
+    stats_.bulks_kept += 1;
+    if (on_disk_ && on_disk_->put(piece, bulk)) {
+      stats_.bulks_on_disk += 1;
+      bulks_.erase(piece);
+      return;
+    }
+    bulks_[piece] = std::move(bulk);
+  }
+  void forget(int piece) {
+    bulks_.erase(piece);
+    shares_.erase(piece);
+    if (on_disk_) on_disk_->drop(piece);
+  }
+  // Numbers the bulks kept in memory at once and those on disk as they are taken. A bulk that does
+  // not fit its share is forgotten (rank 0 then learns this rank no longer keeps it).
+  void number(std::vector<BulkShare> shares) {
+    for (BulkShare& share : shares) {
+      const int piece = share.piece;
+      if (auto it = bulks_.find(piece); it != bulks_.end()) {
+        try {
+          number_bulk(it->second, share.numbering, share.first_steiner);
+        } catch (const std::exception& e) {
+          log::error("piece " + std::to_string(piece) + ": " + e.what());
+          forget(piece);
+        }
+      } else if (on_disk_ && on_disk_->holds(piece)) {
+        shares_[piece] = std::move(share);
+      }
+    }
+  }
+  // Piece's bulk, once; nothing when this rank does not keep it.
+  std::optional<TetBlock> take(int piece) {
+    if (auto it = bulks_.find(piece); it != bulks_.end()) {
+      TetBlock bulk = std::move(it->second);
+      bulks_.erase(it);
+      return bulk;
+    }
+    if (on_disk_ && on_disk_->holds(piece)) {
+      TetBlock bulk = on_disk_->take(piece);
+      if (auto share = shares_.find(piece); share != shares_.end()) {
+        number_bulk(bulk, share->second.numbering, share->second.first_steiner);
+        shares_.erase(share);
+      }
+      return bulk;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  std::string scratch_;
+  RankStats& stats_;
+  std::int32_t attempt_ = -1;
+  std::map<int, TetBlock> bulks_;  // by piece, in memory
+  std::unique_ptr<ScratchBulks> on_disk_;
+  std::map<int, BulkShare> shares_;  // by piece: the numbering of a bulk on disk, for its take
+};
+
+// A worker's reply for a piece to split where it was meshed: its band (the bulk kept), or the
+// reply as it came when meshing failed. A split that fails is the piece's failure.
+std::string split_here(std::string reply, const PieceSurface& piece, const SplitOrder& order, KeptBulks& kept) {
+  PieceOutcome outcome;
+  try {
+    outcome = deserialize_outcome(reply);
+  } catch (const std::exception&) {
+    return reply;  // rank 0 reports it, as any reply it cannot read
+  }
+  if (outcome.failure) return reply;
+  std::string().swap(reply);
+  try {
+    PieceBand band = split_where_meshed(std::move(outcome.result), piece.global_ids, order.spec);
+    log::debug("piece " + std::to_string(piece.index) + ": " + std::to_string(band.band.tets.size()) +
+               " band tets to rank 0, " + std::to_string(band.bulk_tets) + " bulk tets kept here");
+    kept.keep(piece.index, std::move(band.bulk));
+    outcome.band = std::move(band);
+    return serialize_outcome(outcome);
+  } catch (const std::bad_alloc&) {
+    outcome.failure = Failure(FailureKind::other, piece.index, {}, out_of_memory_message(my_rank()));
+  } catch (const std::exception& e) {
+    outcome.failure = Failure(FailureKind::other, piece.index, {}, e.what());
+  }
+  kept.forget(piece.index);
+  outcome.band.reset();
+  return serialize_outcome(outcome);
+}
+
+// A worker's side of kSendBulk: the owner of the piece sends its bulk and forgets it.
+void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
+  const int piece = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  std::string bytes;
+  try {
+    std::optional<TetBlock> bulk = kept.take(piece);
+    if (!bulk) return;  // another rank's
+    bytes = serialize_block(*bulk);
+  } catch (const std::exception& e) {  // not read back from scratch: rank 0 gets an empty answer and says so
+    log::error(e.what());
+    bytes.clear();
+  }
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent +=
+      static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
+// A worker's side of kNumberBulks: it numbers the bulks it keeps with their shares. Shares it
+// cannot read leave its bulks as they are; rank 0 then numbers them itself.
+void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
+  const std::string bytes = broadcast_text("");
+  AddSeconds timer{stats.bulk_number_seconds};
+  try {
+    kept.number(deserialize_bulk_shares(bytes));
+  } catch (const std::exception& e) {
+    log::error(std::string("the numbering of the kept bulks: ") + e.what());
+  }
+}
+
+// Waits for a piece's reply, telling rank 0 meanwhile that this rank is alive (heartbeat.hpp).
+std::string reply_with_heartbeats(PieceJob& job, std::uint64_t task, int rank) {
+  Heartbeat heartbeat(job_comm(), task);
+  do {
+    heartbeat.meshing();
+    test_hooks::meshing_stop(rank);
+  } while (!job.poll(250));
+  heartbeat.done();
+  return job.take_reply();
+}
+
+}  // namespace
+
+CapOutcome triangulated(const CapBorder& border, RankStats& stats, const std::function<void()>& before) {
+  const double start = now_seconds();
+  CapOutcome outcome;
+  try {
+    if (before) before();
+    outcome.shape = triangulate_cap(border);
+  } catch (const PartitionError& e) {
+    outcome.failure = e.failure;
+  }
+  outcome.seconds = now_seconds() - start;
+  stats.cap_seconds += outcome.seconds;
+  stats.caps += 1;
+  return outcome;
+}
+
+void dump_piece(const MeshJob& job, const PieceSurface& piece) {
+  if (job.dump_pieces_dir.empty()) return;
+  write_off(SurfaceMesh{piece.points, piece.triangles},
+            job.dump_pieces_dir + "/piece_" + std::to_string(piece.index) + ".off");
+}
+
+void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
+  if (!job.options.scratch.empty()) remove_stale_scratch(job.options.scratch);  // this node's dead runs'
+  KeptBulks kept(job.options.scratch, stats);
+  std::uint64_t tasks = 0;  // taken: pieces, regions and caps, as rank 0 counts them
+  for (Command command = receive_command(); command != kDone; command = receive_command()) {
+    if (command == kSendBulk) {
+      send_kept_bulk(kept, stats);
+      continue;
+    }
+    if (command == kNumberBulks) {
+      number_kept_bulks(kept, stats);
+      continue;
+    }
+    for (;;) {
+      std::string bytes;
+      {
+        AddSeconds timer{stats.receive_seconds};
+        bytes = bounded([] { return recv_bytes(0, kTagPiece, job_comm(), kMaxChunk, kRootSeconds); });
+      }
+      stats.bytes_received += static_cast<double>(bytes.size());
+      if (bytes.empty()) break;
+      ++tasks;
+      if (task_kind(bytes) == TaskKind::cap) {
+        build_cap_for_root(bytes, rank, stats);
+        continue;
+      }
+      TetgenOptions tetgen;
+      std::optional<SplitOrder> split;
+      const PieceSurface piece = deserialize_task(bytes, tetgen, &split);
+      if (split && split->attempt != kept.attempt()) kept.new_attempt(split->attempt);
+      const PieceRunner runner(tetgen, job.options.run);
+      const bool region = piece.seam_region;
+      std::string().swap(bytes);
+      if (!region) dump_piece(job, piece);
+      std::string reply;
+      {
+        AddSeconds timer{region ? stats.region_seconds : stats.tetgen_seconds};
+        const std::unique_ptr<PieceJob> job = runner.start(piece, [&piece, rank, region] {
+          if (!region) test_hooks::piece_failure(piece.index, rank);
+        });
+        reply = reply_with_heartbeats(*job, tasks, rank);
+        stats.pieces_from_checkpoint += job->from_checkpoint();
+        if (split) reply = split_here(std::move(reply), piece, *split, kept);
+      }
+      if (!region) stats.pieces += 1;
+      AddSeconds timer{stats.send_seconds};
+      stats.bytes_sent += static_cast<double>(
+          bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
+      test_hooks::worker_stop(rank);
+    }
+  }
+}
+
+}  // namespace partet::mpi
