@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/mesh_formats.hpp"
 #include "io/read_surface.hpp"
 #include "job/pipeline.hpp"
 #include "stage_batches.hpp"
@@ -19,6 +20,7 @@
 #include "stages/merge.hpp"
 #include "stages/seam_band.hpp"
 #include "stages/seam_healing.hpp"
+#include "stages/spread_mesh.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
@@ -172,6 +174,56 @@ void check_layers(const char* name, bool caps) {
 // With a quality bound healing grows the stars by two layers, so the bands reach across the caps
 // into the neighbouring pieces: the pieces trade the cap faces they reached until the bands match a
 // breadth-first search over the welded mesh, depth for depth.
+// A mesh left spread (Welder::spread) has, row for row, the points, tets, pieces and solids of the
+// assembled mesh: its blocks' rows, written where they are, make the assembled mesh's arrays.
+TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
+  for (const char* name : {"torus", "two_spheres", "nested"})
+    for (int k : {3, 6})
+      for (const bool caps : {false, true}) {
+        SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (caps ? " caps healed" : ""));
+        const SurfaceMesh input = generate_surface(name, 1500);
+        const MeshedPieces s = mesh_pieces_in_batch(input, k);
+        const SplitSurface& split = s.prepared.split;
+        HealOptions options{caps, 0};
+        options.drop_points = false;
+        const BandSpec spec = band_spec(split, caps, 1);
+        Welder assembling(split, s.prepared.pieces), spreading(split, s.prepared.pieces);
+        for (const auto& result : s.results) assembling.add(PieceTetMesh(result)), spreading.add(PieceTetMesh(result));
+        TetMesh a = assembling.finish_band(split.points, spec), b = spreading.finish_band(split.points, spec);
+        heal_seams(a, input, split, options, regions_here(s.options));
+        heal_seams(b, input, split, options, regions_here(s.options));
+        const TetMesh whole = assembling.assemble(std::move(a));
+        SpreadMesh spread = spreading.spread(std::move(b));
+        ASSERT_EQ(spread.points, static_cast<std::int64_t>(whole.points.size()));
+        ASSERT_EQ(spread.tets, static_cast<std::int64_t>(whole.tets.size()));
+        std::vector<Point3> points(whole.points.size(), Point3{-1, -1, -1});
+        std::vector<Tet> tets(whole.tets.size(), Tet{-1, -1, -1, -1});
+        std::vector<std::int32_t> solid(whole.tets.size(), 0), piece(whole.tets.size(), -2);
+        std::copy(spread.split_points.begin(), spread.split_points.end(), points.begin());
+        std::copy(spread.healing_points.begin(), spread.healing_points.end(), points.begin() + spread.first_healing_point);
+        for (const SpreadBulk& bulk : spread.bulks) {
+          ASSERT_TRUE(bulk.here);  // no store: every bulk stayed in the welder
+          ASSERT_EQ(static_cast<std::int64_t>(bulk.block.steiner_points.size()), bulk.points);
+          std::copy(bulk.block.steiner_points.begin(), bulk.block.steiner_points.end(), points.begin() + bulk.first_point);
+          std::copy(bulk.block.tets.begin(), bulk.block.tets.end(), tets.begin() + bulk.first_tet);
+          std::vector<std::int32_t> bulk_solid, bulk_piece;
+          bulk_columns(bulk.block, bulk, bulk_solid, bulk_piece);
+          std::copy(bulk_solid.begin(), bulk_solid.end(), solid.begin() + bulk.first_tet);
+          std::copy(bulk_piece.begin(), bulk_piece.end(), piece.begin() + bulk.first_tet);
+        }
+        std::copy(spread.band_tets.begin(), spread.band_tets.end(), tets.begin() + spread.first_band_tet);
+        std::copy(spread.band_solid.begin(), spread.band_solid.end(), solid.begin() + spread.first_band_tet);
+        std::copy(spread.band_piece.begin(), spread.band_piece.end(), piece.begin() + spread.first_band_tet);
+        EXPECT_EQ(points, whole.points);
+        EXPECT_EQ(tets, whole.tets);
+        EXPECT_EQ(piece, whole.piece);
+        const std::vector<std::int32_t> regions = region_of_tets(whole);
+        EXPECT_EQ(solid, regions);
+        if (std::string(name) != "nested")  // (its shells' nesting decides)
+          EXPECT_EQ(*std::max_element(regions.begin(), regions.end()), std::string(name) == "two_spheres" ? 2 : 1);
+      }
+}
+
 TEST(SeamBand, LayersCrossTheCapsAsOverTheWholeMesh) {
   for (const char* name : {"sphere", "torus", "genus3", "nested"})
     for (bool caps : {false, true}) check_layers(name, caps);

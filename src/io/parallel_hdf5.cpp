@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <type_traits>
+#include <vector>
 
 #include "partet/errors.hpp"
 
@@ -60,15 +61,20 @@ bool all_ranks(MPI_Comm comm, bool mine) {
   return all == 1;
 }
 
-// One rank's rows of a 2D dataset [total x columns] starting at `first`.
+// One rank's rows of a 2D dataset [total x columns]: runs of `count` rows from `data`, each
+// starting at row `first`.
 struct Rows {
+  struct Run {
+    const void* data;
+    std::uint64_t count, first;
+  };
   const char* dataset;
   hid_t file_type;       // the dataset's values
   hid_t memory_type;     // the values in `data` (HDF5 converts them to file_type as it writes)
   std::size_t columns;   // values per row
   std::size_t row_bytes;
-  const void* data;
-  std::uint64_t count, first, total;
+  std::vector<Run> runs;
+  std::uint64_t total;
 };
 
 // Whether the file system holding `path` is full: HDF5 reports only that a write failed.
@@ -111,14 +117,23 @@ class Hdf5File {
     if (!all_ranks(comm_, dataset.ok())) fail(std::string("create ") + rows.dataset);
     Hid transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
     H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE);
+    // Each run in calls of at most rows_per_call rows; every rank makes as many calls as the rank
+    // with the most (writing nothing in its last ones).
     const std::uint64_t rows_per_call = std::max<std::uint64_t>(1, kMaxBytesPerWrite / rows.row_bytes);
-    std::uint64_t calls = (rows.count + rows_per_call - 1) / rows_per_call;
-    MPI_Allreduce(MPI_IN_PLACE, &calls, 1, MPI_UINT64_T, MPI_MAX, comm_);  // every rank makes as many
+    struct Call {
+      const Rows::Run* run;
+      std::uint64_t begin, n;
+    };
+    std::vector<Call> mine;
+    for (const Rows::Run& run : rows.runs)
+      for (std::uint64_t begin = 0; begin < run.count; begin += rows_per_call)
+        mine.push_back({&run, begin, std::min(rows_per_call, run.count - begin)});
+    std::uint64_t calls = mine.size();
+    MPI_Allreduce(MPI_IN_PLACE, &calls, 1, MPI_UINT64_T, MPI_MAX, comm_);
     bool ok = true;
     for (std::uint64_t call = 0; call < calls; ++call) {
-      const std::uint64_t begin = std::min(rows.count, call * rows_per_call);
-      const std::uint64_t n = std::min(rows.count, begin + rows_per_call) - begin;
-      ok = write_rows(dataset.get(), file_space.get(), transfer.get(), rows, begin, n) && ok;
+      const Call c = call < mine.size() ? mine[call] : Call{nullptr, 0, 0};
+      ok = write_rows(dataset.get(), file_space.get(), transfer.get(), rows, c.run, c.begin, c.n) && ok;
     }
     if (!all_ranks(comm_, ok)) fail(std::string("write ") + rows.dataset);
   }
@@ -130,9 +145,9 @@ class Hdf5File {
   }
 
  private:
-  bool write_rows(hid_t dataset, hid_t file_space, hid_t transfer, const Rows& rows, std::uint64_t begin,
-                  std::uint64_t n) {
-    const hsize_t start[2] = {rows.first + begin, 0}, count[2] = {n, rows.columns};
+  bool write_rows(hid_t dataset, hid_t file_space, hid_t transfer, const Rows& rows, const Rows::Run* run,
+                  std::uint64_t begin, std::uint64_t n) {
+    const hsize_t start[2] = {run ? run->first + begin : 0, 0}, count[2] = {n, rows.columns};
     const hsize_t memory_dims[2] = {std::max<hsize_t>(n, 1), rows.columns};
     Hid memory_space(H5Screate_simple(rows.columns == 1 ? 1 : 2, memory_dims, nullptr), H5Sclose);
     if (n == 0) {
@@ -142,7 +157,7 @@ class Hdf5File {
       H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
     }
     static const char kNothing[16] = {};
-    const void* data = n == 0 ? kNothing : static_cast<const char*>(rows.data) + begin * rows.row_bytes;
+    const void* data = n == 0 ? kNothing : static_cast<const char*>(run->data) + begin * rows.row_bytes;
     return H5Dwrite(dataset, rows.memory_type, memory_space.get(), file_space, transfer, data) >= 0;
   }
 
@@ -172,7 +187,19 @@ hid_t memory_type_of() {
 template <class T>
 Rows rows_of(const char* dataset, hid_t file_type, std::size_t columns, const ArrayRun<T>& values, std::uint64_t first,
              std::uint64_t total) {
-  return Rows{dataset, file_type, memory_type_of<T>(), columns, sizeof(T), values.data, values.size, first, total};
+  return Rows{dataset, file_type, memory_type_of<T>(), columns, sizeof(T), {{values.data, values.size, first}}, total};
+}
+
+// A rank's rows of several runs, each viewed by `values` (an ArrayRun<T>) with its first row.
+template <class T, class Runs, class Values>
+Rows rows_of_runs(const char* dataset, hid_t file_type, std::size_t columns, const Runs& runs, Values values,
+                  std::uint64_t total) {
+  Rows rows{dataset, file_type, memory_type_of<T>(), columns, sizeof(T), {}, total};
+  for (const auto& run : runs) {
+    const ArrayRun<T> view = values(run);
+    rows.runs.push_back({view.data, view.size, run.first});
+  }
+  return rows;
 }
 
 bool file_exists(const std::string& path) {
@@ -213,6 +240,29 @@ MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5
   boundary.write(rows_of(hdf5_dataset::markers, H5T_NATIVE_INT32, 1, block.face_marker, at.first[2], at.total[2]));
   boundary.close();
   return MeshTotals{at.total[0], at.total[1], at.total[2]};
+}
+
+MeshTotals write_mesh_runs_hdf5(MPI_Comm comm, const MeshRowRuns& runs, const MeshTotals& totals,
+                                const Hdf5Paths& paths, WriteTrouble trouble) {
+  if (trouble == WriteTrouble::none && !(file_exists(paths.mesh) && file_exists(paths.boundary)))
+    trouble = WriteTrouble::file_not_seen;
+  refuse_on_trouble(comm, trouble, paths.mesh_shown);
+  using TetRuns = std::vector<MeshRowRuns::Tets>;
+  Hdf5File mesh(comm, paths.mesh, paths.mesh_shown);
+  mesh.write(rows_of_runs<Point3>(hdf5_dataset::geometry, H5T_NATIVE_DOUBLE, 3, runs.points,
+                                  [](const MeshRowRuns::Points& r) { return r.points; }, totals.points));
+  mesh.write(rows_of_runs<Tet>(hdf5_dataset::topology, H5T_NATIVE_INT64, 4, runs.tets,
+                               [](const MeshRowRuns::Tets& r) { return r.tets; }, totals.tets));
+  mesh.write(rows_of_runs<std::int32_t, TetRuns>(hdf5_dataset::region, H5T_NATIVE_INT32, 1, runs.tets,
+                                                 [](const MeshRowRuns::Tets& r) { return r.region; }, totals.tets));
+  mesh.write(rows_of_runs<std::int32_t, TetRuns>(hdf5_dataset::piece, H5T_NATIVE_INT32, 1, runs.tets,
+                                                 [](const MeshRowRuns::Tets& r) { return r.piece; }, totals.tets));
+  mesh.close();
+  Hdf5File boundary(comm, paths.boundary, paths.boundary_shown);
+  boundary.write(rows_of(hdf5_dataset::faces, H5T_NATIVE_INT64, 3, runs.faces, runs.first_face, totals.faces));
+  boundary.write(rows_of(hdf5_dataset::markers, H5T_NATIVE_INT32, 1, runs.face_marker, runs.first_face, totals.faces));
+  boundary.close();
+  return totals;
 }
 
 // ---------------------------------------------------------------------------------------------

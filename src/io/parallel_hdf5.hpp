@@ -4,7 +4,9 @@
 #pragma once
 #include <mpi.h>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/xdmf.hpp"
 
@@ -21,6 +23,30 @@ enum class WriteTrouble : int { none = 0, no_block = 1, file_not_seen = 2 };
 // when any rank fails.
 MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5Paths& paths,
                            WriteTrouble trouble = WriteTrouble::none);
+
+// A rank's rows of the mesh, at the rows they have in the whole mesh (any number of runs, in any
+// order): what the owners of a mesh's parts write where the parts are, no rank holding the whole.
+struct MeshRowRuns {
+  struct Points {
+    std::uint64_t first = 0;
+    ArrayRun<Point3> points;
+  };
+  struct Tets {
+    std::uint64_t first = 0;
+    ArrayRun<Tet> tets;  // in the whole mesh's point ids
+    ArrayRun<std::int32_t> region, piece;
+  };
+  std::vector<Points> points;
+  std::vector<Tets> tets;
+  std::uint64_t first_face = 0;
+  ArrayRun<Triangle> faces;
+  ArrayRun<std::int32_t> face_marker;
+};
+
+// Collective over comm, as write_mesh_hdf5, from every rank's runs; `totals` are the whole mesh's
+// (every rank gives the same). Throws OutputError as write_mesh_hdf5 does.
+MeshTotals write_mesh_runs_hdf5(MPI_Comm comm, const MeshRowRuns& runs, const MeshTotals& totals,
+                                const Hdf5Paths& paths, WriteTrouble trouble = WriteTrouble::none);
 
 // Collective over comm: each rank reads its run of the rows (the rank-th of comm's size near-equal
 // runs, as mesh_block deals them) of the points, tets, boundary faces and markers of an XDMF

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "stages/merge.hpp"
 
@@ -36,6 +37,12 @@ class ScratchBulks : public BulkStore {
   // Forgets piece's bulk (its disk space given back); nothing when it has none here.
   void drop(int piece);
   bool holds(int piece) const { return slots_.count(piece) > 0; }
+  // The pieces whose bulks wait here, ascending.
+  std::vector<int> pieces() const {
+    std::vector<int> waiting;
+    for (const auto& [piece, slot] : slots_) waiting.push_back(piece);
+    return waiting;
+  }
   const ScratchStats& stats() const { return stats_; }
 
  private:

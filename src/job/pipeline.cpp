@@ -397,7 +397,7 @@ class RegionMeshers {
 // 6. After healing: the polish, and what the result tells about the partition.
 void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, const MeshOptions& options,
                    RegionMeshers& meshers, StageTimer& timer, MeshResult& result) {
-  if (polishes(options)) {
+  if (polishes(options) && !result.spread) {  // (spread_output is asked for without a polish)
     result.polish = polish_poor_tets(result.mesh, PolishOptions(), meshers.polish());
     timer.lap("polish");
   }
@@ -414,13 +414,21 @@ void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, con
 // without end) may have needed to grow past the band's edge, so the seams heal on over the whole
 // mesh, from the last round that ended, as far as they need to grow.
 TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& welder, TetMesh&& band,
-                  const HealOptions& options, const RegionMesher& mesher, SeamStats& stats) {
+                  const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
+                  std::shared_ptr<SpreadMesh>* spread) {
   const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + band.tets.size());
   HealOptions on_band = options;
   on_band.drop_points = false;
   try {
     stats = heal_seams(band, input, split, on_band, mesher);
     const double start = now_seconds();
+    if (spread && welder.keeps_bulks_elsewhere()) {
+      *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band)));
+      log::debug("left the mesh spread: " + std::to_string((*spread)->tets) + " tets, " +
+                 std::to_string((*spread)->band_tets.size()) + " of them here, in " +
+                 std::to_string(now_seconds() - start) + " s");
+      return TetMesh();
+    }
     TetMesh mesh = welder.assemble(std::move(band));
     log::debug("assembled the mesh: " + std::to_string(mesh.tets.size()) + " tets in " +
                std::to_string(now_seconds() - start) + " s");
@@ -456,8 +464,8 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   StageTimer timer(times);
   MeshResult result;
   RegionMeshers meshers(options, scheduler);
-  result.mesh =
-      heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(), result.seam);
+  result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(),
+                          result.seam, options.spread_output ? &result.spread : nullptr);
   timer.lap("seam_healing");
   finish_healed(input, prepared, options, meshers, timer, result);
   return result;

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,10 @@ struct MeshOptions {
   // Non-empty: the paper's memory mode. Each piece's bulk (the tets seam healing never touches)
   // waits in a file in this directory from its arrival until the mesh is assembled.
   std::string scratch;
+  // Leave the mesh where its parts are (MeshResult::spread) when the bulks stay on the ranks that
+  // meshed them and the seams heal on the band alone: only the XDMF set is written then, by the
+  // owners of the parts.
+  bool spread_output = false;
   TetgenOptions tetgen;
   RunOptions run;
 };
@@ -76,7 +81,10 @@ struct RetryRecord {
 };
 
 struct MeshResult {
-  TetMesh mesh;
+  TetMesh mesh;  // empty when spread
+  // With MeshOptions::spread_output, when it could be done: the mesh not assembled, its bulks
+  // where they were meshed (spread_mesh.hpp).
+  std::shared_ptr<SpreadMesh> spread;
   std::vector<CutPlane> planes;  // the cut planes used (around them: the seam zone)
   // The boundary faces, outward, in output numbering: the input triangles; with split faces the
   // whole input triangles first, then the parts of the split ones from split_faces_from on.
@@ -98,6 +106,14 @@ struct MeshResult {
   std::int64_t scratch_bulks = 0, scratch_bytes = 0;  // what waited in scratch files (MeshOptions::scratch)
   std::int64_t bulks_where_meshed = 0;  // pieces whose bulk stayed on the rank that meshed it until assembled
 };
+
+// The output's counts, whether assembled or spread.
+inline std::size_t output_tet_count(const MeshResult& r) {
+  return r.spread ? static_cast<std::size_t>(r.spread->tets) : r.mesh.tets.size();
+}
+inline std::size_t output_point_count(const MeshResult& r) {
+  return r.spread ? static_cast<std::size_t>(r.spread->points) : r.mesh.points.size();
+}
 
 // The result's boundary faces in output numbering (see MeshResult::boundary_faces).
 inline const std::vector<Triangle>& output_boundary(const MeshResult& result, const SurfaceMesh& input) {

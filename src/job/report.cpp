@@ -58,6 +58,8 @@ std::string report_json(const JobSummary& s) {
       {"directory", s.job.options.scratch}, {"bulks", s.result.scratch_bulks}, {"bytes", s.result.scratch_bytes}};
   // The pieces split on the ranks that meshed them, whose bulks stayed there until assembled.
   report["bulks_where_meshed"] = s.result.bulks_where_meshed;
+  // false: no rank held the whole mesh; the owners of its parts wrote them (the XDMF set alone).
+  report["assembled_on_rank0"] = !s.result.spread;
   report["counts"] = {{"input_vertices", s.input_vertices},
                       {"input_faces", s.input.triangles.size()},
                       {"cut_vertices_inserted", s.result.cut_vertices_inserted},
@@ -67,8 +69,8 @@ std::string report_json(const JobSummary& s) {
                       {"cap_triangles", s.result.cap_triangles},
                       {"split_input_faces", s.result.split_input_faces},
                       {"surface_points_added", s.result.surface_points_added},
-                      {"output_vertices", s.result.mesh.points.size()},
-                      {"output_tets", s.result.mesh.tets.size()}};
+                      {"output_vertices", output_point_count(s.result)},
+                      {"output_tets", output_tet_count(s.result)}};
   const PolishStats& polish = s.result.polish;
   report["polish"] = {{"enabled", polishes(s.job.options)},
                       {"poor_tets_before", polish.poor_before},
@@ -150,10 +152,9 @@ void add_report(OutputSet& outputs, const JobSummary& summary) {
 }
 
 void print_summary(const JobSummary& s) {
-  const auto& mesh = s.result.mesh;
-  log::info(std::to_string(s.input.triangles.size()) + " faces -> " + std::to_string(mesh.tets.size()) + " tets, " +
-            std::to_string(mesh.points.size()) + " vertices; " + std::to_string(s.result.pieces) + " pieces on " +
-            std::to_string(s.ranks.size()) + " ranks; " +
+  log::info(std::to_string(s.input.triangles.size()) + " faces -> " + std::to_string(output_tet_count(s.result)) +
+            " tets, " + std::to_string(output_point_count(s.result)) + " vertices; " + std::to_string(s.result.pieces) +
+            " pieces on " + std::to_string(s.ranks.size()) + " ranks; " +
             std::to_string(s.result.seam.cut_vertices_removed + s.result.seam.cap_points_removed) +
             " seam vertices removed; " + format("%.2f s", s.total_seconds));
   std::string stages = "stages:";

@@ -16,9 +16,23 @@ void RootRun::prepare(InputChecks checks) {
   input_ = read_valid_input(job_.input, times_, &scale_exponent_, checks);
 }
 
+namespace {
+
+// Whether the mesh may stay where its parts are: only the XDMF set is written (its owners write
+// the parts), nothing reads the whole mesh on rank 0 (no check, no comparison, no polish), and the
+// bulks wait in memory where they were meshed.
+bool may_spread(const MeshJob& job) {
+  return job.formats == std::vector<MeshFormat>{MeshFormat::xdmf} && !job.check_output && !job.compare_tetgen &&
+         !polishes(job.options) && job.options.scratch.empty();
+}
+
+}  // namespace
+
 void RootRun::mesh(PieceScheduler& scheduler) {
   try {
-    result_ = mesh_with_retries(input_, job_.options, scheduler, &times_);
+    MeshOptions options = job_.options;
+    options.spread_output = may_spread(job_);
+    result_ = mesh_with_retries(input_, options, scheduler, &times_);
     scheduler.confirm_input();  // heard already, unless no piece was meshed
   } catch (...) {
     scheduler.confirm_input();  // an invalid input's own error replaces what it caused
@@ -29,6 +43,11 @@ void RootRun::mesh(PieceScheduler& scheduler) {
 void RootRun::check_and_write(const RankWriters& writers) {
   scale_points(input_.points, -scale_exponent_);
   scale_points(result_.mesh.points, -scale_exponent_);
+  if (SpreadMesh* spread = result_.spread.get()) {  // the owners of the other bulks scale theirs
+    scale_points(spread->split_points, -scale_exponent_);
+    scale_points(spread->healing_points, -scale_exponent_);
+    for (SpreadBulk& bulk : spread->bulks) scale_points(bulk.block.steiner_points, -scale_exponent_);
+  }
   for (CutPlane& plane : result_.planes) plane.offset = std::ldexp(plane.offset, -scale_exponent_);
   check_ = check_result(job_, input_, result_, times_);
   // After the check only a comparison with TetGen alone reads the input's points (the mesh has

@@ -37,6 +37,8 @@ class RootRun {
   void publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& pieces, double seconds);
 
   const MeshResult& result() const { return result_; }
+  // The input was meshed scaled by 2^scale_exponent() (prepare).
+  int scale_exponent() const { return scale_exponent_; }
   // The figures for --compare-tetgen (after publish).
   RunFigures figures() const { return figures_; }
 

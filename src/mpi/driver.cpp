@@ -249,12 +249,14 @@ JobStatus run_mesh_job(const MeshJob& job) {
       on_root(state, [&] {
         const AddSeconds timer{state.stats.write_seconds};
         const CpuLoan loan(node_cpus);  // the ranks on this node only format and wait meanwhile
-        root->check_and_write(rank_writers(state.size, state.stats));
+        root->check_and_write(
+            rank_writers(state.size, state.stats, root->result().spread.get(), root->scale_exponent()));
       });
     end_writes();
   } else {
-    worker_loop(job, state.rank, state.stats);
-    join_writes(state.status, state.stats);
+    Worker worker(job, state.rank, state.stats);  // keeps its bulks until the writes (spread mesh)
+    worker.mesh_rounds();
+    join_writes(state.status, state.stats, [&worker] { return worker.take_kept_bulks(); });
   }
   // 10. Every rank agrees; rank 0 publishes and reports.
   agree_and_publish(state, root);

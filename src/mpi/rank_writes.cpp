@@ -5,24 +5,29 @@
 
 #include <algorithm>
 #include <exception>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "common/log.hpp"
 #include "common/paths.hpp"
 #include "common/test_hooks.hpp"
 #include "io/buffered_file.hpp"
 #include "io/parallel_hdf5.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/xdmf.hpp"
+#include "job/job.hpp"
 #include "mpi/ranks.hpp"
 #include "partet/errors.hpp"
+#include "stages/spread_mesh.hpp"
 
 namespace partet::mpi {
 namespace {
 
 constexpr int kTagText = 6;
+constexpr const char* kSpreadOrder = "hdf5-spread";
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
 constexpr std::size_t kTextChunk = std::size_t{8} << 20;
 // Rows per part of a block (32 MB of .node rows, 16 MB of .ele rows).
@@ -115,6 +120,63 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   MeshBlockView own;
   if (ok) own = mesh_block_view(output, region, 0, size, made);
   return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+}
+
+// The rows of bulks as runs, with their cell data (made into `columns`, which must outlive the
+// runs); their Steiner points scaled back by 2^-exponent first (rank 0 scaled its own: 0).
+void add_bulk_runs(std::vector<std::pair<const SpreadBulk*, TetBlock*>> bulks, int exponent,
+                   std::vector<std::vector<std::int32_t>>& columns, MeshRowRuns& runs) {
+  columns.reserve(2 * bulks.size());
+  for (auto [place, bulk] : bulks) {
+    if (static_cast<std::int64_t>(bulk->steiner_points.size()) != place->points)
+      throw InternalError("the bulk of piece " + std::to_string(place->piece) + " does not match its placement");
+    if (exponent != 0) scale_points(bulk->steiner_points, -exponent);
+    std::vector<std::int32_t>& solid = columns.emplace_back();
+    std::vector<std::int32_t>& piece = columns.emplace_back();
+    bulk_columns(*bulk, *place, solid, piece);
+    runs.points.push_back({static_cast<std::uint64_t>(place->first_point), run_of(bulk->steiner_points)});
+    runs.tets.push_back(
+        {static_cast<std::uint64_t>(place->first_tet), run_of(bulk->tets), run_of(solid), run_of(piece)});
+  }
+}
+
+// Rank 0's Hdf5Write for a mesh left spread: it tells the owners where every bulk's rows are, then
+// every rank writes its own rows at once: rank 0 the split surface's points, the points healing
+// added, the healed band, its own bulks and the boundary; each other rank the bulks it keeps.
+MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const MeshOutput& output,
+                                      const Hdf5Paths& relative) {
+  Hdf5Paths paths = relative;
+  paths.mesh = absolute_or_error(relative.mesh), paths.boundary = absolute_or_error(relative.boundary);
+  const MeshTotals totals{static_cast<std::uint64_t>(mesh.points), static_cast<std::uint64_t>(mesh.tets),
+                          output.boundary.size()};
+  broadcast_text(std::string(kSpreadOrder) + "\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown +
+                 '\n' + paths.boundary_shown + '\n' + std::to_string(exponent) + '\n' + std::to_string(totals.points) +
+                 '\n' + std::to_string(totals.tets) + '\n' + std::to_string(totals.faces));
+  broadcast_text(serialize_placement(mesh.bulks));
+  // Rows rank 0 cannot make go as none, so every rank still joins the write and fails there.
+  MeshRowRuns runs;
+  std::vector<std::vector<std::int32_t>> columns;
+  std::vector<std::int32_t> markers;
+  WriteTrouble trouble = WriteTrouble::none;
+  try {
+    runs.points.push_back({0, run_of(mesh.split_points)});
+    runs.points.push_back({static_cast<std::uint64_t>(mesh.first_healing_point), run_of(mesh.healing_points)});
+    std::vector<std::pair<const SpreadBulk*, TetBlock*>> own;
+    for (SpreadBulk& bulk : mesh.bulks)
+      if (bulk.here) own.push_back({&bulk, &bulk.block});
+    add_bulk_runs(own, 0, columns, runs);
+    runs.tets.push_back({static_cast<std::uint64_t>(mesh.first_band_tet), run_of(mesh.band_tets),
+                         run_of(mesh.band_solid), run_of(mesh.band_piece)});
+    markers.resize(output.boundary.size());
+    for (std::size_t f = 0; f < markers.size(); ++f) markers[f] = f < output.split_from ? 1 : 2;
+    runs.faces = run_of(output.boundary);
+    runs.face_marker = run_of(markers);
+  } catch (const std::exception& e) {
+    log::error(e.what());
+    runs = MeshRowRuns();
+    trouble = WriteTrouble::no_block;
+  }
+  return write_mesh_runs_hdf5(job_comm(), runs, totals, paths, trouble);
 }
 
 // Rank 0's TetgenLines. It goes on taking every rank's chunks after a failure of its own (a full
@@ -357,6 +419,41 @@ void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
   }
 }
 
+// A worker's side of a spread mesh's HDF5 files: the rows of the bulks it keeps.
+void join_spread_write(std::istringstream& lines, JobStatus& status, const KeptBulksTaker& take_bulks) {
+  Hdf5Paths paths;
+  std::string exponent, points, tets, faces;
+  std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
+  std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
+  std::getline(lines, exponent), std::getline(lines, points), std::getline(lines, tets), std::getline(lines, faces);
+  const std::string placement = broadcast_text("");
+  WriteTrouble trouble = WriteTrouble::none;
+  MeshRowRuns runs;
+  std::map<int, TetBlock> bulks;
+  std::vector<std::vector<std::int32_t>> columns;
+  std::vector<SpreadBulk> places;
+  try {
+    places = deserialize_placement(placement);
+    bulks = take_bulks();
+    std::vector<std::pair<const SpreadBulk*, TetBlock*>> mine;
+    for (const SpreadBulk& place : places)
+      if (auto it = bulks.find(place.piece); it != bulks.end()) mine.push_back({&place, &it->second});
+    if (mine.size() != bulks.size())
+      throw InternalError("rank " + std::to_string(my_rank()) + " keeps a bulk rank 0 did not place");
+    add_bulk_runs(mine, std::stoi(exponent), columns, runs);
+  } catch (const std::exception& e) {
+    log::error(e.what());
+    trouble = WriteTrouble::no_block;
+  }
+  if (test_hooks::block_lost(my_rank())) trouble = WriteTrouble::no_block;
+  try {
+    write_mesh_runs_hdf5(job_comm(), runs, MeshTotals{std::stoull(points), std::stoull(tets), std::stoull(faces)},
+                         paths, trouble);
+  } catch (const std::exception& e) {
+    status.error = e.what();  // rank 0 has the same error and reports it
+  }
+}
+
 // A worker's side of the HDF5 files of an XDMF set.
 void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
   Hdf5Paths paths;
@@ -375,8 +472,12 @@ void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
 
 }  // namespace
 
-RankWriters rank_writers(int size, RankStats& stats) {
+RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int scale_exponent) {
   RankWriters writers{write_hdf5_on_every_rank, {}, {}};
+  if (spread)
+    writers.hdf5 = [spread, scale_exponent](const MeshOutput& output, const Hdf5Paths& paths) {
+      return write_spread_on_every_rank(*spread, scale_exponent, output, paths);
+    };
   if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
   writers.piece_files = [&stats](MeshFormat format, const std::vector<PieceFile>& files,
                                  const PieceArraysOf& arrays_of) {
@@ -387,7 +488,7 @@ RankWriters rank_writers(int size, RankStats& stats) {
 
 void end_writes() { broadcast_text(""); }
 
-void join_writes(JobStatus& status, RankStats& stats) {
+void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks) {
   const AddSeconds timer{stats.write_seconds};
   for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
     std::istringstream lines(order);
@@ -395,6 +496,8 @@ void join_writes(JobStatus& status, RankStats& stats) {
     std::getline(lines, kind);
     if (kind == "hdf5")
       join_hdf5_write(lines, status);
+    else if (kind == kSpreadOrder)
+      join_spread_write(lines, status, take_bulks);
     else if (kind == kPiecesOrder)
       write_piece_files_sent(lines, stats);
     else

@@ -12,17 +12,25 @@
 //   rank that sees the output directory writes some, each file going to whichever rank is free
 //   (see PieceFileDealer).
 #pragma once
+#include <functional>
+#include <map>
+
 #include "io/mesh_formats.hpp"
 #include "job/job.hpp"
 #include "mpi/driver.hpp"
+#include "stages/spread_mesh.hpp"
 
 namespace partet::mpi {
 
-// Rank 0's writers, which have every rank of a job on `size` ranks take part.
-RankWriters rank_writers(int size, RankStats& stats);
+// Rank 0's writers, which have every rank of a job on `size` ranks take part. With a spread
+// mesh (MeshResult::spread; the input meshed scaled by 2^scale_exponent), the XDMF set's rows are
+// written by their owners (which must outlive the writers).
+RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread = nullptr, int scale_exponent = 0);
 // Rank 0: no more writes.
 void end_writes();
+// A worker's bulks, numbered, by piece (Worker::take_kept_bulks): for a spread mesh's write.
+using KeptBulksTaker = std::function<std::map<int, TetBlock>()>;
 // A worker's side: joins each write rank 0 orders until it says there are no more.
-void join_writes(JobStatus& status, RankStats& stats);
+void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks);
 
 }  // namespace partet::mpi

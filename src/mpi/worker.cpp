@@ -29,6 +29,8 @@ void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
       bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+}  // namespace
+
 // The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
 // --scratch in one nameless file in that directory on this rank's node (in memory where it cannot
 // write).
@@ -44,6 +46,8 @@ class KeptBulks {
     on_disk_.reset();
     if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
   }
+  // A numbered bulk taken out (take) and put back, in memory.
+  void keep_numbered(int piece, TetBlock&& bulk) { bulks_[piece] = std::move(bulk); }
   void keep(int piece, TetBlock&& bulk) {
     stats_.bulks_kept += 1;
     if (on_disk_ && on_disk_->put(piece, bulk)) {
@@ -75,6 +79,15 @@ class KeptBulks {
       }
     }
   }
+  // The pieces whose bulks it keeps, ascending.
+  std::vector<int> pieces() const {
+    std::vector<int> kept;
+    for (const auto& [piece, bulk] : bulks_) kept.push_back(piece);
+    if (on_disk_)
+      for (int piece : on_disk_->pieces()) kept.push_back(piece);
+    std::sort(kept.begin(), kept.end());
+    return kept;
+  }
   // Piece's bulk, once; nothing when this rank does not keep it.
   std::optional<TetBlock> take(int piece) {
     if (auto it = bulks_.find(piece); it != bulks_.end()) {
@@ -101,6 +114,8 @@ class KeptBulks {
   std::unique_ptr<ScratchBulks> on_disk_;
   std::map<int, BulkShare> shares_;  // by piece: the numbering of a bulk on disk, for its take
 };
+
+namespace {
 
 // A worker's reply for a piece to split where it was meshed: its band (the bulk kept), or the
 // reply as it came when meshing failed. A split that fails is the piece's failure.
@@ -159,6 +174,30 @@ void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
   }
 }
 
+// A worker's side of kLinkBulks: the links of every bulk it keeps, numbered (they stay here).
+void send_bulk_links(KeptBulks& kept, RankStats& stats) {
+  const std::int32_t input_vertices = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  std::string bytes;
+  try {
+    for (int piece : kept.pieces()) {
+      std::optional<TetBlock> bulk = kept.take(piece);
+      std::vector<std::int32_t> label;
+      const std::string links =
+          serialize_links(block_links(bulk->tets, bulk->neighbours, false, input_vertices, bulk->rim, label));
+      kept.keep_numbered(piece, std::move(*bulk));
+      const std::int64_t head[2] = {piece, static_cast<std::int64_t>(links.size())};
+      bytes.append(reinterpret_cast<const char*>(head), sizeof head);
+      bytes += links;
+    }
+  } catch (const std::exception& e) {  // rank 0 misses this rank's links and says so
+    log::error(std::string("the links of the kept bulks: ") + e.what());
+    bytes.clear();
+  }
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent +=
+      static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
 // Waits for a piece's reply, telling rank 0 meanwhile that this rank is alive (heartbeat.hpp).
 std::string reply_with_heartbeats(PieceJob& job, std::uint64_t task, int rank) {
   Heartbeat heartbeat(job_comm(), task);
@@ -193,9 +232,27 @@ void dump_piece(const MeshJob& job, const PieceSurface& piece) {
             job.dump_pieces_dir + "/piece_" + std::to_string(piece.index) + ".off");
 }
 
-void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
+Worker::Worker(const MeshJob& job, int rank, RankStats& stats) : job_(job), rank_(rank), stats_(stats) {
   if (!job.options.scratch.empty()) remove_stale_scratch(job.options.scratch);  // this node's dead runs'
-  KeptBulks kept(job.options.scratch, stats);
+  kept_ = std::make_unique<KeptBulks>(job.options.scratch, stats);
+}
+
+Worker::~Worker() = default;
+
+std::map<int, TetBlock> Worker::take_kept_bulks() {
+  std::map<int, TetBlock> taken;
+  for (int piece : kept_->pieces())
+    if (std::optional<TetBlock> bulk = kept_->take(piece)) taken.emplace(piece, std::move(*bulk));
+  return taken;
+}
+
+void worker_loop(const MeshJob& job, int rank, RankStats& stats) { Worker(job, rank, stats).mesh_rounds(); }
+
+void Worker::mesh_rounds() {
+  const MeshJob& job = job_;
+  const int rank = rank_;
+  RankStats& stats = stats_;
+  KeptBulks& kept = *kept_;
   std::uint64_t tasks = 0;  // taken: pieces, regions and caps, as rank 0 counts them
   for (Command command = receive_command(); command != kDone; command = receive_command()) {
     if (command == kSendBulk) {
@@ -204,6 +261,10 @@ void worker_loop(const MeshJob& job, int rank, RankStats& stats) {
     }
     if (command == kNumberBulks) {
       number_kept_bulks(kept, stats);
+      continue;
+    }
+    if (command == kLinkBulks) {
+      send_bulk_links(kept, stats);
       continue;
     }
     for (;;) {

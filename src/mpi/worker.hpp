@@ -4,11 +4,14 @@
 // first two functions.
 #pragma once
 #include <functional>
+#include <map>
+#include <memory>
 
 #include "job/job.hpp"
 #include "runner/serialize.hpp"
 #include "stages/closure.hpp"
 #include "stages/piece.hpp"
+#include "stages/seam_band.hpp"
 
 namespace partet::mpi {
 
@@ -20,8 +23,31 @@ CapOutcome triangulated(const CapBorder& border, RankStats& stats, const std::fu
 // failing piece.
 void dump_piece(const MeshJob& job, const PieceSurface& piece);
 
-// A worker: in each round, mesh the pieces and build the caps rank 0 hands out until it sends an
-// empty message; between rounds, send the bulks it kept when rank 0 asks for them.
+class KeptBulks;
+
+// A worker rank. The bulks it keeps live as long as it does, so that when rank 0 leaves the mesh
+// spread (spread_mesh.hpp), this rank writes them itself.
+class Worker {
+ public:
+  Worker(const MeshJob& job, int rank, RankStats& stats);
+  ~Worker();
+  Worker(const Worker&) = delete;
+  Worker& operator=(const Worker&) = delete;
+  // In each round, mesh the pieces and build the caps rank 0 hands out until it sends an empty
+  // message; between rounds, number, link and send the bulks it kept when rank 0 asks. Returns
+  // when rank 0 says the meshing is done.
+  void mesh_rounds();
+  // The bulks it still keeps, by piece, numbered as in the output (it keeps none afterwards).
+  std::map<int, TetBlock> take_kept_bulks();
+
+ private:
+  const MeshJob& job_;
+  int rank_;
+  RankStats& stats_;
+  std::unique_ptr<KeptBulks> kept_;
+};
+
+// A worker for one job: Worker(...).mesh_rounds().
 void worker_loop(const MeshJob& job, int rank, RankStats& stats);
 
 }  // namespace partet::mpi

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 #include "partet/errors.hpp"
 #include "stages/tet_region.hpp"
@@ -486,6 +487,90 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
   // 3. Each bulk's rim to the band (healing left those faces as they were), then across the caps.
   join_rim(mesh, band_base, std::move(rim));
   connect_open_faces(mesh.tets, mesh.neighbours, &on_caps);
+  return mesh;
+}
+
+bool Welder::keeps_bulks_elsewhere() const {
+  return std::any_of(stored_.begin(), stored_.end(), [](const StoredBulk& s) { return s.stored; });
+}
+
+SpreadMesh Welder::spread(TetMesh&& healed_band) {
+  const std::size_t k = bulks_.size();
+  if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
+  const AssemblyNumbering numbering = this->numbering(healed_band);
+  SpreadMesh mesh;
+  mesh.points = numbering.point_count();
+  // 1. Rank 0's points: the split surface's that stay, and those healing added (the last rows).
+  numbering.for_each_kept(0, first_steiner_,
+                          [&](std::int64_t v, std::int32_t) { mesh.split_points.push_back(healed_band.points[v]); });
+  const std::int64_t healing_band = numbering.healing_first_band(), healing_welded = numbering.healing_first_welded();
+  mesh.first_healing_point = mesh.points;
+  numbering.for_each_kept(healing_welded, numbering.welded_count(), [&](std::int64_t w, std::int32_t to) {
+    mesh.first_healing_point = std::min<std::int64_t>(mesh.first_healing_point, to);
+    mesh.healing_points.push_back(healed_band.points[static_cast<std::size_t>(healing_band + (w - healing_welded))]);
+  });
+  // 2. The bulks, numbered where they are, in piece order; their links.
+  std::vector<BulkNumbering> shares;
+  std::vector<std::size_t> steiner_points;  // each piece's, before the numbering drops some
+  for (std::size_t p = 0; p < k; ++p)
+    shares.push_back(numbering.for_bulk(p)), steiner_points.push_back(bulk_steiner_points(p));
+  number_bulks(shares);
+  const std::int32_t input_vertices = k == 0 ? 0 : shares[0].split_kept_below(split_.input_vertex_count);
+  std::vector<BlockLinks> links(k + 1);
+  std::vector<char> linked(k, 0);
+  std::vector<std::int64_t> first_row(k + 1, 0);
+  std::set<BulkStore*> stores;
+  std::int64_t row = 0;
+  for (std::size_t p = 0; p < k; ++p) {
+    SpreadBulk& bulk = mesh.bulks.emplace_back();
+    bulk.piece = pieces_[p].index;
+    bulk.first_point = shares[p].first_steiner;
+    bulk.points = static_cast<std::int64_t>(steiner_points[p] - shares[p].dropped_steiner.size());
+    bulk.first_tet = first_row[p] = row;
+    bulk.tets = static_cast<std::int64_t>(bulk_tets(p));
+    row += bulk.tets;
+    if (stored_[p].stored) {
+      stores.insert(stored_[p].store);
+      continue;
+    }
+    bulk.here = true;
+    bulk.block = std::move(bulks_[p]);
+    std::vector<std::int32_t> label;
+    links[p] = block_links(bulk.block.tets, bulk.block.neighbours, false, input_vertices, bulk.block.rim, label);
+    linked[p] = 1;
+  }
+  for (BulkStore* store : stores)
+    for (auto& [piece, found] : store->links(input_vertices)) {
+      if (piece < 0 || static_cast<std::size_t>(piece) >= k || !stored_[piece].stored)
+        throw InternalError("links of a bulk no store keeps (piece " + std::to_string(piece) + ")");
+      links[piece] = std::move(found);
+      linked[piece] = 1;
+    }
+  for (std::size_t p = 0; p < k; ++p)
+    if (!linked[p]) throw InternalError("the rank keeping the bulk of piece " + std::to_string(p) + " did not link it");
+  // 3. The healed band in output ids, last.
+  mesh.first_band_tet = first_row[k] = row;
+  mesh.tets = row + static_cast<std::int64_t>(healed_band.tets.size());
+  check_int32_sizes(static_cast<std::size_t>(mesh.tets), static_cast<std::size_t>(mesh.points));
+  for (Tet t : healed_band.tets) {
+    for (auto& v : t)
+      if ((v = numbering.of_band(v)) < 0) throw InternalError("a point the assembly dropped is still used");
+    mesh.band_tets.push_back(t);
+  }
+  mesh.band_piece =
+      healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);
+  std::vector<std::int32_t> band_label;
+  links[k] = block_links(mesh.band_tets, healed_band.neighbours, true, 0, {}, band_label);
+  healed_band = TetMesh();
+  // 4. The connected solids, across the blocks' shared faces.
+  const std::vector<std::vector<std::int32_t>> solids = solids_of_blocks(links, first_row);
+  for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].solid = solids[p];
+  mesh.band_solid.reserve(band_label.size());
+  for (std::int32_t label : band_label) mesh.band_solid.push_back(solids[k][label]);
+  blocks_.assign(k, Block());
+  bulks_.assign(k, Block());
+  band_steiner_.assign(k, {});
+  band_tets_.assign(k, {});
   return mesh;
 }
 

@@ -8,6 +8,7 @@
 #include "stages/assembly_numbering.hpp"
 #include "stages/piece.hpp"
 #include "stages/seam_band.hpp"
+#include "stages/spread_mesh.hpp"
 
 namespace partet {
 
@@ -25,6 +26,9 @@ class BulkStore {
   // can numbers them where they are (number_bulk; the MPI driver's owners, all at once) and gives
   // them back numbered; by default the welder numbers them as they come back.
   virtual void number(const std::vector<BulkShare>& /*shares*/) {}
+  // For a mesh left spread (Welder::spread), after number: the links (block_links, with
+  // input_vertices) of every bulk kept here, by piece.
+  virtual std::vector<std::pair<int, BlockLinks>> links(std::int32_t /*input_vertices*/) { return {}; }
 };
 
 // Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
@@ -80,6 +84,12 @@ class Welder {
   // the assembly with it.
   AssemblyNumbering numbering(const TetMesh& healed_band, bool drop_unused = true);
   TetMesh assemble(TetMesh&& healed_band, const AssemblyNumbering& numbering);
+  // Instead of the assembly, when only the XDMF set is written: the mesh left where its parts are
+  // (spread_mesh.hpp). The bulks kept by a store are numbered there and stay; those kept here
+  // move into the result, numbered. The welder is then empty.
+  SpreadMesh spread(TetMesh&& healed_band);
+  // Whether some store keeps a bulk (the pieces were split where they were meshed).
+  bool keeps_bulks_elsewhere() const;
   // The tets the bulks hold (after finish_band).
   std::size_t bulk_tet_count() const;
 

@@ -1,0 +1,156 @@
+#include "stages/spread_mesh.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+
+#include "partet/errors.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+
+BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& neighbours, bool every_open_face,
+                       std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
+                       std::vector<std::int32_t>& label) {
+  if (neighbours.size() != tets.size()) throw InternalError("a block's neighbours do not match its tets");
+  BlockLinks links;
+  const std::int32_t count = label_tet_regions(
+      neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label);
+  links.first_tet.assign(static_cast<std::size_t>(count), -1);
+  for (std::size_t t = 0; t < tets.size(); ++t)
+    if (links.first_tet[label[t]] < 0) links.first_tet[label[t]] = static_cast<std::int32_t>(t);
+  std::vector<char> on_rim;
+  if (!every_open_face) {
+    on_rim.assign(4 * tets.size(), 0);
+    for (std::uint64_t slot : rim) on_rim.at(slot) = 1;
+  }
+  for (std::size_t t = 0; t < tets.size(); ++t)
+    for (int j = 0; j < 4; ++j) {
+      if (neighbours[t][j] >= 0) continue;
+      const FaceKey key(outward_face(tets[t], j));
+      // Ascending ids: the last is the largest, so a face has a point other than an input vertex
+      // exactly when it is at least input_vertices.
+      if (!every_open_face && !on_rim[4 * t + j] && key.v[2] < input_vertices) continue;
+      links.keys.push_back({key.v[0], key.v[1], key.v[2]});
+      links.component.push_back(label[t]);
+    }
+  return links;
+}
+
+std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockLinks>& blocks,
+                                                        const std::vector<std::int64_t>& first_row) {
+  // One node per component of each block, in block order.
+  std::vector<std::size_t> node_base(blocks.size() + 1, 0);
+  for (std::size_t b = 0; b < blocks.size(); ++b) node_base[b + 1] = node_base[b] + blocks[b].first_tet.size();
+  DisjointSets sets(0, node_base.back());
+  struct Link {
+    std::array<std::int32_t, 3> key;
+    std::int32_t node;
+    bool operator<(const Link& o) const { return key < o.key; }
+  };
+  std::vector<Link> links;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t i = 0; i < blocks[b].keys.size(); ++i)
+      links.push_back({blocks[b].keys[i], static_cast<std::int32_t>(node_base[b] + blocks[b].component[i])});
+  std::sort(links.begin(), links.end());
+  for (std::size_t i = 1; i < links.size(); ++i)
+    if (links[i].key == links[i - 1].key) sets.join(links[i].node, links[i - 1].node);
+  // Each solid's first row: the least of its components' first rows.
+  std::vector<std::int64_t> first(node_base.back(), INT64_MAX);
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t c = 0; c < blocks[b].first_tet.size(); ++c) {
+      const std::int32_t root = sets.find(static_cast<std::int32_t>(node_base[b] + c));
+      first[root] = std::min(first[root], first_row[b] + blocks[b].first_tet[c]);
+    }
+  std::vector<std::int32_t> roots;
+  for (std::size_t n = 0; n < first.size(); ++n)
+    if (first[n] != INT64_MAX) roots.push_back(static_cast<std::int32_t>(n));
+  std::sort(roots.begin(), roots.end(), [&](std::int32_t a, std::int32_t b) { return first[a] < first[b]; });
+  std::vector<std::int32_t> solid_of_root(node_base.back(), 0);
+  for (std::size_t i = 0; i < roots.size(); ++i) solid_of_root[roots[i]] = static_cast<std::int32_t>(i + 1);
+  std::vector<std::vector<std::int32_t>> solids(blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t c = 0; c < blocks[b].first_tet.size(); ++c)
+      solids[b].push_back(solid_of_root[sets.find(static_cast<std::int32_t>(node_base[b] + c))]);
+  return solids;
+}
+
+namespace {
+
+template <class T>
+void put(std::string& bytes, const std::vector<T>& values) {
+  const std::uint64_t n = values.size();
+  bytes.append(reinterpret_cast<const char*>(&n), sizeof n);
+  bytes.append(reinterpret_cast<const char*>(values.data()), n * sizeof(T));
+}
+
+template <class T>
+std::vector<T> get(const std::string& bytes, std::size_t& at) {
+  std::uint64_t n = 0;
+  if (bytes.size() < at + sizeof n) throw InternalError("cut links of a bulk");
+  std::memcpy(&n, bytes.data() + at, sizeof n);
+  at += sizeof n;
+  if ((bytes.size() - at) / sizeof(T) < n) throw InternalError("cut links of a bulk");
+  std::vector<T> values(n);
+  std::memcpy(values.data(), bytes.data() + at, n * sizeof(T));
+  at += n * sizeof(T);
+  return values;
+}
+
+}  // namespace
+
+void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,
+                  std::vector<std::int32_t>& piece) {
+  std::vector<std::int32_t> label;
+  const std::int32_t components = label_tet_regions(
+      bulk.neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label);
+  if (static_cast<std::size_t>(components) != place.solid.size() ||
+      static_cast<std::int64_t>(bulk.tets.size()) != place.tets)
+    throw InternalError("the bulk of piece " + std::to_string(place.piece) + " does not match its placement");
+  solid.resize(label.size());
+  for (std::size_t t = 0; t < label.size(); ++t) solid[t] = place.solid[label[t]];
+  piece.assign(bulk.tets.size(), place.piece);
+}
+
+std::string serialize_placement(const std::vector<SpreadBulk>& bulks) {
+  std::string bytes;
+  for (const SpreadBulk& b : bulks) {
+    put(bytes, std::vector<std::int64_t>{b.piece, b.first_point, b.points, b.first_tet, b.tets});
+    put(bytes, b.solid);
+  }
+  return bytes;
+}
+
+std::vector<SpreadBulk> deserialize_placement(const std::string& bytes) {
+  std::vector<SpreadBulk> bulks;
+  for (std::size_t at = 0; at < bytes.size();) {
+    const std::vector<std::int64_t> rows = get<std::int64_t>(bytes, at);
+    if (rows.size() != 5) throw InternalError("malformed placement of the bulks");
+    SpreadBulk& b = bulks.emplace_back();
+    b.piece = static_cast<int>(rows[0]);
+    b.first_point = rows[1], b.points = rows[2], b.first_tet = rows[3], b.tets = rows[4];
+    b.solid = get<std::int32_t>(bytes, at);
+  }
+  return bulks;
+}
+
+std::string serialize_links(const BlockLinks& links) {
+  std::string bytes;
+  put(bytes, links.first_tet);
+  put(bytes, links.keys);
+  put(bytes, links.component);
+  return bytes;
+}
+
+BlockLinks deserialize_links(const std::string& bytes) {
+  std::size_t at = 0;
+  BlockLinks links;
+  links.first_tet = get<std::int32_t>(bytes, at);
+  links.keys = get<std::array<std::int32_t, 3>>(bytes, at);
+  links.component = get<std::int32_t>(bytes, at);
+  if (at != bytes.size() || links.keys.size() != links.component.size())
+    throw InternalError("malformed links of a bulk");
+  return links;
+}
+
+}  // namespace partet

@@ -1,0 +1,73 @@
+// The output mesh left where its parts are (internal header): when only the XDMF set is written
+// from several ranks, rank 0 does not assemble the mesh. Each bulk stays on the rank that meshed
+// it, numbered as in the assembled mesh, and its owner writes its rows; rank 0 keeps the healed
+// band, the split surface's points and the points healing added. The connected solids ("region",
+// numbered by their first tet) are found without the whole mesh: each block (a bulk, the band)
+// labels its own components and names its open faces that another block may share; rank 0 joins
+// the components that share a face.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+#include "stages/seam_band.hpp"
+
+namespace partet {
+
+// A block's connected components and the open faces it may share with another block.
+struct BlockLinks {
+  std::vector<std::int32_t> first_tet;            // per component, its first tet (ascending)
+  std::vector<std::array<std::int32_t, 3>> keys;  // open faces, their vertices ascending
+  std::vector<std::int32_t> component;            // per key: its tet's component
+};
+
+// The components of a block's tets across its own neighbours, numbered by first tet (label per
+// tet), and its open faces: all of them when every_open_face, else those another block can
+// share, the faces with a point that is no input vertex (ids from input_vertices on: cap faces)
+// and the rim's faces (4 * tet + j).
+BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& neighbours, bool every_open_face,
+                       std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
+                       std::vector<std::int32_t>& label);
+
+// The connected solids of a mesh made of blocks in row order (blocks[b] starts at row first_row[b]):
+// per block, the solid (from 1, numbered by first row) of each of its components.
+std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockLinks>& blocks,
+                                                        const std::vector<std::int64_t>& first_row);
+
+std::string serialize_links(const BlockLinks& links);
+BlockLinks deserialize_links(const std::string& bytes);
+
+// One bulk of a spread mesh: its rows, and the bulk itself when rank 0 keeps it.
+struct SpreadBulk {
+  int piece = 0;
+  bool here = false;                         // kept by rank 0 (in `block`), else by the rank that meshed it
+  TetBlock block;                            // numbered as in the assembled mesh (its Steiner points: the rows below)
+  std::int64_t first_point = 0, points = 0;  // rows of its Steiner points
+  std::int64_t first_tet = 0, tets = 0;      // rows of its tets
+  std::vector<std::int32_t> solid;           // per component of its tets (block_links' order)
+};
+
+// What rank 0 keeps of a mesh it does not assemble, and where every row is.
+struct SpreadMesh {
+  std::int64_t points = 0, tets = 0;     // the whole mesh's
+  std::vector<Point3> split_points;      // rows [0, n): the split surface's points that stay
+  std::int64_t first_healing_point = 0;  // rows of the points healing added
+  std::vector<Point3> healing_points;
+  std::vector<SpreadBulk> bulks;    // by piece
+  std::int64_t first_band_tet = 0;  // the healed band's tets, in output ids, from this row
+  std::vector<Tet> band_tets;
+  std::vector<std::int32_t> band_piece, band_solid;
+};
+
+// A bulk's cell data as written: per tet its solid (through its component) and its piece.
+void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,
+                  std::vector<std::int32_t>& piece);
+
+// Where every bulk's rows are and its components' solids (SpreadBulk without its block): what
+// rank 0 tells the owners before they write.
+std::string serialize_placement(const std::vector<SpreadBulk>& bulks);
+std::vector<SpreadBulk> deserialize_placement(const std::string& bytes);
+
+}  // namespace partet
