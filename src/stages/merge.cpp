@@ -494,14 +494,13 @@ bool Welder::keeps_bulks_elsewhere() const {
   return std::any_of(stored_.begin(), stored_.end(), [](const StoredBulk& s) { return s.stored; });
 }
 
-SpreadMesh Welder::spread(TetMesh&& healed_band) {
-  const std::size_t k = bulks_.size();
-  if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
-  const AssemblyNumbering numbering = this->numbering(healed_band);
-  SpreadMesh mesh;
-  mesh.points = numbering.point_count();
-  // 1. Rank 0's points: the split surface's that stay, and those healing added (the last rows).
-  numbering.for_each_kept(0, first_steiner_,
+namespace {
+
+// A spread mesh's rows rank 0 writes itself: the split surface's points that stay, and those
+// healing added (the last rows).
+void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points, const TetMesh& healed_band,
+                   SpreadMesh& mesh) {
+  numbering.for_each_kept(0, split_points,
                           [&](std::int64_t v, std::int32_t) { mesh.split_points.push_back(healed_band.points[v]); });
   const std::int64_t healing_band = numbering.healing_first_band(), healing_welded = numbering.healing_first_welded();
   mesh.first_healing_point = mesh.points;
@@ -509,16 +508,35 @@ SpreadMesh Welder::spread(TetMesh&& healed_band) {
     mesh.first_healing_point = std::min<std::int64_t>(mesh.first_healing_point, to);
     mesh.healing_points.push_back(healed_band.points[static_cast<std::size_t>(healing_band + (w - healing_welded))]);
   });
-  // 2. The bulks, numbered where they are, in piece order; their links.
+}
+
+// The healed band in output ids, its rows after every bulk's; its links (all its open faces).
+BlockLinks spread_band(const AssemblyNumbering& numbering, TetMesh&& healed_band, SpreadMesh& mesh,
+                       std::vector<std::int32_t>& label) {
+  for (Tet t : healed_band.tets) {
+    for (auto& v : t)
+      if ((v = numbering.of_band(v)) < 0) throw InternalError("a point the assembly dropped is still used");
+    mesh.band_tets.push_back(t);
+  }
+  mesh.band_piece =
+      healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);
+  BlockLinks links = block_links(mesh.band_tets, healed_band.neighbours, true, 0, {}, label);
+  healed_band = TetMesh();
+  return links;
+}
+
+}  // namespace
+
+std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh) {
+  const std::size_t k = bulks_.size();
   std::vector<BulkNumbering> shares;
   std::vector<std::size_t> steiner_points;  // each piece's, before the numbering drops some
   for (std::size_t p = 0; p < k; ++p)
     shares.push_back(numbering.for_bulk(p)), steiner_points.push_back(bulk_steiner_points(p));
   number_bulks(shares);
   const std::int32_t input_vertices = k == 0 ? 0 : shares[0].split_kept_below(split_.input_vertex_count);
-  std::vector<BlockLinks> links(k + 1);
+  std::vector<BlockLinks> links(k);
   std::vector<char> linked(k, 0);
-  std::vector<std::int64_t> first_row(k + 1, 0);
   std::set<BulkStore*> stores;
   std::int64_t row = 0;
   for (std::size_t p = 0; p < k; ++p) {
@@ -526,7 +544,7 @@ SpreadMesh Welder::spread(TetMesh&& healed_band) {
     bulk.piece = pieces_[p].index;
     bulk.first_point = shares[p].first_steiner;
     bulk.points = static_cast<std::int64_t>(steiner_points[p] - shares[p].dropped_steiner.size());
-    bulk.first_tet = first_row[p] = row;
+    bulk.first_tet = row;
     bulk.tets = static_cast<std::int64_t>(bulk_tets(p));
     row += bulk.tets;
     if (stored_[p].stored) {
@@ -548,21 +566,29 @@ SpreadMesh Welder::spread(TetMesh&& healed_band) {
     }
   for (std::size_t p = 0; p < k; ++p)
     if (!linked[p]) throw InternalError("the rank keeping the bulk of piece " + std::to_string(p) + " did not link it");
-  // 3. The healed band in output ids, last.
-  mesh.first_band_tet = first_row[k] = row;
-  mesh.tets = row + static_cast<std::int64_t>(healed_band.tets.size());
+  mesh.first_band_tet = row;
+  return links;
+}
+
+SpreadMesh Welder::spread(TetMesh&& healed_band) {
+  const std::size_t k = bulks_.size();
+  if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
+  const AssemblyNumbering numbering = this->numbering(healed_band);
+  SpreadMesh mesh;
+  mesh.points = numbering.point_count();
+  mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count());
   check_int32_sizes(static_cast<std::size_t>(mesh.tets), static_cast<std::size_t>(mesh.points));
-  for (Tet t : healed_band.tets) {
-    for (auto& v : t)
-      if ((v = numbering.of_band(v)) < 0) throw InternalError("a point the assembly dropped is still used");
-    mesh.band_tets.push_back(t);
-  }
-  mesh.band_piece =
-      healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);
+  // 1. Rank 0's points.
+  spread_points(numbering, first_steiner_, healed_band, mesh);
+  // 2. The bulks, numbered where they are, in piece order, and their links.
+  std::vector<BlockLinks> links = spread_bulks(numbering, mesh);
+  // 3. The healed band, last.
   std::vector<std::int32_t> band_label;
-  links[k] = block_links(mesh.band_tets, healed_band.neighbours, true, 0, {}, band_label);
-  healed_band = TetMesh();
+  links.push_back(spread_band(numbering, std::move(healed_band), mesh, band_label));
   // 4. The connected solids, across the blocks' shared faces.
+  std::vector<std::int64_t> first_row;
+  for (const SpreadBulk& bulk : mesh.bulks) first_row.push_back(bulk.first_tet);
+  first_row.push_back(mesh.first_band_tet);
   const std::vector<std::vector<std::int32_t>> solids = solids_of_blocks(links, first_row);
   for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].solid = solids[p];
   mesh.band_solid.reserve(band_label.size());

@@ -117,6 +117,9 @@ class Welder {
   // Piece p's bulk's tets and Steiner points, wherever it is.
   std::size_t bulk_tets(std::size_t p) const;
   std::size_t bulk_steiner_points(std::size_t p) const;
+  // Welder::spread's step 2: each bulk's rows, those kept here moved into the mesh, every bulk's
+  // links (from its store for those kept elsewhere); sets mesh.first_band_tet.
+  std::vector<BlockLinks> spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh);
   // What the assembled mesh's numbering is made of (stages/assembly_numbering.hpp); the bands'
   // Steiner maps move into it.
   AssemblyPoints assembly_points();
