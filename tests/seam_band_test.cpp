@@ -176,6 +176,54 @@ void check_layers(const char* name, bool caps) {
 // breadth-first search over the welded mesh, depth for depth.
 // A mesh left spread (Welder::spread) has, row for row, the points, tets, pieces and solids of the
 // assembled mesh: its blocks' rows, written where they are, make the assembled mesh's arrays.
+// A .pvtu set's piece files made from a spread mesh's parts hold the assembled mesh's tets of
+// their piece value in row order, their points numbered in order of first use with their ids
+// and coordinates in the assembled mesh; rank 0 finds every point the band uses without the
+// bulks.
+namespace {
+void expect_piece_files_as_assembled(const SpreadMesh& spread, const TetMesh& whole,
+                                     const std::vector<std::int32_t>& regions) {
+  std::vector<int> values(whole.piece.begin(), whole.piece.end());
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  EXPECT_EQ(piece_values(spread), values);
+  for (int piece : piece_values(spread)) {
+    SCOPED_TRACE("piece " + std::to_string(piece));
+    std::vector<Tet> band;
+    std::vector<std::int32_t> band_solid, bulk_solid, bulk_piece;
+    band_tets_of(spread, piece, band, band_solid);
+    std::vector<TetsWithRegion> blocks;
+    for (const SpreadBulk& bulk : spread.bulks)
+      if (bulk.piece == piece) {
+        bulk_columns(bulk.block, bulk, bulk_solid, bulk_piece);
+        blocks.push_back({&bulk.block.tets, &bulk_solid});
+      }
+    blocks.push_back({&band, &band_solid});
+    const VtuCells cells = piece_file_cells(piece, blocks);
+    std::vector<Tet> expected, made;
+    std::vector<std::int32_t> expected_region;
+    for (std::size_t t = 0; t < whole.tets.size(); ++t)
+      if (whole.piece[t] == piece) expected.push_back(whole.tets[t]), expected_region.push_back(regions[t]);
+    std::int64_t next = 0;  // points numbered in order of first use
+    for (std::size_t c = 0; c < cells.connectivity.size(); ++c) {
+      const std::int64_t v = cells.connectivity[c];
+      ASSERT_LE(v, next);
+      if (v == next) ++next;
+      if (c % 4 == 0) made.emplace_back();
+      made.back()[c % 4] = static_cast<std::int32_t>(cells.global_ids[v]);
+    }
+    EXPECT_EQ(next, static_cast<std::int64_t>(cells.global_ids.size()));
+    EXPECT_EQ(made, expected);
+    EXPECT_EQ(cells.region, expected_region);
+    EXPECT_EQ(cells.piece, std::vector<std::int32_t>(expected.size(), piece));
+  }
+  SpreadMesh rank0 = spread;  // as if every bulk were kept elsewhere
+  for (SpreadBulk& bulk : rank0.bulks) bulk.here = false, bulk.block = TetBlock();
+  for (const Tet& t : spread.band_tets)
+    for (std::int32_t v : t) ASSERT_EQ(point_of(rank0, v), whole.points[v]);
+}
+}  // namespace
+
 TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
   for (const char* name : {"torus", "two_spheres", "nested"})
     for (int k : {3, 6})
@@ -221,7 +269,31 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
         EXPECT_EQ(solid, regions);
         if (std::string(name) != "nested")  // (its shells' nesting decides)
           EXPECT_EQ(*std::max_element(regions.begin(), regions.end()), std::string(name) == "two_spheres" ? 2 : 1);
+        expect_piece_files_as_assembled(spread, whole, regions);
       }
+}
+
+// A piece file's points are numbered in order of first use across its blocks, whether its ids
+// are compact (a bulk) or spread over the whole mesh (the seams' file).
+TEST(SeamBand, APieceFilesPointsAreNumberedInOrderOfFirstUse) {
+  for (const std::int32_t stride : {1, 100000}) {
+    SCOPED_TRACE("stride " + std::to_string(stride));
+    const std::vector<Tet> bulk{{7, 3, 9, 1}, {3, 9, 12, 7}}, band{{12, 40, 1, 2}, {2, 40, 41, 9}};
+    std::vector<Tet> bulk_ids = bulk, band_ids = band;
+    for (auto* tets : {&bulk_ids, &band_ids})
+      for (Tet& t : *tets)
+        for (std::int32_t& v : t) v *= stride;
+    const std::vector<std::int32_t> bulk_region{1, 1}, band_region{1, 2};
+    const VtuCells cells = piece_file_cells(4, {{&bulk_ids, &bulk_region}, {&band_ids, &band_region}});
+    const std::vector<std::int64_t> first_use{7, 3, 9, 1, 12, 40, 2, 41};
+    std::vector<std::int64_t> ids;
+    for (std::int64_t v : first_use) ids.push_back(v * stride);
+    EXPECT_EQ(cells.global_ids, ids);
+    EXPECT_EQ(cells.connectivity, (std::vector<std::int64_t>{0, 1, 2, 3, 1, 2, 4, 0, 4, 5, 3, 6, 6, 5, 7, 2}));
+    EXPECT_EQ(cells.offsets, (std::vector<std::int64_t>{4, 8, 12, 16}));
+    EXPECT_EQ(cells.region, (std::vector<std::int32_t>{1, 1, 1, 2}));
+    EXPECT_EQ(cells.piece, std::vector<std::int32_t>(4, 4));
+  }
 }
 
 TEST(SeamBand, LayersCrossTheCapsAsOverTheWholeMesh) {

@@ -196,6 +196,45 @@ TEST(Serialize, BulkSharesRoundTrip) {
   EXPECT_TRUE(deserialize_bulk_shares(serialize_bulk_shares({})).empty());
 }
 
+// A spread mesh's messages: the links of the bulks a rank keeps, and where every bulk's rows are.
+TEST(Serialize, BulkLinksAndPlacementRoundTrip) {
+  BlockLinks links;
+  links.first_tet = {0, 17};
+  links.keys = {{1, 2, 3}, {4, 5, 2147483647}};
+  links.component = {0, 1};
+  const std::vector<std::pair<int, BlockLinks>> sent{{3, links}, {65535, BlockLinks{}}};
+  const auto back = deserialize_bulk_links(serialize_bulk_links(sent));
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0].first, 3);
+  EXPECT_EQ(back[0].second.first_tet, links.first_tet);
+  EXPECT_EQ(back[0].second.keys, links.keys);
+  EXPECT_EQ(back[0].second.component, links.component);
+  EXPECT_EQ(back[1].first, 65535);
+  EXPECT_TRUE(back[1].second.keys.empty());
+  EXPECT_TRUE(deserialize_bulk_links(serialize_bulk_links({})).empty());
+  BlockLinks unmatched = links;
+  unmatched.component.pop_back();  // a key without its component
+  EXPECT_THROW(deserialize_bulk_links(serialize_bulk_links({{0, unmatched}})), InternalError);
+
+  std::vector<SpreadBulk> bulks(2);
+  bulks[0].piece = 7, bulks[0].first_point = std::int64_t{1} << 33, bulks[0].points = 5;
+  bulks[0].first_tet = 9, bulks[0].tets = 11, bulks[0].solid = {1, 2};
+  bulks[0].here = true, bulks[0].block.tets = {{0, 1, 2, 3}};  // neither travels
+  const std::vector<SpreadBulk> placed = deserialize_placement(serialize_placement(bulks));
+  ASSERT_EQ(placed.size(), 2u);
+  EXPECT_EQ(placed[0].piece, 7);
+  EXPECT_EQ(placed[0].first_point, std::int64_t{1} << 33);
+  EXPECT_EQ(placed[0].points, 5);
+  EXPECT_EQ(placed[0].first_tet, 9);
+  EXPECT_EQ(placed[0].tets, 11);
+  EXPECT_EQ(placed[0].solid, bulks[0].solid);
+  EXPECT_FALSE(placed[0].here);
+  EXPECT_TRUE(placed[0].block.tets.empty());
+  EXPECT_TRUE(placed[1].solid.empty());
+  const std::string bytes = serialize_placement(bulks);
+  EXPECT_ANY_THROW(deserialize_placement(bytes.substr(0, bytes.size() - 3)));
+}
+
 TEST(Serialize, SpecialValuesAndNegativeIds) {
   PieceSurface piece;
   piece.index = 2147483647;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -73,20 +74,6 @@ CompressedArray compress(std::string name, std::string type, int components, Arr
   for (const auto& p : packed) at = std::copy(p.begin(), p.end(), at);
   return array;
 }
-
-// The tets of one piece value with their points renumbered, or all tets and points as they are.
-struct VtuCells {
-  std::vector<double> xyz;
-  std::vector<std::int64_t> connectivity, offsets;
-  std::vector<std::uint8_t> types;
-  std::vector<std::int32_t> piece, region;
-  std::vector<std::int64_t> global_ids;  // a piece file's: each point's id in the whole mesh
-
-  VtuCellsView view() const {
-    return {run_of(xyz),   run_of(connectivity), run_of(offsets),   run_of(types),
-            run_of(piece), run_of(region),       run_of(global_ids)};
-  }
-};
 
 void add_cell(const MeshOutput& output, const std::vector<std::int32_t>& region, std::size_t t, VtuCells& cells) {
   cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));
@@ -159,6 +146,66 @@ class PieceCells {
 
 }  // namespace
 
+namespace {
+
+// New ids for a piece file's points in order of first use: through an array over the span of
+// their old ids when it is compact (a bulk: the piece's surface points and its own Steiner
+// points), else through their places among the ids, sorted once (the seams' tets use points
+// from everywhere, and no rank holds an array over the whole mesh's ids).
+class FirstUseIds {
+ public:
+  explicit FirstUseIds(const std::vector<TetsWithRegion>& blocks) {
+    std::size_t refs = 0;
+    for (const TetsWithRegion& block : blocks)
+      for (const Tet& t : *block.tets)
+        for (std::int32_t v : t) low_ = std::min(low_, v), high_ = std::max(high_, v), ++refs;
+    if (refs == 0) return;
+    const auto span = static_cast<std::size_t>(high_ - low_) + 1;
+    if (span <= 8 * refs) {
+      by_offset_.assign(span, -1);
+      return;
+    }
+    for (const TetsWithRegion& block : blocks)
+      for (const Tet& t : *block.tets) sorted_.insert(sorted_.end(), t.begin(), t.end());
+    std::sort(sorted_.begin(), sorted_.end());
+    sorted_.erase(std::unique(sorted_.begin(), sorted_.end()), sorted_.end());
+    by_place_.assign(sorted_.size(), -1);
+  }
+  // Point v's new id, given it now when it has none.
+  std::int64_t operator()(std::int32_t v, std::vector<std::int64_t>& global_ids) {
+    std::int64_t& id =
+        by_offset_.empty()
+            ? by_place_[static_cast<std::size_t>(std::lower_bound(sorted_.begin(), sorted_.end(), v) - sorted_.begin())]
+            : by_offset_[static_cast<std::size_t>(v - low_)];
+    if (id < 0) id = static_cast<std::int64_t>(global_ids.size()), global_ids.push_back(v);
+    return id;
+  }
+
+ private:
+  std::int32_t low_ = INT32_MAX, high_ = INT32_MIN;
+  std::vector<std::int64_t> by_offset_;
+  std::vector<std::int32_t> sorted_;
+  std::vector<std::int64_t> by_place_;
+};
+
+}  // namespace
+
+VtuCells piece_file_cells(int piece, const std::vector<TetsWithRegion>& blocks) {
+  FirstUseIds new_id(blocks);
+  VtuCells cells;
+  for (const TetsWithRegion& block : blocks) {
+    if (block.region->size() != block.tets->size()) throw InternalError("a block's regions do not match its tets");
+    for (std::size_t t = 0; t < block.tets->size(); ++t) {
+      for (std::int32_t v : (*block.tets)[t]) cells.connectivity.push_back(new_id(v, cells.global_ids));
+      cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));  // where the cell ends
+      cells.types.push_back(10);                                                      // VTK_TETRA
+      cells.piece.push_back(piece);
+      cells.region.push_back((*block.region)[t]);
+    }
+  }
+  return cells;
+}
+
 void write_vtu_file(const VtuCellsView& cells, const std::string& path, const std::string& shown) {
   const std::size_t points = cells.xyz.size / 3, tets = cells.types.size;
   std::vector<CompressedArray> arrays;
@@ -196,12 +243,12 @@ void write_vtu_file(const VtuCellsView& cells, const std::string& path, const st
   out.close();
 }
 
-namespace {
-
 PieceArrays arrays_of(const VtuCellsView& cells) {
   return {bytes_of(cells.xyz),   bytes_of(cells.connectivity), bytes_of(cells.offsets),   bytes_of(cells.types),
           bytes_of(cells.piece), bytes_of(cells.region),       bytes_of(cells.global_ids)};
 }
+
+namespace {
 
 // The cells, or nothing when the arrays do not fit together (lost or cut bytes).
 std::optional<VtuCellsView> vtu_cells_from(const PieceArrays& arrays) {
@@ -399,19 +446,26 @@ void write_piece_files(MeshFormat format, const std::vector<PieceFile>& files, c
 }
 
 // A .pvtu set: one .vtu per piece value, then the index naming them. The piece files' temporaries
-// are made first and written together (by every rank when the driver deals them out), inside the
-// index's add, so that a failure of any removes them all.
-void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string& prefix, const PieceFilesWrite& write) {
+// are made first and written together (by every rank when the driver deals them out; by the ranks
+// keeping its parts when the mesh is spread), inside the index's add, so that a failure of any
+// removes them all.
+void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string& prefix, const RankWriters& writers) {
   // The index names its piece files relative to its own directory.
   const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
+  const bool spread = static_cast<bool>(writers.spread_piece_files);
   std::vector<std::string> sources;
   std::vector<PieceFile> files;
-  for (int piece : pieces_in(output)) {
+  for (int piece : spread ? writers.spread_pieces : pieces_in(output)) {
     const std::string final_path = piece_file(prefix, piece);
     set.add(final_path, [&](const std::string& tmp) { files.push_back({piece, tmp, final_path}); });
     sources.push_back(piece_file(base, piece));
   }
   set.add(format_paths(MeshFormat::pvtu, prefix).front(), [&](const std::string& tmp) {
+    if (spread) {
+      writers.spread_piece_files(files);
+      write_pvtu(output, tmp, sources);
+      return;
+    }
     const std::vector<std::int32_t> region = region_of_tets(output.mesh);  // once for all the files
     PieceCells cells(output, region);
     VtuCells current;  // the last piece's cells, kept until the next is asked for
@@ -421,7 +475,7 @@ void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string&
           current = cells.of(piece);
           return arrays_of(current.view());
         },
-        write);
+        writers.piece_files);
     write_pvtu(output, tmp, sources);
   });
   // Piece files of an earlier .pvtu at this prefix that this one does not name (it had more
@@ -549,7 +603,7 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
       add_xdmf_files(set, output, prefix, writers.hdf5);
       return;
     case MeshFormat::pvtu:
-      add_pvtu_files(set, output, prefix, writers.piece_files);
+      add_pvtu_files(set, output, prefix, writers);
       return;
     case MeshFormat::msh_parts:
     case MeshFormat::msh_parts_binary:

@@ -98,6 +98,30 @@ struct VtuCellsView {
   ArrayRun<std::int32_t> piece, region;
   ArrayRun<std::int64_t> global_ids;  // a .pvtu piece file's (else empty): each point's id in the whole mesh
 };
+// The cells of a .vtu file: the tets of one piece value with their points renumbered, or all
+// tets and points as they are.
+struct VtuCells {
+  std::vector<double> xyz;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types;
+  std::vector<std::int32_t> piece, region;
+  std::vector<std::int64_t> global_ids;  // a piece file's: each point's id in the whole mesh
+
+  VtuCellsView view() const {
+    return {run_of(xyz),   run_of(connectivity), run_of(offsets),   run_of(types),
+            run_of(piece), run_of(region),       run_of(global_ids)};
+  }
+};
+// Tets in global ids and a region (solid) per tet, viewed where they are.
+struct TetsWithRegion {
+  const std::vector<Tet>* tets;
+  const std::vector<std::int32_t>* region;
+};
+// A .pvtu piece file's cells from blocks of one piece value's tets in row order (a mesh left
+// spread: a piece's bulk, then the band's tets of that piece): the points renumbered from 0 in
+// order of first use, with their ids in the whole mesh, as the assembled mesh's piece files
+// number them. The coordinates are the caller's to set: xyz, 3 per global id.
+VtuCells piece_file_cells(int piece, const std::vector<TetsWithRegion>& blocks);
 // The point data of a .pvtu set's piece files that numbers their points as in the whole mesh
 // (from 0, as in the single .vtu and, less one, the TetGen and MSH files): VTK's global ids.
 inline constexpr const char* kGlobalPointIds = "GlobalPointIds";
@@ -152,6 +176,8 @@ struct PieceFile {
 using PieceArrays = std::vector<std::string_view>;
 // A piece value's arrays, made for its own file; valid until the next call.
 using PieceArraysOf = std::function<PieceArrays(int piece)>;
+// A .vtu piece file's arrays (what a rank that cannot open the file sends the rank that can).
+PieceArrays arrays_of(const VtuCellsView& cells);
 // Writes one piece file of a set in `format` (pvtu, msh-parts, msh-parts-binary) from its arrays
 // into `path`, which must exist; errors name `shown`. Throws OutputError when the arrays do not
 // fit together (lost or cut bytes).
@@ -163,11 +189,15 @@ using PieceFilesWrite =
 
 // How the other ranks take part in writing (the MPI driver's): hdf5 writes an XDMF set's HDF5
 // files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes the
-// piece files of a .pvtu set or the MSH partitions (empty: here, alone).
+// piece files of a .pvtu set or the MSH partitions (empty: here, alone). With a mesh left spread
+// (MeshOutput's mesh empty), a .pvtu set's piece values and the writer of its piece files from
+// where the mesh's parts are.
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;
   PieceFilesWrite piece_files;
+  std::vector<int> spread_pieces;
+  std::function<void(const std::vector<PieceFile>& files)> spread_piece_files;
 };
 
 // Writes the format's files for PREFIX under temporary names into `set` (published together).

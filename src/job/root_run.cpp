@@ -1,5 +1,6 @@
 #include "job/root_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/tetgen_files.hpp"
@@ -18,12 +19,13 @@ void RootRun::prepare(InputChecks checks) {
 
 namespace {
 
-// Whether the mesh may stay where its parts are: only the XDMF set is written (its owners write
-// the parts), nothing reads the whole mesh on rank 0 (no check, no comparison, no polish), and the
-// bulks wait in memory where they were meshed.
+// Whether the mesh may stay where its parts are: only formats its owners write in parts (the
+// XDMF set, a .pvtu set), nothing reads the whole mesh on rank 0 (no check, no comparison, no
+// polish), and the bulks wait in memory where they were meshed.
 bool may_spread(const MeshJob& job) {
-  return job.formats == std::vector<MeshFormat>{MeshFormat::xdmf} && !job.check_output && !job.compare_tetgen &&
-         !polishes(job.options) && job.options.scratch.empty();
+  const auto written_in_parts = [](MeshFormat f) { return f == MeshFormat::xdmf || f == MeshFormat::pvtu; };
+  return !job.formats.empty() && std::all_of(job.formats.begin(), job.formats.end(), written_in_parts) &&
+         !job.check_output && !job.compare_tetgen && !polishes(job.options) && job.options.scratch.empty();
 }
 
 }  // namespace
@@ -47,6 +49,7 @@ void RootRun::check_and_write(const RankWriters& writers) {
     scale_points(spread->split_points, -scale_exponent_);
     scale_points(spread->healing_points, -scale_exponent_);
     for (SpreadBulk& bulk : spread->bulks) scale_points(bulk.block.steiner_points, -scale_exponent_);
+    scale_points(spread->band_steiner_points, -scale_exponent_);
   }
   for (CutPlane& plane : result_.planes) plane.offset = std::ldexp(plane.offset, -scale_exponent_);
   check_ = check_result(job_, input_, result_, times_);

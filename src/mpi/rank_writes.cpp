@@ -20,13 +20,14 @@
 #include "io/xdmf.hpp"
 #include "job/job.hpp"
 #include "mpi/ranks.hpp"
+#include "mpi/spread_piece_files.hpp"
 #include "partet/errors.hpp"
+#include "runner/serialize.hpp"
 #include "stages/spread_mesh.hpp"
 
 namespace partet::mpi {
 namespace {
 
-constexpr int kTagText = 6;
 constexpr const char* kSpreadOrder = "hdf5-spread";
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
 constexpr std::size_t kTextChunk = std::size_t{8} << 20;
@@ -37,13 +38,6 @@ constexpr std::size_t kRowPart = std::size_t{1} << 20;
 // shorter; an empty block is one empty part. Sender and receiver both count by this.
 std::size_t row_part_count(std::size_t first, std::size_t last) {
   return std::max<std::size_t>(1, (last - first + kRowPart - 1) / kRowPart);
-}
-
-// An absolute path, or an OutputError when the working directory cannot be named.
-std::string absolute_or_error(const std::string& path) {
-  std::string absolute = absolute_path(path);
-  if (absolute.empty() || absolute[0] != '/') throw OutputError("cannot find the working directory");
-  return absolute;
 }
 
 // A block of the HDF5 files goes to its rank as a header ("B", or "" when rank 0 cannot make it),
@@ -122,15 +116,14 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
 }
 
-// The rows of bulks as runs, with their cell data (made into `columns`, which must outlive the
-// runs); their Steiner points scaled back by 2^-exponent first (rank 0 scaled its own: 0).
-void add_bulk_runs(std::vector<std::pair<const SpreadBulk*, TetBlock*>> bulks, int exponent,
+// The rows of bulks (their points at the input's scale) as runs, with their cell data (made into
+// `columns`, which must outlive the runs).
+void add_bulk_runs(std::vector<std::pair<const SpreadBulk*, const TetBlock*>> bulks,
                    std::vector<std::vector<std::int32_t>>& columns, MeshRowRuns& runs) {
   columns.reserve(2 * bulks.size());
   for (auto [place, bulk] : bulks) {
     if (static_cast<std::int64_t>(bulk->steiner_points.size()) != place->points)
       throw InternalError("the bulk of piece " + std::to_string(place->piece) + " does not match its placement");
-    if (exponent != 0) scale_points(bulk->steiner_points, -exponent);
     std::vector<std::int32_t>& solid = columns.emplace_back();
     std::vector<std::int32_t>& piece = columns.emplace_back();
     bulk_columns(*bulk, *place, solid, piece);
@@ -161,10 +154,10 @@ MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const Mesh
   try {
     runs.points.push_back({0, run_of(mesh.split_points)});
     runs.points.push_back({static_cast<std::uint64_t>(mesh.first_healing_point), run_of(mesh.healing_points)});
-    std::vector<std::pair<const SpreadBulk*, TetBlock*>> own;
+    std::vector<std::pair<const SpreadBulk*, const TetBlock*>> own;
     for (SpreadBulk& bulk : mesh.bulks)
       if (bulk.here) own.push_back({&bulk, &bulk.block});
-    add_bulk_runs(own, 0, columns, runs);
+    add_bulk_runs(own, columns, runs);
     runs.tets.push_back({static_cast<std::uint64_t>(mesh.first_band_tet), run_of(mesh.band_tets),
                          run_of(mesh.band_solid), run_of(mesh.band_piece)});
     markers.resize(output.boundary.size());
@@ -420,7 +413,7 @@ void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
 }
 
 // A worker's side of a spread mesh's HDF5 files: the rows of the bulks it keeps.
-void join_spread_write(std::istringstream& lines, JobStatus& status, const KeptBulksTaker& take_bulks) {
+void join_spread_write(std::istringstream& lines, JobStatus& status, BulksForWrites& kept) {
   Hdf5Paths paths;
   std::string exponent, points, tets, faces;
   std::getline(lines, paths.mesh), std::getline(lines, paths.boundary);
@@ -429,18 +422,17 @@ void join_spread_write(std::istringstream& lines, JobStatus& status, const KeptB
   const std::string placement = broadcast_text("");
   WriteTrouble trouble = WriteTrouble::none;
   MeshRowRuns runs;
-  std::map<int, TetBlock> bulks;
   std::vector<std::vector<std::int32_t>> columns;
   std::vector<SpreadBulk> places;
   try {
     places = deserialize_placement(placement);
-    bulks = take_bulks();
-    std::vector<std::pair<const SpreadBulk*, TetBlock*>> mine;
+    const std::map<int, TetBlock>& bulks = kept.get(std::stoi(exponent));
+    std::vector<std::pair<const SpreadBulk*, const TetBlock*>> mine;
     for (const SpreadBulk& place : places)
       if (auto it = bulks.find(place.piece); it != bulks.end()) mine.push_back({&place, &it->second});
     if (mine.size() != bulks.size())
       throw InternalError("rank " + std::to_string(my_rank()) + " keeps a bulk rank 0 did not place");
-    add_bulk_runs(mine, std::stoi(exponent), columns, runs);
+    add_bulk_runs(mine, columns, runs);
   } catch (const std::exception& e) {
     log::error(e.what());
     trouble = WriteTrouble::no_block;
@@ -473,11 +465,17 @@ void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
 }  // namespace
 
 RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int scale_exponent) {
-  RankWriters writers{write_hdf5_on_every_rank, {}, {}};
-  if (spread)
+  RankWriters writers;
+  writers.hdf5 = write_hdf5_on_every_rank;
+  if (spread) {
     writers.hdf5 = [spread, scale_exponent](const MeshOutput& output, const Hdf5Paths& paths) {
       return write_spread_on_every_rank(*spread, scale_exponent, output, paths);
     };
+    writers.spread_pieces = piece_values(*spread);
+    writers.spread_piece_files = [spread, scale_exponent, &stats](const std::vector<PieceFile>& files) {
+      write_spread_piece_files(*spread, scale_exponent, files, stats);
+    };
+  }
   if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
   writers.piece_files = [&stats](MeshFormat format, const std::vector<PieceFile>& files,
                                  const PieceArraysOf& arrays_of) {
@@ -490,6 +488,7 @@ void end_writes() { broadcast_text(""); }
 
 void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks) {
   const AddSeconds timer{stats.write_seconds};
+  BulksForWrites kept(take_bulks);
   for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
     std::istringstream lines(order);
     std::string kind;
@@ -497,7 +496,9 @@ void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take
     if (kind == "hdf5")
       join_hdf5_write(lines, status);
     else if (kind == kSpreadOrder)
-      join_spread_write(lines, status, take_bulks);
+      join_spread_write(lines, status, kept);
+    else if (kind == kSpreadPiecesOrder)
+      write_own_piece_files(lines, kept, stats);
     else if (kind == kPiecesOrder)
       write_piece_files_sent(lines, stats);
     else

@@ -11,6 +11,8 @@
 // - pieces: the files of a set with one file per piece (a .pvtu set's, the MSH partitions); each
 //   rank that sees the output directory writes some, each file going to whichever rank is free
 //   (see PieceFileDealer).
+// - hdf5-spread, pvtu-spread: the same files from a mesh left spread, each part written by the
+//   rank that keeps it (spread_piece_files.hpp).
 #pragma once
 #include <functional>
 #include <map>

@@ -5,6 +5,8 @@
 
 #include "common/log.hpp"
 #include "common/memory.hpp"
+#include "common/paths.hpp"
+#include "partet/errors.hpp"
 
 namespace partet::mpi {
 
@@ -40,6 +42,12 @@ void broadcast(Command command) {
 
 Command receive_command() {
   return static_cast<Command>(bounded([&] { return broadcast_int(kDone, 0, job_comm(), collective_limit()); }));
+}
+
+std::string absolute_or_error(const std::string& path) {
+  std::string absolute = absolute_path(path);
+  if (absolute.empty() || absolute[0] != '/') throw OutputError("cannot find the working directory");
+  return absolute;
 }
 
 std::string broadcast_text(const std::string& text) {

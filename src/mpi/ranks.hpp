@@ -18,6 +18,7 @@ constexpr int kTagBlock = 3;
 constexpr int kTagVerdict = 5;   // rank 1's verdict on the input
 constexpr int kTagFindings = 6;  // another checking rank's findings, to rank 1
 constexpr int kTagBulk = 8;      // a kept bulk, back to rank 0
+constexpr int kTagText = 6;      // during the writes, a worker's text or answer to rank 0 (no findings then)
 enum Command : int { kDone = 0, kMeshPieces = 1, kSendBulk = 2, kNumberBulks = 3, kLinkBulks = 4 };
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a
@@ -73,6 +74,10 @@ Command receive_command();
 
 // Rank 0's text to every rank.
 std::string broadcast_text(const std::string& text);
+
+// An absolute path for another rank, whose working directory may differ; an OutputError when
+// this one's cannot be named.
+std::string absolute_or_error(const std::string& path);
 
 // Adds the seconds an object lives to a total.
 struct AddSeconds {

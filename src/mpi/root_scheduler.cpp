@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <deque>
 #include <string>
 #include <thread>
@@ -46,8 +45,7 @@ class RemoteBulks : public BulkStore {
     broadcast(kNumberBulks);
     broadcast_text(serialize_bulk_shares(kept));
   }
-  // Every worker sends the links of the bulks it keeps, numbered: per bulk its piece, then the
-  // size of its links and their bytes ("" when it keeps none).
+  // Every worker sends the links of the bulks it keeps, numbered, by piece.
   std::vector<std::pair<int, BlockLinks>> links(std::int32_t input_vertices) override {
     broadcast(kLinkBulks);
     bounded([&] { return broadcast_int(input_vertices, 0, job_comm(), collective_limit()); });
@@ -63,17 +61,7 @@ class RemoteBulks : public BulkStore {
                   std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
       }
       stats_.bytes_received += static_cast<double>(bytes.size());
-      for (std::size_t at = 0; at < bytes.size();) {
-        std::int64_t head[2] = {0, 0};  // piece, size
-        if (bytes.size() - at < sizeof head) throw InternalError("rank " + std::to_string(rank) + " sent cut links");
-        std::memcpy(head, bytes.data() + at, sizeof head);
-        at += sizeof head;
-        if (head[1] < 0 || bytes.size() - at < static_cast<std::size_t>(head[1]))
-          throw InternalError("rank " + std::to_string(rank) + " sent cut links");
-        all.emplace_back(static_cast<int>(head[0]),
-                         deserialize_links(bytes.substr(at, static_cast<std::size_t>(head[1]))));
-        at += static_cast<std::size_t>(head[1]);
-      }
+      for (auto& links : deserialize_bulk_links(bytes)) all.push_back(std::move(links));
     }
     return all;
   }

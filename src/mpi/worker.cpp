@@ -177,22 +177,19 @@ void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
 // A worker's side of kLinkBulks: the links of every bulk it keeps, numbered (they stay here).
 void send_bulk_links(KeptBulks& kept, RankStats& stats) {
   const std::int32_t input_vertices = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
-  std::string bytes;
+  std::vector<std::pair<int, BlockLinks>> links;
   try {
     for (int piece : kept.pieces()) {
       std::optional<TetBlock> bulk = kept.take(piece);
       std::vector<std::int32_t> label;
-      const std::string links =
-          serialize_links(block_links(bulk->tets, bulk->neighbours, false, input_vertices, bulk->rim, label));
+      links.emplace_back(piece, block_links(bulk->tets, bulk->neighbours, false, input_vertices, bulk->rim, label));
       kept.keep_numbered(piece, std::move(*bulk));
-      const std::int64_t head[2] = {piece, static_cast<std::int64_t>(links.size())};
-      bytes.append(reinterpret_cast<const char*>(head), sizeof head);
-      bytes += links;
     }
   } catch (const std::exception& e) {  // rank 0 misses this rank's links and says so
     log::error(std::string("the links of the kept bulks: ") + e.what());
-    bytes.clear();
+    links.clear();
   }
+  const std::string bytes = serialize_bulk_links(links);
   AddSeconds timer{stats.send_seconds};
   stats.bytes_sent +=
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));

@@ -358,6 +358,68 @@ std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes) {
   });
 }
 
+std::string serialize_bulk_links(const std::vector<std::pair<int, BlockLinks>>& links) {
+  std::size_t expected = 64;
+  for (const auto& [piece, l] : links) expected += 32 + 4 * (l.first_tet.size() + 4 * l.keys.size());
+  return encode(expected, [&](auto& ar) {
+    const std::uint64_t count = links.size();
+    ar << count;
+    for (const auto& [piece, l] : links) {
+      const std::int32_t p = piece;
+      ar << p;
+      save_block(ar, l.first_tet);
+      save_block(ar, l.keys);
+      save_block(ar, l.component);
+    }
+  });
+}
+
+std::vector<std::pair<int, BlockLinks>> deserialize_bulk_links(std::string_view bytes) {
+  auto links = decode<std::vector<std::pair<int, BlockLinks>>>(bytes, [](auto& ar, auto& all) {
+    std::uint64_t count = 0;
+    ar >> count;
+    all.resize(count);
+    for (auto& [piece, l] : all) {
+      std::int32_t p = 0;
+      ar >> p;
+      piece = p;
+      load_block(ar, l.first_tet);
+      load_block(ar, l.keys);
+      load_block(ar, l.component);
+    }
+  });
+  for (const auto& [piece, l] : links)
+    if (l.keys.size() != l.component.size())
+      throw InternalError("malformed links of the bulk of piece " + std::to_string(piece));
+  return links;
+}
+
+std::string serialize_placement(const std::vector<SpreadBulk>& bulks) {
+  return encode(64 + bulks.size() * 64, [&](auto& ar) {
+    const std::uint64_t count = bulks.size();
+    ar << count;
+    for (const SpreadBulk& b : bulks) {
+      const std::int32_t piece = b.piece;
+      ar << piece << b.first_point << b.points << b.first_tet << b.tets;
+      save_block(ar, b.solid);
+    }
+  });
+}
+
+std::vector<SpreadBulk> deserialize_placement(std::string_view bytes) {
+  return decode<std::vector<SpreadBulk>>(bytes, [](auto& ar, std::vector<SpreadBulk>& bulks) {
+    std::uint64_t count = 0;
+    ar >> count;
+    bulks.resize(count);
+    for (SpreadBulk& b : bulks) {
+      std::int32_t piece = 0;
+      ar >> piece >> b.first_point >> b.points >> b.first_tet >> b.tets;
+      b.piece = piece;
+      load_block(ar, b.solid);
+    }
+  });
+}
+
 namespace {
 constexpr char kCapShapeTag = 'C', kCapFailureTag = 'E';
 constexpr std::size_t kCapHead = 1 + sizeof(double);

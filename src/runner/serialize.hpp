@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "partet/errors.hpp"
@@ -12,6 +13,7 @@
 #include "stages/assembly_numbering.hpp"
 #include "stages/closure.hpp"
 #include "stages/piece.hpp"
+#include "stages/spread_mesh.hpp"
 #include "mesher/tetgen_mesher.hpp"
 
 namespace partet {
@@ -61,5 +63,12 @@ TetBlock deserialize_block(std::string_view bytes);
 // The numbering's shares of the bulks a rank keeps, from rank 0 (BulkStore::number).
 std::string serialize_bulk_shares(const std::vector<BulkShare>& shares);
 std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes);
+// The links of the bulks a rank keeps (spread_mesh.hpp), by piece, to rank 0.
+std::string serialize_bulk_links(const std::vector<std::pair<int, BlockLinks>>& links);
+std::vector<std::pair<int, BlockLinks>> deserialize_bulk_links(std::string_view bytes);
+// Where every bulk's rows are and its components' solids (SpreadBulk without its block): what
+// rank 0 tells the owners before they write.
+std::string serialize_placement(const std::vector<SpreadBulk>& bulks);
+std::vector<SpreadBulk> deserialize_placement(std::string_view bytes);
 
 }  // namespace partet

@@ -510,13 +510,29 @@ void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points
   });
 }
 
-// The healed band in output ids, its rows after every bulk's; its links (all its open faces).
+// The healed band in output ids, its rows after every bulk's, with the pieces' Steiner points it
+// uses; its links (all its open faces).
 BlockLinks spread_band(const AssemblyNumbering& numbering, TetMesh&& healed_band, SpreadMesh& mesh,
                        std::vector<std::int32_t>& label) {
+  std::vector<std::pair<std::int64_t, std::int32_t>> steiner;  // (output id, band id) of a piece's Steiner point
+  const auto rank0_keeps = [&mesh](std::int64_t v) {
+    return v < static_cast<std::int64_t>(mesh.split_points.size()) ||
+           (v >= mesh.first_healing_point &&
+            v < mesh.first_healing_point + static_cast<std::int64_t>(mesh.healing_points.size()));
+  };
   for (Tet t : healed_band.tets) {
-    for (auto& v : t)
+    for (auto& v : t) {
+      const std::int32_t band_id = v;
       if ((v = numbering.of_band(v)) < 0) throw InternalError("a point the assembly dropped is still used");
+      if (!rank0_keeps(v)) steiner.emplace_back(v, band_id);
+    }
     mesh.band_tets.push_back(t);
+  }
+  std::sort(steiner.begin(), steiner.end());
+  steiner.erase(std::unique(steiner.begin(), steiner.end()), steiner.end());
+  for (const auto& [id, band_id] : steiner) {
+    mesh.band_steiner_ids.push_back(id);
+    mesh.band_steiner_points.push_back(healed_band.points[band_id]);
   }
   mesh.band_piece =
       healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);

@@ -1,7 +1,6 @@
 #include "stages/spread_mesh.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <numeric>
 
 #include "partet/errors.hpp"
@@ -75,30 +74,6 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
   return solids;
 }
 
-namespace {
-
-template <class T>
-void put(std::string& bytes, const std::vector<T>& values) {
-  const std::uint64_t n = values.size();
-  bytes.append(reinterpret_cast<const char*>(&n), sizeof n);
-  bytes.append(reinterpret_cast<const char*>(values.data()), n * sizeof(T));
-}
-
-template <class T>
-std::vector<T> get(const std::string& bytes, std::size_t& at) {
-  std::uint64_t n = 0;
-  if (bytes.size() < at + sizeof n) throw InternalError("cut links of a bulk");
-  std::memcpy(&n, bytes.data() + at, sizeof n);
-  at += sizeof n;
-  if ((bytes.size() - at) / sizeof(T) < n) throw InternalError("cut links of a bulk");
-  std::vector<T> values(n);
-  std::memcpy(values.data(), bytes.data() + at, n * sizeof(T));
-  at += n * sizeof(T);
-  return values;
-}
-
-}  // namespace
-
 void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,
                   std::vector<std::int32_t>& piece) {
   std::vector<std::int32_t> label;
@@ -112,45 +87,34 @@ void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std
   piece.assign(bulk.tets.size(), place.piece);
 }
 
-std::string serialize_placement(const std::vector<SpreadBulk>& bulks) {
-  std::string bytes;
-  for (const SpreadBulk& b : bulks) {
-    put(bytes, std::vector<std::int64_t>{b.piece, b.first_point, b.points, b.first_tet, b.tets});
-    put(bytes, b.solid);
-  }
-  return bytes;
+Point3 point_of(const SpreadMesh& mesh, std::int64_t id) {
+  if (id >= 0 && id < static_cast<std::int64_t>(mesh.split_points.size())) return mesh.split_points[id];
+  const std::int64_t healing = id - mesh.first_healing_point;
+  if (healing >= 0 && healing < static_cast<std::int64_t>(mesh.healing_points.size()))
+    return mesh.healing_points[healing];
+  for (const SpreadBulk& bulk : mesh.bulks)
+    if (bulk.here && id >= bulk.first_point && id < bulk.first_point + bulk.points)
+      return bulk.block.steiner_points.at(id - bulk.first_point);
+  const auto at = std::lower_bound(mesh.band_steiner_ids.begin(), mesh.band_steiner_ids.end(), id);
+  if (at == mesh.band_steiner_ids.end() || *at != id)
+    throw InternalError("point " + std::to_string(id) + " is not kept on rank 0");
+  return mesh.band_steiner_points[at - mesh.band_steiner_ids.begin()];
 }
 
-std::vector<SpreadBulk> deserialize_placement(const std::string& bytes) {
-  std::vector<SpreadBulk> bulks;
-  for (std::size_t at = 0; at < bytes.size();) {
-    const std::vector<std::int64_t> rows = get<std::int64_t>(bytes, at);
-    if (rows.size() != 5) throw InternalError("malformed placement of the bulks");
-    SpreadBulk& b = bulks.emplace_back();
-    b.piece = static_cast<int>(rows[0]);
-    b.first_point = rows[1], b.points = rows[2], b.first_tet = rows[3], b.tets = rows[4];
-    b.solid = get<std::int32_t>(bytes, at);
-  }
-  return bulks;
+std::vector<int> piece_values(const SpreadMesh& mesh) {
+  std::vector<int> values;
+  for (const SpreadBulk& bulk : mesh.bulks)
+    if (bulk.tets > 0) values.push_back(bulk.piece);
+  values.insert(values.end(), mesh.band_piece.begin(), mesh.band_piece.end());
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  return values;
 }
 
-std::string serialize_links(const BlockLinks& links) {
-  std::string bytes;
-  put(bytes, links.first_tet);
-  put(bytes, links.keys);
-  put(bytes, links.component);
-  return bytes;
-}
-
-BlockLinks deserialize_links(const std::string& bytes) {
-  std::size_t at = 0;
-  BlockLinks links;
-  links.first_tet = get<std::int32_t>(bytes, at);
-  links.keys = get<std::array<std::int32_t, 3>>(bytes, at);
-  links.component = get<std::int32_t>(bytes, at);
-  if (at != bytes.size() || links.keys.size() != links.component.size())
-    throw InternalError("malformed links of a bulk");
-  return links;
+void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid) {
+  tets.clear(), solid.clear();
+  for (std::size_t t = 0; t < mesh.band_tets.size(); ++t)
+    if (mesh.band_piece[t] == piece) tets.push_back(mesh.band_tets[t]), solid.push_back(mesh.band_solid[t]);
 }
 
 }  // namespace partet

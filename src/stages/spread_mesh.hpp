@@ -8,7 +8,6 @@
 #pragma once
 #include <array>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
@@ -36,9 +35,6 @@ BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& nei
 std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockLinks>& blocks,
                                                         const std::vector<std::int64_t>& first_row);
 
-std::string serialize_links(const BlockLinks& links);
-BlockLinks deserialize_links(const std::string& bytes);
-
 // One bulk of a spread mesh: its rows, and the bulk itself when rank 0 keeps it.
 struct SpreadBulk {
   int piece = 0;
@@ -59,15 +55,26 @@ struct SpreadMesh {
   std::int64_t first_band_tet = 0;  // the healed band's tets, in output ids, from this row
   std::vector<Tet> band_tets;
   std::vector<std::int32_t> band_piece, band_solid;
+  // The pieces' Steiner points the band's tets use (their rows are the bulks', kept elsewhere):
+  // ids ascending, and their coordinates. For a .pvtu set's seam file.
+  std::vector<std::int64_t> band_steiner_ids;
+  std::vector<Point3> band_steiner_points;
 };
+
+// The coordinates of point `id` as rank 0 keeps them: the split surface's points, those healing
+// added, the Steiner points of the bulks it keeps and of the band. Throws InternalError for any
+// other (a Steiner point only a bulk kept elsewhere uses).
+Point3 point_of(const SpreadMesh& mesh, std::int64_t id);
+
+// The piece values with tets, as pieces_in gives them for the assembled mesh: the seams' -1
+// first (when healing re-meshed any), then the pieces ascending.
+std::vector<int> piece_values(const SpreadMesh& mesh);
+
+// The band's tets of one piece value, in row order, with their solids.
+void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid);
 
 // A bulk's cell data as written: per tet its solid (through its component) and its piece.
 void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,
                   std::vector<std::int32_t>& piece);
-
-// Where every bulk's rows are and its components' solids (SpreadBulk without its block): what
-// rank 0 tells the owners before they write.
-std::string serialize_placement(const std::vector<SpreadBulk>& bulks);
-std::vector<SpreadBulk> deserialize_placement(const std::string& bytes);
 
 }  // namespace partet

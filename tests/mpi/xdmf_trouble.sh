@@ -12,7 +12,8 @@
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
 #               silently incomplete. Needs unshare -m (root); exits 77 (skipped) without it.
-#               A .pvtu set works there: rank 0 writes the piece files rank 1 cannot see;
+#               A .pvtu set works there: rank 0 writes the piece files rank 1 cannot see (rank 1
+#               sends the files of the bulks it keeps);
 #   full-pvtu:  the disk fills while both ranks write their piece files of a .pvtu set.
 # Usage: xdmf_trouble.sh PARTET MPIEXEC
 set -euo pipefail
@@ -73,9 +74,11 @@ mkdir alone
 for f in alone/*; do cmp "$f" "out/$(basename "$f")" || { echo "FAIL: not-shared-pvtu: $(basename "$f") differs"; exit 1; }; done
 /usr/bin/python3 -c "
 import json
-written = [r['piece_files_written'] for r in json.load(open('report.json'))['rank']]
-assert written == [5, 0], written"
-echo "ok: not-shared-pvtu: rank 0 wrote the 5 piece files rank 1 could not see, the same bytes as 1 rank's"
+report = json.load(open('report.json'))
+written = [r['piece_files_written'] for r in report['rank']]
+assert written == [5, 0], written
+assert not report['assembled_on_rank0'], 'the mesh was assembled'"
+echo "ok: not-shared-pvtu: rank 0 wrote the 5 piece files rank 1 could not see (from rank 1's parts: the mesh was not assembled), the same bytes as 1 rank's"
 rm out/m.pvtu out/m_*.vtu
 
 # The output directory fills up during the write (a small tmpfs): the run must end with the disk's

@@ -1,0 +1,52 @@
+// A .pvtu set's piece files from a mesh left spread (internal header): each piece's file is
+// written by the rank keeping the piece's bulk, from the bulk and the band's tets of that piece;
+// rank 0 writes the seams' file and those of the bulks it keeps. No rank holds the whole mesh,
+// and the files are those of the assembled mesh, byte for byte. The exchange (order and answers
+// on the writes' tags):
+//   order (broadcast): kSpreadPiecesOrder, then the scale exponent, then per file its piece,
+//                      temporary and final name, each ended by '\0'; then the bulks' placement
+//                      (broadcast);
+//   rank -> 0: the indices of the files it writes (those of the bulks it keeps), as int64s;
+//   0 -> rank: per such file, "B" then the band's tets of its piece and their solids ("N" alone
+//              when rank 0 could not make them);
+//   rank -> 0: "I" + the points its files use that it does not keep (the split surface's), all
+//              files at once, answered by their coordinates ("" when rank 0 cannot give them);
+//   every rank writes its files at once; then, per file, rank -> 0: "" once written, "E" + why
+//   not, or, when it cannot open the file's temporary (a directory local to rank 0's node),
+//   "A" + the number of arrays, then the file's arrays, which rank 0 writes.
+#pragma once
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "io/mesh_formats.hpp"
+#include "mpi/driver.hpp"
+#include "stages/spread_mesh.hpp"
+
+namespace partet::mpi {
+
+inline constexpr char kSpreadPiecesOrder[] = "pvtu-spread";
+
+// Rank 0's side: the piece files (their temporaries made) of the spread mesh, whose points were
+// scaled by 2^exponent on the other ranks. Throws the first failure of any rank.
+void write_spread_piece_files(const SpreadMesh& mesh, int exponent, const std::vector<PieceFile>& files,
+                              RankStats& stats);
+
+// A worker's bulks for the writes of a spread mesh: taken once, scaled back once, and kept for
+// every format that needs them.
+class BulksForWrites {
+ public:
+  using Taker = std::function<std::map<int, TetBlock>()>;
+  explicit BulksForWrites(Taker take) : take_(std::move(take)) {}
+  std::map<int, TetBlock>& get(int exponent);
+
+ private:
+  Taker take_;
+  bool taken_ = false;
+  std::map<int, TetBlock> bulks_;
+};
+
+// A worker's side of a kSpreadPiecesOrder (its first line read).
+void write_own_piece_files(std::istringstream& order, BulksForWrites& bulks, RankStats& stats);
+
+}  // namespace partet::mpi
