@@ -76,6 +76,8 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
 
 void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,
                   std::vector<std::int32_t>& piece) {
+  // The components again (block_links found them for the links): a linear pass, cheaper than
+  // holding 4 bytes per tet of every bulk from the links to the writes.
   std::vector<std::int32_t> label;
   const std::int32_t components = label_tet_regions(
       bulk.neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, label);

@@ -4,7 +4,8 @@
 # final) is left; (2) SIGKILL of a rank under the launcher takes its TetGen child with it and
 # ends the job without output; (3) SIGTERM to a 2-rank job in the middle of a large file's
 # write keeps the previous set and leaves no temporary; (4) so does SIGTERM while rank 1 writes
-# an MSH partition file.
+# an MSH partition file; (5) and while rank 1 writes the .vtu files of the pieces it keeps (the
+# mesh never assembled).
 # Usage: interrupt.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -129,5 +130,35 @@ done
 [ -n "$held" ] && ok "partition write: interrupted while rank 1 writes $(basename "$held" | cut -d. -f1-2)" ||
   bad "partition write: rank 1 was not seen writing a partition"
 after_interrupt "partition write" "$work/log4" "$work/before4"
+
+# 5. SIGTERM while rank 1 writes a .pvtu piece file of a mesh it was never assembled into: rank 1
+# writes the files of the bulks it keeps (spread_piece_files); the signal comes once it holds one
+# open, slowed as above (its files are over 4 MB: a larger torus, two pieces). The previous set
+# comes from a small input.
+rm -f "$work"/p_*.msh
+"$partet" generate torus --faces 320000 -o "$work/big.off" > /dev/null || exit 1
+"$partet" generate genus3 --faces 6000 -o "$work/small.off" > /dev/null || exit 1
+"$mpiexec" -n 2 "$partet" mesh "$work/small.off" -o "$work/v" --pieces 2 --quiet --format pvtu --report "$work/v.json"
+grep -q '"assembled_on_rank0": false' "$work/v.json" || bad "spread write: the mesh was assembled"
+mkdir "$work/before5" && cp "$work"/v.pvtu "$work"/v_*.vtu "$work/before5/"
+rm "$work/v.json"
+PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
+  -o "$work/v" --pieces 2 --format pvtu > "$work/log5" 2>&1 &
+launcher=$!
+held=""
+for i in $(seq 1200); do
+  for pid in $(pgrep -f "mesh $work/big.off"); do
+    tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 || continue
+    for fd in /proc/"$pid"/fd/*; do
+      target=$(readlink "$fd" 2> /dev/null) || continue
+      [[ "$target" == "$work"/v_*.vtu.tmp-* ]] && held=$target
+    done
+  done
+  [ -n "$held" ] && break
+  sleep 0.05
+done
+[ -n "$held" ] && ok "spread write: interrupted while rank 1 writes its $(basename "$held" | cut -d. -f1-2)" ||
+  bad "spread write: rank 1 was not seen writing a piece file"
+after_interrupt "spread write" "$work/log5" "$work/before5"
 
 summary
