@@ -174,8 +174,8 @@ void check_layers(const char* name, bool caps) {
 // With a quality bound healing grows the stars by two layers, so the bands reach across the caps
 // into the neighbouring pieces: the pieces trade the cap faces they reached until the bands match a
 // breadth-first search over the welded mesh, depth for depth.
-// A mesh left spread (Welder::spread) has, row for row, the points, tets, pieces and solids of the
-// assembled mesh: its blocks' rows, written where they are, make the assembled mesh's arrays.
+// A mesh left spread (Welder::spread) has, row for row, the points, tets, pieces, solids and
+// neighbours (its blocks' own and those across their shared faces) of the assembled mesh: its blocks' rows, written where they are, make the assembled mesh's arrays.
 // A .pvtu set's piece files made from a spread mesh's parts hold the assembled mesh's tets of
 // their piece value in row order, their points numbered in order of first use with their ids
 // and coordinates in the assembled mesh; rank 0 finds every point the band uses without the
@@ -247,6 +247,16 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
         std::vector<Point3> points(whole.points.size(), Point3{-1, -1, -1});
         std::vector<Tet> tets(whole.tets.size(), Tet{-1, -1, -1, -1});
         std::vector<std::int32_t> solid(whole.tets.size(), 0), piece(whole.tets.size(), -2);
+        std::vector<Tet> neighbours(whole.tets.size(), Tet{-2, -2, -2, -2});
+        // A block's neighbour rows in output ids, made in two parts as a writer streams them.
+        const auto add_neighbours = [&](const std::vector<Tet>& own, std::int64_t first,
+                                        const std::vector<FaceAcross>& across) {
+          const std::size_t half = own.size() / 2;
+          const std::vector<Tet> a = neighbour_rows(own, first, across, 0, half);
+          const std::vector<Tet> b = neighbour_rows(own, first, across, half, own.size() - half);
+          std::copy(a.begin(), a.end(), neighbours.begin() + first);
+          std::copy(b.begin(), b.end(), neighbours.begin() + first + static_cast<std::int64_t>(half));
+        };
         std::copy(spread.split_points.begin(), spread.split_points.end(), points.begin());
         std::copy(spread.healing_points.begin(), spread.healing_points.end(), points.begin() + spread.first_healing_point);
         for (const SpreadBulk& bulk : spread.bulks) {
@@ -258,13 +268,16 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
           bulk_columns(bulk.block, bulk, bulk_solid, bulk_piece);
           std::copy(bulk_solid.begin(), bulk_solid.end(), solid.begin() + bulk.first_tet);
           std::copy(bulk_piece.begin(), bulk_piece.end(), piece.begin() + bulk.first_tet);
+          add_neighbours(bulk.block.neighbours, bulk.first_tet, bulk.across);
         }
+        add_neighbours(spread.band_neighbours, spread.first_band_tet, spread.band_across);
         std::copy(spread.band_tets.begin(), spread.band_tets.end(), tets.begin() + spread.first_band_tet);
         std::copy(spread.band_solid.begin(), spread.band_solid.end(), solid.begin() + spread.first_band_tet);
         std::copy(spread.band_piece.begin(), spread.band_piece.end(), piece.begin() + spread.first_band_tet);
         EXPECT_EQ(points, whole.points);
         EXPECT_EQ(tets, whole.tets);
         EXPECT_EQ(piece, whole.piece);
+        EXPECT_EQ(neighbours, whole.neighbours);
         const std::vector<std::int32_t> regions = region_of_tets(whole);
         EXPECT_EQ(solid, regions);
         if (std::string(name) != "nested")  // (its shells' nesting decides)

@@ -202,6 +202,7 @@ TEST(Serialize, BulkLinksAndPlacementRoundTrip) {
   links.first_tet = {0, 17};
   links.keys = {{1, 2, 3}, {4, 5, 2147483647}};
   links.component = {0, 1};
+  links.face = {4 * 17 + 3, (std::uint64_t{1} << 34) + 1};
   const std::vector<std::pair<int, BlockLinks>> sent{{3, links}, {65535, BlockLinks{}}};
   const auto back = deserialize_bulk_links(serialize_bulk_links(sent));
   ASSERT_EQ(back.size(), 2u);
@@ -209,12 +210,16 @@ TEST(Serialize, BulkLinksAndPlacementRoundTrip) {
   EXPECT_EQ(back[0].second.first_tet, links.first_tet);
   EXPECT_EQ(back[0].second.keys, links.keys);
   EXPECT_EQ(back[0].second.component, links.component);
+  EXPECT_EQ(back[0].second.face, links.face);
   EXPECT_EQ(back[1].first, 65535);
   EXPECT_TRUE(back[1].second.keys.empty());
   EXPECT_TRUE(deserialize_bulk_links(serialize_bulk_links({})).empty());
   BlockLinks unmatched = links;
   unmatched.component.pop_back();  // a key without its component
   EXPECT_THROW(deserialize_bulk_links(serialize_bulk_links({{0, unmatched}})), InternalError);
+  BlockLinks faceless = links;
+  faceless.face.pop_back();  // a key without its face
+  EXPECT_THROW(deserialize_bulk_links(serialize_bulk_links({{0, faceless}})), InternalError);
 
   std::vector<SpreadBulk> bulks(2);
   bulks[0].piece = 7, bulks[0].first_point = std::int64_t{1} << 33, bulks[0].points = 5;

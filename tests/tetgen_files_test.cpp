@@ -284,6 +284,40 @@ TEST(TetgenFiles, EveryFileOfASetCarriesTheSameId) {
   EXPECT_EQ(set.neighbours, set.mesh.neighbours);
 }
 
+// The ID of a mesh whose rows are kept in parts (a spread mesh's owners): the fingerprints of the
+// runs, joined in row order, give the whole arrays' fingerprint wherever the arrays are cut, and
+// the set's ID; another order or a changed row gives another.
+TEST(TetgenFiles, FingerprintsOfRunsJoinedInOrderGiveTheWholeSetsId) {
+  TetMesh mesh = cube_mesh();
+  const std::vector<Triangle> faces = {{0, 1, 2}, {2, 3, 0}, {4, 5, 6}};
+  const auto of = [](TetgenFile file, const auto& rows, std::size_t from, std::size_t to) {
+    return fingerprint_rows(file, reinterpret_cast<const char*>(rows.data() + from), to - from);
+  };
+  const auto joined = [&](TetgenFile file, const auto& rows, std::size_t cut) {
+    return combine(of(file, rows, 0, cut), of(file, rows, cut, rows.size()));
+  };
+  const RowsFingerprint points = of(TetgenFile::node, mesh.points, 0, mesh.points.size());
+  const RowsFingerprint tets = of(TetgenFile::ele, mesh.tets, 0, mesh.tets.size());
+  const RowsFingerprint triangles = of(TetgenFile::face, faces, 0, faces.size());
+  EXPECT_EQ(mesh_id(points, tets, triangles), mesh_id(mesh, faces));
+  for (std::size_t cut = 0; cut <= mesh.points.size(); ++cut) {
+    const RowsFingerprint p = joined(TetgenFile::node, mesh.points, cut);
+    EXPECT_EQ(p.hash, points.hash) << cut;
+    EXPECT_EQ(p.words, points.words) << cut;
+  }
+  for (std::size_t cut = 0; cut <= mesh.tets.size(); ++cut)
+    EXPECT_EQ(mesh_id(points, joined(TetgenFile::ele, mesh.tets, cut), triangles), mesh_id(mesh, faces)) << cut;
+  for (std::size_t cut = 0; cut <= faces.size(); ++cut)
+    EXPECT_EQ(mesh_id(points, tets, joined(TetgenFile::face, faces, cut)), mesh_id(mesh, faces)) << cut;
+  // Three runs, joined left to right or right first: the same.
+  const RowsFingerprint a = of(TetgenFile::node, mesh.points, 0, 2), b = of(TetgenFile::node, mesh.points, 2, 5),
+                        c = of(TetgenFile::node, mesh.points, 5, mesh.points.size());
+  EXPECT_EQ(combine(combine(a, b), c).hash, combine(a, combine(b, c)).hash);
+  EXPECT_NE(combine(b, a).hash, combine(a, b).hash);
+  std::swap(mesh.tets[0], mesh.tets[1]);
+  EXPECT_NE(mesh_id(mesh, faces), mesh_id(points, tets, triangles));
+}
+
 TEST(TetgenFiles, LargeMeshRoundTrip) {
   // Enough rows to cross the write buffer's flush boundary many times.
   std::string dir = test::temp_dir("tetgen_large");

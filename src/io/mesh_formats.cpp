@@ -585,6 +585,7 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
   const std::string path = format_paths(format, prefix).front();
   switch (format) {
     case MeshFormat::tetgen:
+      if (writers.spread_tetgen) return writers.spread_tetgen(set, output, prefix);
       add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from, writers.tetgen_lines);
       return;
     case MeshFormat::vtu:

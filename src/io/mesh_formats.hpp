@@ -191,13 +191,14 @@ using PieceFilesWrite =
 // files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes the
 // piece files of a .pvtu set or the MSH partitions (empty: here, alone). With a mesh left spread
 // (MeshOutput's mesh empty), a .pvtu set's piece values and the writer of its piece files from
-// where the mesh's parts are.
+// where the mesh's parts are, and the writer of its TetGen files.
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;
   PieceFilesWrite piece_files;
   std::vector<int> spread_pieces;
   std::function<void(const std::vector<PieceFile>& files)> spread_piece_files;
+  std::function<void(OutputSet& set, const MeshOutput& output, const std::string& prefix)> spread_tetgen;
 };
 
 // Writes the format's files for PREFIX under temporary names into `set` (published together).

@@ -118,19 +118,26 @@ void format_lines(Sink& out, TetgenFile file, const char* data, std::size_t firs
   }
 }
 
-// Every file has one layout: a header line (the count, then `header_tail`), one line per row,
-// and the id line.
-void write_rows(const TetgenRows& rows, const char* header_tail, const TetgenLines& lines, const std::string& id,
-                const std::string& path, const std::string& shown, Closing closing) {
-  BufferedFile out(path, shown);
-  out.integer(static_cast<std::int64_t>(rows.count));
-  out.text(header_tail);
-  if (lines)
-    lines(rows, out);
-  else
-    write_tetgen_lines(rows, 0, rows.count, out);
-  write_id(out, id);
-  closing == Closing::in_background ? out.close_in_background() : out.close();
+// What follows the count on a file's header line.
+const char* header_tail(TetgenFile file) {
+  switch (file) {
+    case TetgenFile::node: return " 3 0 0\n";
+    case TetgenFile::ele: return " 4 0\n";
+    case TetgenFile::face: return " 1\n";
+    case TetgenFile::neigh: return " 4\n";
+  }
+  return "\n";
+}
+
+// Every file has one layout: a header line, one line per row, and the id line.
+void write_rows(const TetgenRows& rows, const TetgenLines& lines, const std::string& id, const std::string& path,
+                const std::string& shown, Closing closing) {
+  write_tetgen_file(rows.file, rows.count, id, path, shown, [&](BufferedFile& out) {
+    if (lines)
+      lines(rows, out);
+    else
+      write_tetgen_lines(rows, 0, rows.count, out);
+  }, closing);
 }
 
 template <class Row>
@@ -138,37 +145,35 @@ TetgenRows rows_of(TetgenFile file, const std::vector<Row>& rows, std::size_t sp
   return {file, reinterpret_cast<const char*>(rows.data()), rows.size(), split_from};
 }
 
-// Mixes arrays of 32- or 64-bit words into a 64-bit fingerprint, word by word (fast enough for
-// gigabytes of mesh).
-class Fingerprint {
- public:
-  template <class T>
-  void add(const std::vector<T>& v) {
-    const std::size_t bytes = v.size() * sizeof(T);
-    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
-    std::size_t i = 0;
-    for (; i + 8 <= bytes; i += 8) {
-      std::uint64_t w;
-      std::memcpy(&w, p + i, 8);
-      mix(w);
-    }
-    std::uint64_t tail = 0;
-    std::memcpy(&tail, p + i, bytes - i);
-    mix(tail ^ (static_cast<std::uint64_t>(bytes) << 32));
-  }
-  std::string hex() const {
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h_));
-    return text;
-  }
+// Rows are fingerprinted as a polynomial in their 64-bit words modulo 2^64 (h = h * B + w, B
+// odd): two runs' fingerprints join by one multiplication by B^(words of the second). Not a
+// defence against crafted input, only a way to tell meshes apart; one multiplication per word.
+constexpr std::uint64_t kBase = 0x9E3779B97F4A7C15ull;
 
- private:
-  void mix(std::uint64_t w) {
-    h_ = (h_ ^ w) * 0x9E3779B97F4A7C15ull;
-    h_ ^= h_ >> 29;
+std::uint64_t base_power(std::uint64_t exponent) {
+  std::uint64_t result = 1, square = kBase;
+  for (; exponent; exponent >>= 1, square *= square)
+    if (exponent & 1) result *= square;
+  return result;
+}
+
+// The fingerprint of `count` rows of kWords words each (the last zero-filled). A row's own
+// polynomial does not depend on h, so only one multiplication per row waits for the previous.
+template <std::size_t kWords>
+std::uint64_t fingerprint_words(const char* data, std::size_t row_bytes, std::size_t count) {
+  std::uint64_t power[kWords + 1];
+  power[0] = 1;
+  for (std::size_t i = 1; i <= kWords; ++i) power[i] = power[i - 1] * kBase;
+  std::uint64_t h = 0;
+  for (std::size_t r = 0; r < count; ++r, data += row_bytes) {
+    std::uint64_t words[kWords] = {};
+    std::memcpy(words, data, row_bytes);
+    std::uint64_t row = 0;
+    for (std::size_t i = 0; i < kWords; ++i) row += words[i] * power[kWords - 1 - i];
+    h = h * power[kWords] + row;
   }
-  std::uint64_t h_ = 0x243F6A8885A308D3ull;
-};
+  return h;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Reading
@@ -448,11 +453,33 @@ const char* extension(TetgenFile file) {
 }
 
 std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces) {
-  Fingerprint f;
-  f.add(mesh.points);
-  f.add(mesh.tets);
-  f.add(boundary_faces);
-  return f.hex();
+  const auto of = [](TetgenFile file, const auto& rows) {
+    return fingerprint_rows(file, reinterpret_cast<const char*>(rows.data()), rows.size());
+  };
+  return mesh_id(of(TetgenFile::node, mesh.points), of(TetgenFile::ele, mesh.tets),
+                 of(TetgenFile::face, boundary_faces));
+}
+
+RowsFingerprint fingerprint_rows(TetgenFile file, const char* data, std::size_t count) {
+  // Each row as whole words (a face's 12 bytes are two).
+  const std::size_t bytes = row_bytes(file), words = (bytes + 7) / 8;
+  const std::uint64_t h = words == 3 ? fingerprint_words<3>(data, bytes, count) : fingerprint_words<2>(data, bytes, count);
+  return {h, count * words};
+}
+
+RowsFingerprint combine(const RowsFingerprint& first, const RowsFingerprint& then) {
+  return {first.hash * base_power(then.words) + then.hash, first.words + then.words};
+}
+
+std::string mesh_id(const RowsFingerprint& points, const RowsFingerprint& tets, const RowsFingerprint& faces) {
+  std::uint64_t h = 0x243F6A8885A308D3ull;
+  for (std::uint64_t w : {points.hash, points.words, tets.hash, tets.words, faces.hash, faces.words}) {
+    h = (h ^ w) * 0x9E3779B97F4A7C15ull;
+    h ^= h >> 29;
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
 }
 
 std::size_t row_bytes(TetgenFile file) {
@@ -471,25 +498,38 @@ void write_tetgen_lines(const TetgenRows& rows, std::size_t first, std::size_t c
   format_lines(out, rows.file, rows.data + first * row_bytes(rows.file), first, count, rows.split_from);
 }
 
+void write_tetgen_lines(BufferedFile& out, TetgenFile file, const char* data, std::size_t first, std::size_t count,
+                        std::size_t split_from) {
+  format_lines(out, file, data, first, count, split_from);
+}
+
+void write_tetgen_file(TetgenFile file, std::size_t count, const std::string& id, const std::string& path,
+                       const std::string& shown, const std::function<void(BufferedFile&)>& write_lines,
+                       Closing closing) {
+  BufferedFile out(path, shown);
+  out.integer(static_cast<std::int64_t>(count));
+  out.text(header_tail(file));
+  write_lines(out);
+  write_id(out, id);
+  closing == Closing::in_background ? out.close_in_background() : out.close();
+}
+
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path,
                        std::size_t split_from, const TetgenLines& lines, Closing closing) {
-  const auto write = [&](const TetgenRows& rows, const char* header_tail) {
-    write_rows(rows, header_tail, lines, id, path, shown_path, closing);
-  };
+  const auto write = [&](const TetgenRows& rows) { write_rows(rows, lines, id, path, shown_path, closing); };
   switch (file) {
-    case TetgenFile::node: return write(rows_of(file, mesh.points), " 3 0 0\n");
-    case TetgenFile::ele: return write(rows_of(file, mesh.tets), " 4 0\n");
-    case TetgenFile::face:
-      return write(rows_of(file, boundary_faces, split_from), " 1\n");
+    case TetgenFile::node: return write(rows_of(file, mesh.points));
+    case TetgenFile::ele: return write(rows_of(file, mesh.tets));
+    case TetgenFile::face: return write(rows_of(file, boundary_faces, split_from));
     case TetgenFile::neigh:
       // A mesh may come without neighbours (e.g. straight from a merge): -1 rather than an
       // inconsistent file.
       if (mesh.neighbours.size() != mesh.tets.size()) {
         const std::vector<Tet> none(mesh.tets.size(), Tet{-1, -1, -1, -1});
-        return write(rows_of(file, none), " 4\n");
+        return write(rows_of(file, none));
       }
-      return write(rows_of(file, mesh.neighbours), " 4\n");
+      return write(rows_of(file, mesh.neighbours));
   }
 }
 

@@ -14,10 +14,21 @@
 namespace partet {
 
 enum class TetgenFile { node, ele, face, neigh };
+
 const char* extension(TetgenFile file);  // ".node", ...
 
 // A fingerprint of the mesh's points, tets and boundary faces: the ID written into its files.
 std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces);
+
+// The same ID from the fingerprints of the three arrays' rows. A fingerprint of rows A then B is
+// combine(of A, of B), so the ranks keeping a spread mesh's parts each take their own rows' and
+// rank 0 joins them in row order, without the whole mesh.
+struct RowsFingerprint {
+  std::uint64_t hash = 0, words = 0;
+};
+RowsFingerprint fingerprint_rows(TetgenFile file, const char* data, std::size_t count);  // rows as packed
+RowsFingerprint combine(const RowsFingerprint& first, const RowsFingerprint& then);
+std::string mesh_id(const RowsFingerprint& points, const RowsFingerprint& tets, const RowsFingerprint& faces);
 
 // The body of one file: `count` packed rows (3 doubles for .node, 4 ids for .ele and .neigh,
 // 3 ids for .face), each written as the line "index values[ marker]".
@@ -40,6 +51,10 @@ using TetgenLines = std::function<void(const TetgenRows& rows, BufferedFile& out
 // The lines of rows [first, first + count) straight into `out` (the empty TetgenLines).
 void write_tetgen_lines(const TetgenRows& rows, std::size_t first, std::size_t count, BufferedFile& out);
 
+// The lines of rows [first, first + count) into `out`; `data` points to row `first`.
+void write_tetgen_lines(BufferedFile& out, TetgenFile file, const char* data, std::size_t first, std::size_t count,
+                        std::size_t split_from = SIZE_MAX);
+
 // Whether a file is complete on return, or finished by a writing thread while the next one is
 // formatted (then finish_background_writes, io/buffered_file.hpp, waits for it; OutputSet's
 // publish does).
@@ -52,6 +67,12 @@ void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<T
                        const std::string& id, const std::string& path, const std::string& shown_path,
                        std::size_t split_from = SIZE_MAX, const TetgenLines& lines = {},
                        Closing closing = Closing::now);
+
+// Writes one file of `count` rows to `path` (errors name `shown`), its lines by write_lines, in
+// order: for a mesh whose rows come from several places (a spread mesh's owners).
+void write_tetgen_file(TetgenFile file, std::size_t count, const std::string& id, const std::string& path,
+                       const std::string& shown, const std::function<void(BufferedFile&)>& write_lines,
+                       Closing closing);
 
 // Adds PREFIX.node, .ele, .face and .neigh to an output set (published together).
 void add_tetgen_files(OutputSet& set, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,

@@ -19,11 +19,14 @@ void RootRun::prepare(InputChecks checks) {
 
 namespace {
 
-// Whether the mesh may stay where its parts are: only formats its owners write in parts (the
-// XDMF set, a .pvtu set), nothing reads the whole mesh on rank 0 (no check, no comparison, no
-// polish), and the bulks wait in memory where they were meshed.
+// Whether the mesh may stay where its parts are: only formats written from its parts (the XDMF
+// set and a .pvtu set by their owners, TetGen's files streamed from them), nothing reads the whole
+// mesh on rank 0 (no check, no comparison, no polish), and the bulks wait in memory where they
+// were meshed.
 bool may_spread(const MeshJob& job) {
-  const auto written_in_parts = [](MeshFormat f) { return f == MeshFormat::xdmf || f == MeshFormat::pvtu; };
+  const auto written_in_parts = [](MeshFormat f) {
+    return f == MeshFormat::xdmf || f == MeshFormat::pvtu || f == MeshFormat::tetgen;
+  };
   return !job.formats.empty() && std::all_of(job.formats.begin(), job.formats.end(), written_in_parts) &&
          !job.check_output && !job.compare_tetgen && !polishes(job.options) && job.options.scratch.empty();
 }

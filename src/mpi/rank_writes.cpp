@@ -21,6 +21,8 @@
 #include "job/job.hpp"
 #include "mpi/ranks.hpp"
 #include "mpi/spread_piece_files.hpp"
+#include "mpi/spread_tetgen_files.hpp"
+#include "mpi/write_messages.hpp"
 #include "partet/errors.hpp"
 #include "runner/serialize.hpp"
 #include "stages/spread_mesh.hpp"
@@ -142,10 +144,11 @@ MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const Mesh
   paths.mesh = absolute_or_error(relative.mesh), paths.boundary = absolute_or_error(relative.boundary);
   const MeshTotals totals{static_cast<std::uint64_t>(mesh.points), static_cast<std::uint64_t>(mesh.tets),
                           output.boundary.size()};
+  const std::string placement = serialize_placement(mesh.bulks);  // before the order: no rank waits for it
   broadcast_text(std::string(kSpreadOrder) + "\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown +
                  '\n' + paths.boundary_shown + '\n' + std::to_string(exponent) + '\n' + std::to_string(totals.points) +
                  '\n' + std::to_string(totals.tets) + '\n' + std::to_string(totals.faces));
-  broadcast_text(serialize_placement(mesh.bulks));
+  broadcast_text(placement);
   // Rows rank 0 cannot make go as none, so every rank still joins the write and fails there.
   MeshRowRuns runs;
   std::vector<std::vector<std::int32_t>> columns;
@@ -196,21 +199,7 @@ void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out)
   } catch (...) {
     failure = std::current_exception();
   }
-  for (int r = 1; r < size; ++r)
-    for (;;) {
-      const std::string chunk = bounded([&] { return recv_bytes(r, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); });
-      if (chunk.empty()) break;
-      if (failure) continue;
-      if (chunk[0] == 'E') {
-        failure = std::make_exception_ptr(OutputError(chunk.substr(1)));
-        continue;
-      }
-      try {
-        out.bytes(chunk.data() + 1, chunk.size() - 1);
-      } catch (...) {
-        failure = std::current_exception();
-      }
-    }
+  for (int r = 1; r < size; ++r) take_text_chunks(out, r, failure);
   if (failure) std::rethrow_exception(failure);
 }
 
@@ -475,6 +464,10 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int sca
     writers.spread_piece_files = [spread, scale_exponent, &stats](const std::vector<PieceFile>& files) {
       write_spread_piece_files(*spread, scale_exponent, files, stats);
     };
+    writers.spread_tetgen = [spread, scale_exponent](OutputSet& set, const MeshOutput& output,
+                                                     const std::string& prefix) {
+      add_spread_tetgen_files(set, *spread, output, prefix, scale_exponent);
+    };
   }
   if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
   writers.piece_files = [&stats](MeshFormat format, const std::vector<PieceFile>& files,
@@ -499,6 +492,8 @@ void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take
       join_spread_write(lines, status, kept);
     else if (kind == kSpreadPiecesOrder)
       write_own_piece_files(lines, kept, stats);
+    else if (kind == kSpreadTetgenOrder)
+      stream_own_tetgen_rows(lines, kept);
     else if (kind == kPiecesOrder)
       write_piece_files_sent(lines, stats);
     else

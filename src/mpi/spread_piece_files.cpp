@@ -13,33 +13,12 @@
 #include "common/test_hooks.hpp"
 #include "job/job.hpp"
 #include "mpi/ranks.hpp"
+#include "mpi/write_messages.hpp"
 #include "partet/errors.hpp"
 #include "runner/serialize.hpp"
 
 namespace partet::mpi {
 namespace {
-
-template <class T>
-std::string_view raw_bytes(const std::vector<T>& values) {
-  return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
-}
-
-// The values in `bytes` after its first `skip` bytes; nothing when they do not divide evenly.
-template <class T>
-std::optional<std::vector<T>> values_of(const std::string& bytes, std::size_t skip = 0) {
-  if (bytes.size() < skip || (bytes.size() - skip) % sizeof(T) != 0) return std::nullopt;
-  std::vector<T> values((bytes.size() - skip) / sizeof(T));
-  if (!values.empty()) std::memcpy(values.data(), bytes.data() + skip, bytes.size() - skip);
-  return values;
-}
-
-void send_to(int rank, std::string_view bytes, double seconds) {
-  bounded([&] { return send_bytes(bytes, rank, rank == 0 ? kTagText : kTagBlock, job_comm(), kMaxChunk, seconds); });
-}
-
-std::string receive_from(int rank, double seconds) {
-  return bounded([&] { return recv_bytes(rank, rank == 0 ? kTagBlock : kTagText, job_comm(), kMaxChunk, seconds); });
-}
 
 // A file's cells from its piece's bulk (if any) and the band's tets of that piece, in row order.
 VtuCells cells_of(int piece, const TetBlock* bulk, const std::vector<std::int32_t>& bulk_solid,
@@ -63,8 +42,9 @@ class SpreadPieceFileWrite {
 
   void run() {
     // 1. The order, and which rank writes which file.
+    const std::string placement = serialize_placement(mesh_.bulks);  // before the order: no rank waits for it
     broadcast_text(order());
-    broadcast_text(serialize_placement(mesh_.bulks));
+    broadcast_text(placement);
     take_claims();
     // 2. What the owners need of rank 0: the band's tets of their pieces, then their points' coordinates.
     for (int rank = 1; rank < size_; ++rank)
@@ -133,8 +113,8 @@ class SpreadPieceFileWrite {
       return;
     }
     send_to(rank, "B", kWorkerSeconds);
-    send_to(rank, raw_bytes(tets), kWorkerSeconds);
-    send_to(rank, raw_bytes(solid), kWorkerSeconds);
+    send_to(rank, bytes_of(run_of(tets)), kWorkerSeconds);
+    send_to(rank, bytes_of(run_of(solid)), kWorkerSeconds);
   }
 
   // The coordinates of the points a rank asks for, or "" when rank 0 cannot give them.
@@ -153,7 +133,7 @@ class SpreadPieceFileWrite {
       fail(std::current_exception());
       xyz.clear();
     }
-    send_to(rank, xyz.empty() ? std::string_view() : raw_bytes(xyz), kWorkerSeconds);
+    send_to(rank, xyz.empty() ? std::string_view() : bytes_of(run_of(xyz)), kWorkerSeconds);
   }
 
   // The seams' file and those of the bulks rank 0 keeps (a bulk elsewhere that no rank claimed is
@@ -252,6 +232,8 @@ void write_one(OwnFile& own, const std::vector<std::int64_t>& asked, const std::
     if (!own.received)
       throw OutputError("rank " + std::to_string(my_rank()) + " did not receive the content of '" + own.file.shown +
                         "'");
+    if (static_cast<std::int64_t>(own.bulk->steiner_points.size()) != own.place->points)
+      throw InternalError("the bulk of piece " + std::to_string(own.place->piece) + " does not match its placement");
     std::vector<std::int32_t> solid, piece;
     bulk_columns(*own.bulk, *own.place, solid, piece);
     VtuCells cells = cells_of(own.file.piece, own.bulk, solid, own.band, own.band_solid);
@@ -327,12 +309,12 @@ void write_own_piece_files(std::istringstream& order, BulksForWrites& kept, Rank
     log::error(e.what());
     own.clear(), claims.clear();
   }
-  send_to(0, raw_bytes(claims), kRootSeconds);
+  send_to(0, bytes_of(run_of(claims)), kRootSeconds);
   // 2. The band's parts, then the coordinates of the points this rank lacks.
   for (OwnFile& file : own) receive_band_part(file);
   const std::vector<std::int64_t> asked = points_asked(own);
   std::string request = "I";
-  request.append(raw_bytes(asked));
+  request.append(bytes_of(run_of(asked)));
   send_to(0, request, kRootSeconds);
   const std::optional<std::vector<double>> xyz = values_of<double>(receive_from(0, kRootSeconds));
   const bool have_points = xyz && xyz->size() == 3 * asked.size();

@@ -360,7 +360,7 @@ std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes) {
 
 std::string serialize_bulk_links(const std::vector<std::pair<int, BlockLinks>>& links) {
   std::size_t expected = 64;
-  for (const auto& [piece, l] : links) expected += 32 + 4 * (l.first_tet.size() + 4 * l.keys.size());
+  for (const auto& [piece, l] : links) expected += 32 + 4 * (l.first_tet.size() + 6 * l.keys.size());
   return encode(expected, [&](auto& ar) {
     const std::uint64_t count = links.size();
     ar << count;
@@ -370,6 +370,7 @@ std::string serialize_bulk_links(const std::vector<std::pair<int, BlockLinks>>& 
       save_block(ar, l.first_tet);
       save_block(ar, l.keys);
       save_block(ar, l.component);
+      save_block(ar, l.face);
     }
   });
 }
@@ -386,10 +387,11 @@ std::vector<std::pair<int, BlockLinks>> deserialize_bulk_links(std::string_view 
       load_block(ar, l.first_tet);
       load_block(ar, l.keys);
       load_block(ar, l.component);
+      load_block(ar, l.face);
     }
   });
   for (const auto& [piece, l] : links)
-    if (l.keys.size() != l.component.size())
+    if (l.keys.size() != l.component.size() || l.keys.size() != l.face.size())
       throw InternalError("malformed links of the bulk of piece " + std::to_string(piece));
   return links;
 }

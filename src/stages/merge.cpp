@@ -537,6 +537,7 @@ BlockLinks spread_band(const AssemblyNumbering& numbering, TetMesh&& healed_band
   mesh.band_piece =
       healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);
   BlockLinks links = block_links(mesh.band_tets, healed_band.neighbours, true, 0, {}, label);
+  mesh.band_neighbours = std::move(healed_band.neighbours);
   healed_band = TetMesh();
   return links;
 }
@@ -609,6 +610,10 @@ SpreadMesh Welder::spread(TetMesh&& healed_band) {
   for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].solid = solids[p];
   mesh.band_solid.reserve(band_label.size());
   for (std::int32_t label : band_label) mesh.band_solid.push_back(solids[k][label]);
+  // 5. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
+  std::vector<std::vector<FaceAcross>> across = faces_across_blocks(links, first_row);
+  for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);
+  mesh.band_across = std::move(across[k]);
   blocks_.assign(k, Block());
   bulks_.assign(k, Block());
   band_steiner_.assign(k, {});

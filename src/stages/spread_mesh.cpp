@@ -32,6 +32,7 @@ BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& nei
       if (!every_open_face && !on_rim[4 * t + j] && key.v[2] < input_vertices) continue;
       links.keys.push_back({key.v[0], key.v[1], key.v[2]});
       links.component.push_back(label[t]);
+      links.face.push_back(4 * t + static_cast<std::uint64_t>(j));
     }
   return links;
 }
@@ -72,6 +73,48 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
     for (std::size_t c = 0; c < blocks[b].first_tet.size(); ++c)
       solids[b].push_back(solid_of_root[sets.find(static_cast<std::int32_t>(node_base[b] + c))]);
   return solids;
+}
+
+std::vector<std::vector<FaceAcross>> faces_across_blocks(const std::vector<BlockLinks>& blocks,
+                                                         const std::vector<std::int64_t>& first_row) {
+  struct Side {
+    std::array<std::int32_t, 3> key;
+    std::uint32_t block;
+    std::uint64_t face;
+    bool operator<(const Side& o) const { return key < o.key; }
+  };
+  std::vector<Side> sides;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (blocks[b].face.size() != blocks[b].keys.size()) throw InternalError("a block's links name no faces");
+    for (std::size_t i = 0; i < blocks[b].keys.size(); ++i)
+      sides.push_back({blocks[b].keys[i], static_cast<std::uint32_t>(b), blocks[b].face[i]});
+  }
+  std::sort(sides.begin(), sides.end());
+  std::vector<std::vector<FaceAcross>> across(blocks.size());
+  for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
+    const Side &a = sides[i], &b = sides[i + 1];
+    if (!(a.key == b.key)) continue;
+    if (i + 2 < sides.size() && sides[i + 2].key == a.key)
+      throw InternalError("three open faces of the spread mesh are one triangle");
+    across[a.block].push_back({a.face, first_row[b.block] + static_cast<std::int64_t>(b.face / 4)});
+    across[b.block].push_back({b.face, first_row[a.block] + static_cast<std::int64_t>(a.face / 4)});
+    ++i;
+  }
+  for (auto& faces : across) std::sort(faces.begin(), faces.end());
+  return across;
+}
+
+std::vector<Tet> neighbour_rows(const std::vector<Tet>& neighbours, std::int64_t first_row,
+                                const std::vector<FaceAcross>& across, std::size_t from, std::size_t count) {
+  std::vector<Tet> rows(neighbours.begin() + static_cast<std::ptrdiff_t>(from),
+                        neighbours.begin() + static_cast<std::ptrdiff_t>(from + count));
+  for (Tet& row : rows)
+    for (auto& n : row)
+      if (n >= 0) n = static_cast<std::int32_t>(n + first_row);
+  auto at = std::lower_bound(across.begin(), across.end(), FaceAcross{4 * from, 0});
+  for (; at != across.end() && at->face < 4 * (from + count); ++at)
+    rows[at->face / 4 - from][at->face % 4] = static_cast<std::int32_t>(at->tet);
+  return rows;
 }
 
 void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,

@@ -20,6 +20,16 @@ struct BlockLinks {
   std::vector<std::int32_t> first_tet;            // per component, its first tet (ascending)
   std::vector<std::array<std::int32_t, 3>> keys;  // open faces, their vertices ascending
   std::vector<std::int32_t> component;            // per key: its tet's component
+  std::vector<std::uint64_t> face;                // per key: the face, as 4 * tet + j
+};
+
+// An open face of a block and the tet across it in another block, in output ids (a row of the
+// whole mesh's tets): what the TetGen .neigh file of a spread mesh needs besides each block's own
+// neighbours.
+struct FaceAcross {
+  std::uint64_t face = 0;  // 4 * tet + j in its block
+  std::int64_t tet = 0;
+  bool operator<(const FaceAcross& o) const { return face < o.face; }
 };
 
 // The components of a block's tets across its own neighbours, numbered by first tet (label per
@@ -35,6 +45,16 @@ BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& nei
 std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockLinks>& blocks,
                                                         const std::vector<std::int64_t>& first_row);
 
+// Per block, its faces shared with another block and the tet across each (by face): the faces
+// whose keys two blocks share. Throws InternalError when three open faces are one triangle.
+std::vector<std::vector<FaceAcross>> faces_across_blocks(const std::vector<BlockLinks>& blocks,
+                                                         const std::vector<std::int64_t>& first_row);
+
+// Rows [from, from + count) of a block's neighbours in output ids: its own (local) neighbours
+// moved to its first row, and the tets across its faces shared with other blocks; -1 elsewhere.
+std::vector<Tet> neighbour_rows(const std::vector<Tet>& neighbours, std::int64_t first_row,
+                                const std::vector<FaceAcross>& across, std::size_t from, std::size_t count);
+
 // One bulk of a spread mesh: its rows, and the bulk itself when rank 0 keeps it.
 struct SpreadBulk {
   int piece = 0;
@@ -43,6 +63,7 @@ struct SpreadBulk {
   std::int64_t first_point = 0, points = 0;  // rows of its Steiner points
   std::int64_t first_tet = 0, tets = 0;      // rows of its tets
   std::vector<std::int32_t> solid;           // per component of its tets (block_links' order)
+  std::vector<FaceAcross> across;            // its faces towards the band and other bulks
 };
 
 // What rank 0 keeps of a mesh it does not assemble, and where every row is.
@@ -55,6 +76,8 @@ struct SpreadMesh {
   std::int64_t first_band_tet = 0;  // the healed band's tets, in output ids, from this row
   std::vector<Tet> band_tets;
   std::vector<std::int32_t> band_piece, band_solid;
+  std::vector<Tet> band_neighbours;  // local, as healing left them
+  std::vector<FaceAcross> band_across;
   // The pieces' Steiner points the band's tets use (their rows are the bulks', kept elsewhere):
   // ids ascending, and their coordinates. For a .pvtu set's seam file.
   std::vector<std::int64_t> band_steiner_ids;

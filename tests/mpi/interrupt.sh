@@ -73,8 +73,8 @@ ls "$work" | grep -q '^two\.[a-z]*$' && bad "SIGKILL: output files: $(ls "$work"
 
 # 3. SIGTERM to a 2-rank job in the middle of its write: a file of the TetGen set is being written
 # in 4 MB buffers (around the page cache where the filesystem allows), slowed by
-# PARTET_TEST_WRITE_DELAY_MS so the signal lands inside it, and rank 1 waits to write its .pvtu
-# piece files. The job ends with "interrupted", the previous set at the prefix is kept byte for
+# PARTET_TEST_WRITE_DELAY_MS so the signal lands inside it, while rank 1 sends rank 0 the lines
+# of the bulks it keeps (the mesh is not assembled) or waits to write its .pvtu piece files. The job ends with "interrupted", the previous set at the prefix is kept byte for
 # byte, and no temporary is left.
 "$partet" mesh "$work/big.off" -o "$work/w" --pieces 4 --quiet --format tetgen,pvtu
 mkdir "$work/before" && cp "$work"/w.* "$work"/w_*.vtu "$work/before/"
@@ -106,6 +106,24 @@ after_interrupt() {  # NAME LOG BEFORE
 }
 after_interrupt write "$work/log3" "$work/before"
 
+# rank1_holds PATTERN MIN_BYTES: waits (up to 60 s) until rank 1 of the job meshing big.off holds
+# open a file matching PATTERN with at least MIN_BYTES, and prints its path ("" if never).
+rank1_holds() {
+  local pid fd target
+  for i in $(seq 1200); do
+    for pid in $(pgrep -f "mesh $work/big.off"); do
+      tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 || continue
+      for fd in /proc/"$pid"/fd/*; do
+        target=$(readlink "$fd" 2> /dev/null) || continue
+        # shellcheck disable=SC2053 # PATTERN is a glob
+        [[ "$target" == $1 ]] && [ "$(stat -c %s "$target" 2> /dev/null || echo 0)" -ge "$2" ] &&
+          { echo "$target"; return; }
+      done
+    done
+    sleep 0.05
+  done
+}
+
 # 4. SIGTERM while rank 1 writes an MSH partition file: the ranks write the partitions at once,
 # each slowed as above; the signal comes once a temporary rank 1 holds open has 4 MB.
 rm -f "$work"/w.* "$work"/w_*.vtu
@@ -114,19 +132,7 @@ mkdir "$work/before4" && cp "$work"/p_*.msh "$work/before4/"
 PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
   -o "$work/p" --pieces 2 --format msh-parts > "$work/log4" 2>&1 &
 launcher=$!
-held=""
-for i in $(seq 1200); do
-  for pid in $(pgrep -f "mesh $work/big.off"); do
-    tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 || continue
-    for fd in /proc/"$pid"/fd/*; do
-      target=$(readlink "$fd" 2> /dev/null) || continue
-      [[ "$target" == "$work"/p_*.msh.tmp-* ]] && [ "$(stat -c %s "$target" 2> /dev/null || echo 0)" -ge 4194304 ] &&
-        held=$target
-    done
-  done
-  [ -n "$held" ] && break
-  sleep 0.05
-done
+held=$(rank1_holds "$work/p_*.msh.tmp-*" 4194304)
 [ -n "$held" ] && ok "partition write: interrupted while rank 1 writes $(basename "$held" | cut -d. -f1-2)" ||
   bad "partition write: rank 1 was not seen writing a partition"
 after_interrupt "partition write" "$work/log4" "$work/before4"
@@ -145,18 +151,7 @@ rm "$work/v.json"
 PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
   -o "$work/v" --pieces 2 --format pvtu > "$work/log5" 2>&1 &
 launcher=$!
-held=""
-for i in $(seq 1200); do
-  for pid in $(pgrep -f "mesh $work/big.off"); do
-    tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 || continue
-    for fd in /proc/"$pid"/fd/*; do
-      target=$(readlink "$fd" 2> /dev/null) || continue
-      [[ "$target" == "$work"/v_*.vtu.tmp-* ]] && held=$target
-    done
-  done
-  [ -n "$held" ] && break
-  sleep 0.05
-done
+held=$(rank1_holds "$work/v_*.vtu.tmp-*" 0)
 [ -n "$held" ] && ok "spread write: interrupted while rank 1 writes its $(basename "$held" | cut -d. -f1-2)" ||
   bad "spread write: rank 1 was not seen writing a piece file"
 after_interrupt "spread write" "$work/log5" "$work/before5"

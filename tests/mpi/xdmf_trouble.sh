@@ -3,7 +3,9 @@
 # the TetGen files' lines; a rank that cannot take part must fail the whole run on every rank,
 # publish nothing and leave the previous set as it was:
 #   lost:       rank 1 loses its block (fault injection);
-#   lost-rows:  the same, writing TetGen files;
+#   lost-rows:  the same, writing TetGen files from the assembled mesh (a .vtu file too);
+#   lost-neigh: the same, TetGen files alone, streamed from the ranks keeping the mesh's parts:
+#               rank 1 loses the faces its bulk shares with the rest of the mesh;
 #   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
 #               the run ends with the disk's error, nothing left behind, no rank left waiting;
 #   full-hdf5:  the same while both ranks write the XDMF set's HDF5 file;
@@ -46,10 +48,16 @@ fi
 expect_refused lost "rank 1 could not take its part of the mesh"
 
 if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
-  --quiet 2> log; then
+  --format tetgen,vtu --quiet 2> log; then
   echo "FAIL: lost-rows: a lost block exited 0"; exit 1
 fi
 expect_refused lost-rows "rank 1 did not receive its block of the .node file's rows"
+
+if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
+  --quiet 2> log; then
+  echo "FAIL: lost-neigh: a lost block exited 0"; exit 1
+fi
+expect_refused lost-neigh "rank 1 did not receive the faces its bulk of piece [0-9]* shares with the rest of the mesh"
 
 if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/m.pvtu --pieces 4 \
   --quiet 2> log; then
