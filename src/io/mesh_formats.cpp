@@ -20,6 +20,7 @@
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
 #include "io/msh.hpp"
+#include "io/row_lines.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/xdmf.hpp"
 #include "io/xml_text.hpp"
@@ -335,34 +336,40 @@ void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<st
   out.close();
 }
 
-void write_medit(const MeshOutput& output, const std::string& path) {
-  const TetMesh& mesh = output.mesh;
-  const std::vector<std::int32_t> region = region_of_tets(mesh);
-  BufferedFile out(path);
+void write_medit(const MeshRows& rows, const std::vector<Triangle>& boundary, std::size_t split_from,
+                 const std::string& path, const std::string& shown) {
+  BufferedFile out(path, shown);
   out.text("MeshVersionFormatted 2\nDimension 3\nVertices\n");
-  out.integer(static_cast<std::int64_t>(mesh.points.size()));
+  out.integer(static_cast<std::int64_t>(rows.points));
   out.newline();
-  for (const Point3& p : mesh.points) {
-    for (double c : p) out.real(c), out.space();
-    out.text("0\n");
-  }
+  rows.write(out, RowLines::medit_vertex, 0);
   out.text("Triangles\n");
-  out.integer(static_cast<std::int64_t>(output.boundary.size()));
+  out.integer(static_cast<std::int64_t>(boundary.size()));
   out.newline();
-  for (std::size_t i = 0; i < output.boundary.size(); ++i) {
-    for (std::int32_t v : output.boundary[i]) out.integer(v + 1), out.space();
-    out.text(i < output.split_from ? "1\n" : "2\n");
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    for (std::int32_t v : boundary[i]) out.integer(v + 1), out.space();
+    out.text(i < split_from ? "1\n" : "2\n");
   }
   out.text("Tetrahedra\n");
-  out.integer(static_cast<std::int64_t>(mesh.tets.size()));
+  out.integer(static_cast<std::int64_t>(rows.tets));
   out.newline();
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    for (std::int32_t v : mesh.tets[t]) out.integer(v + 1), out.space();
-    out.integer(region[t]);
-    out.newline();
-  }
+  rows.write(out, RowLines::medit_tet, 0);
   out.text("End\n");
   out.close();
+}
+
+MeshRows mesh_rows(const MeshOutput& output) {
+  const TetMesh& mesh = output.mesh;
+  MeshRows rows;
+  rows.points = mesh.points.size(), rows.tets = mesh.tets.size();
+  rows.box = bounds_of(mesh.points);
+  rows.write = [&mesh](BufferedFile& out, RowLines lines, std::int64_t number_from) {
+    if (formats_points(lines)) return write_row_lines(out, lines, {mesh.points.data(), mesh.points.size(), 0, 0});
+    std::vector<std::int32_t> region;
+    if (lines == RowLines::medit_tet) region = region_of_tets(mesh);
+    write_row_lines(out, lines, {mesh.tets.data(), mesh.tets.size(), 0, number_from, region.data()});
+  };
+  return rows;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -585,20 +592,24 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
   const std::string path = format_paths(format, prefix).front();
   switch (format) {
     case MeshFormat::tetgen:
-      if (writers.spread_tetgen) return writers.spread_tetgen(set, output, prefix);
+      if (writers.spread_rows) return writers.spread_rows(set, format, output, prefix);
       add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from, writers.tetgen_lines);
       return;
     case MeshFormat::vtu:
       set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); });
       return;
     case MeshFormat::msh:
-      set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, false); });
-      return;
     case MeshFormat::msh_binary:
-      set.add(path, [&](const std::string& tmp) { write_msh(output, tmp, true); });
+      if (writers.spread_rows) return writers.spread_rows(set, format, output, prefix);
+      set.add(path, [&](const std::string& tmp) {
+        write_msh(mesh_rows(output), output.boundary, output.split_from, tmp, path, format == MeshFormat::msh_binary);
+      });
       return;
     case MeshFormat::medit:
-      set.add(path, [&](const std::string& tmp) { write_medit(output, tmp); });
+      if (writers.spread_rows) return writers.spread_rows(set, format, output, prefix);
+      set.add(path, [&](const std::string& tmp) {
+        write_medit(mesh_rows(output), output.boundary, output.split_from, tmp, path);
+      });
       return;
     case MeshFormat::xdmf:
       add_xdmf_files(set, output, prefix, writers.hdf5);

@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "io/output_set.hpp"
+#include "io/row_lines.hpp"
 #include "io/tetgen_files.hpp"
 #include "partet/mesh_types.hpp"
+#include "stages/info.hpp"
 
 namespace partet {
 
@@ -143,14 +145,27 @@ void write_pvtu(const MeshOutput& output, const std::string& path, const std::ve
 // The piece indices a .pvtu set has files for, in order (the -1 group included when present).
 std::vector<int> pieces_in(const MeshOutput& output);
 
+// The rows of points and tets of a single MSH or MEDIT file, wherever they are: the assembled
+// mesh's (mesh_rows), or a spread mesh's, streamed from the ranks keeping its parts.
+struct MeshRows {
+  std::uint64_t points = 0, tets = 0;
+  Bounds box;  // of the points (MSH's model)
+  // Writes every row of points (a points kind) or of tets, in order; msh_tet's tags from number_from.
+  std::function<void(BufferedFile& out, RowLines lines, std::int64_t number_from)> write;
+};
+MeshRows mesh_rows(const MeshOutput& output);
+
 // Gmsh MSH 4.1: nodes, tetrahedra (physical group 1 "volume") and the boundary triangles
-// (physical group 2 "boundary"; the parts of split input triangles: physical group 3 "split
-// boundary", a second surface entity), with entities for the volume and the boundary surfaces.
-void write_msh(const MeshOutput& output, const std::string& path, bool binary);
+// (physical group 2 "boundary"; the parts of split input triangles, from split_from on: physical
+// group 3 "split boundary", a second surface entity), with entities for the volume and the
+// boundary surfaces. Errors name `shown`.
+void write_msh(const MeshRows& rows, const std::vector<Triangle>& boundary, std::size_t split_from,
+               const std::string& path, const std::string& shown, bool binary);
 
 // MEDIT .mesh (ASCII, version 2): Vertices, Tetrahedra (reference = region) and Triangles
-// (reference 1: the boundary; 2: parts of split input triangles).
-void write_medit(const MeshOutput& output, const std::string& path);
+// (reference 1: the boundary; 2: parts of split input triangles, from split_from on).
+void write_medit(const MeshRows& rows, const std::vector<Triangle>& boundary, std::size_t split_from,
+                 const std::string& path, const std::string& shown);
 
 // Writes the HDF5 files of an XDMF set (the mesh's and the boundary's) to temporary paths;
 // returns the counts of points, tets and faces written. The MPI driver gives one that has every
@@ -191,14 +206,16 @@ using PieceFilesWrite =
 // files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes the
 // piece files of a .pvtu set or the MSH partitions (empty: here, alone). With a mesh left spread
 // (MeshOutput's mesh empty), a .pvtu set's piece values and the writer of its piece files from
-// where the mesh's parts are, and the writer of its TetGen files.
+// where the mesh's parts are, and the writer of the single-file formats whose rows stream from
+// there (TetGen's files, MSH, MEDIT: spread_rows).
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;
   PieceFilesWrite piece_files;
   std::vector<int> spread_pieces;
   std::function<void(const std::vector<PieceFile>& files)> spread_piece_files;
-  std::function<void(OutputSet& set, const MeshOutput& output, const std::string& prefix)> spread_tetgen;
+  std::function<void(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix)>
+      spread_rows;
 };
 
 // Writes the format's files for PREFIX under temporary names into `set` (published together).

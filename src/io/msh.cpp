@@ -10,6 +10,7 @@
 #include "common/group_items.hpp"
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
+#include "io/row_lines.hpp"
 #include "partet/errors.hpp"
 #include "stages/info.hpp"
 #include "stages/topology.hpp"
@@ -48,6 +49,8 @@ class MshStream {
     out_.text(name);
   }
   void close() { out_.close(); }
+  BufferedFile& file() { return out_; }
+  bool binary() const { return binary_; }
 
   // $MeshFormat, $PhysicalNames and $Entities (the model).
   void model(const Bounds& box, bool split) {
@@ -84,14 +87,15 @@ class MshStream {
 
 class MshWriter {
  public:
-  MshWriter(const MeshOutput& output, const std::string& path, bool binary)
-      : mesh_(output.mesh),
-        boundary_(output.boundary),
-        whole_(std::min(output.split_from, output.boundary.size())),
-        out_(path, path, false, binary) {}
+  MshWriter(const MeshRows& rows, const std::vector<Triangle>& boundary, std::size_t split_from,
+            const std::string& path, const std::string& shown, bool binary)
+      : rows_(rows),
+        boundary_(boundary),
+        whole_(std::min(split_from, boundary.size())),
+        out_(path, shown, false, binary) {}
 
   void write() {
-    out_.model(bounds_of(mesh_.points), split());
+    out_.model(rows_.box, split());
     nodes();
     elements();
     out_.close();
@@ -99,17 +103,17 @@ class MshWriter {
 
  private:
   void nodes() {
-    const std::uint64_t n = mesh_.points.size();
+    const std::uint64_t n = rows_.points;
     out_.begin_section("$Nodes\n");
     out_.size(1), out_.size(n), out_.size(n == 0 ? 0 : 1), out_.size(n), out_.end_line();
     out_.tag(3), out_.tag(1), out_.tag(0), out_.size(n), out_.end_line();
     for (std::uint64_t i = 1; i <= n; ++i) out_.size(i), out_.end_line();
-    for (const Point3& p : mesh_.points) out_.real(p[0]), out_.real(p[1]), out_.real(p[2]), out_.end_line();
+    rows_.write(out_.file(), out_.binary() ? RowLines::msh_node_binary : RowLines::msh_node, 0);
     out_.end_section("$EndNodes\n");
   }
 
   void elements() {
-    const std::uint64_t tets = mesh_.tets.size(), triangles = boundary_.size();
+    const std::uint64_t tets = rows_.tets, triangles = boundary_.size();
     out_.begin_section("$Elements\n");
     // Empty blocks are left out (meshio cannot read them).
     const std::uint64_t blocks = 1 + (whole_ > 0 ? 1 : 0) + (split() ? 1 : 0);
@@ -126,17 +130,14 @@ class MshWriter {
     if (whole_ > 0) surface(1, 0, whole_);
     if (split()) surface(2, whole_, boundary_.size());
     out_.tag(3), out_.tag(1), out_.tag(4), out_.size(tets), out_.end_line();  // 4: 4-node tetrahedron
-    for (const Tet& t : mesh_.tets) {
-      out_.size(id++);
-      for (std::int32_t v : t) out_.size(static_cast<std::uint64_t>(v) + 1);
-      out_.end_line();
-    }
+    rows_.write(out_.file(), out_.binary() ? RowLines::msh_tet_binary : RowLines::msh_tet,
+                static_cast<std::int64_t>(id));
     out_.end_section("$EndElements\n");
   }
 
   bool split() const { return whole_ < boundary_.size(); }
 
-  const TetMesh& mesh_;
+  const MeshRows& rows_;
   const std::vector<Triangle>& boundary_;
   std::size_t whole_;  // boundary faces before the parts of split input triangles
   MshStream out_;
@@ -293,8 +294,9 @@ std::vector<int> msh_partition_pieces(const MeshOutput& output) {
   return pieces;
 }
 
-void write_msh(const MeshOutput& output, const std::string& path, bool binary) {
-  MshWriter(output, path, binary).write();
+void write_msh(const MeshRows& rows, const std::vector<Triangle>& boundary, std::size_t split_from,
+               const std::string& path, const std::string& shown, bool binary) {
+  MshWriter(rows, boundary, split_from, path, shown, binary).write();
 }
 
 PieceArrays arrays_of(const MshPartView& part) {

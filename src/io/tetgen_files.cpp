@@ -22,6 +22,7 @@
 #include "common/test_hooks.hpp"
 #include "io/buffered_file.hpp"
 #include "io/output_set.hpp"
+#include "io/text_sink.hpp"
 #include "partet/errors.hpp"
 #include "stages/topology.hpp"
 
@@ -38,50 +39,6 @@ void write_id(BufferedFile& out, const std::string& id) {
   out.text(id);
   out.newline();
 }
-
-// Formats numbers at the end of a string, like BufferedFile into its buffer, so both write
-// the same text (format_lines below is the one formatter): into a buffer of its own first,
-// appended in large blocks (growing the string number by number is twice as slow).
-class TextSink {
- public:
-  explicit TextSink(std::string& text) : text_(text), buffer_(new char[kBufferSize]) {}
-  TextSink(const TextSink&) = delete;
-  TextSink& operator=(const TextSink&) = delete;
-  void integer(std::int64_t value) {
-    reserve();
-    used_ = static_cast<std::size_t>(std::to_chars(end(), limit(), value).ptr - buffer_.get());
-  }
-  void real(double value) {
-    reserve();
-    used_ = static_cast<std::size_t>(std::to_chars(end(), limit(), value, std::chars_format::general, 17).ptr -
-                                     buffer_.get());
-  }
-  void text(std::string_view s) {  // row tails: a few characters
-    reserve();
-    std::memcpy(end(), s.data(), s.size());
-    used_ += s.size();
-  }
-  void space() {
-    reserve();
-    buffer_[used_++] = ' ';
-  }
-  void flush() {
-    text_.append(buffer_.get(), used_);
-    used_ = 0;
-  }
-
- private:
-  static constexpr std::size_t kBufferSize = std::size_t(1) << 20;
-  static constexpr std::size_t kMaxItem = 64;  // longer than any number or row tail
-  char* end() { return buffer_.get() + used_; }
-  char* limit() { return buffer_.get() + kBufferSize; }
-  void reserve() {
-    if (kBufferSize - used_ < kMaxItem) flush();
-  }
-  std::string& text_;
-  std::unique_ptr<char[]> buffer_;
-  std::size_t used_ = 0;
-};
 
 template <class Value, int kWidth>
 struct RowOf {
@@ -453,11 +410,8 @@ const char* extension(TetgenFile file) {
 }
 
 std::string mesh_id(const TetMesh& mesh, const std::vector<Triangle>& boundary_faces) {
-  const auto of = [](TetgenFile file, const auto& rows) {
-    return fingerprint_rows(file, reinterpret_cast<const char*>(rows.data()), rows.size());
-  };
-  return mesh_id(of(TetgenFile::node, mesh.points), of(TetgenFile::ele, mesh.tets),
-                 of(TetgenFile::face, boundary_faces));
+  return mesh_id(fingerprint_rows(TetgenFile::node, mesh.points), fingerprint_rows(TetgenFile::ele, mesh.tets),
+                 fingerprint_rows(TetgenFile::face, boundary_faces));
 }
 
 RowsFingerprint fingerprint_rows(TetgenFile file, const char* data, std::size_t count) {

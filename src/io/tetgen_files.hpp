@@ -27,6 +27,10 @@ struct RowsFingerprint {
   std::uint64_t hash = 0, words = 0;
 };
 RowsFingerprint fingerprint_rows(TetgenFile file, const char* data, std::size_t count);  // rows as packed
+template <class Row>
+RowsFingerprint fingerprint_rows(TetgenFile file, const std::vector<Row>& rows) {
+  return fingerprint_rows(file, reinterpret_cast<const char*>(rows.data()), rows.size());
+}
 RowsFingerprint combine(const RowsFingerprint& first, const RowsFingerprint& then);
 std::string mesh_id(const RowsFingerprint& points, const RowsFingerprint& tets, const RowsFingerprint& faces);
 

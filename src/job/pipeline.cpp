@@ -415,7 +415,7 @@ void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, con
 // mesh, from the last round that ended, as far as they need to grow.
 TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& welder, TetMesh&& band,
                   const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
-                  std::shared_ptr<SpreadMesh>* spread) {
+                  std::shared_ptr<SpreadMesh>* spread, bool spread_neighbours) {
   const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + band.tets.size());
   HealOptions on_band = options;
   on_band.drop_points = false;
@@ -423,7 +423,7 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& w
     stats = heal_seams(band, input, split, on_band, mesher);
     const double start = now_seconds();
     if (spread && welder.keeps_bulks_elsewhere()) {
-      *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band)));
+      *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours));
       log::debug("left the mesh spread: " + std::to_string((*spread)->tets) + " tets, " +
                  std::to_string((*spread)->band_tets.size()) + " of them here, in " +
                  std::to_string(now_seconds() - start) + " s");
@@ -465,7 +465,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   MeshResult result;
   RegionMeshers meshers(options, scheduler);
   result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(),
-                          result.seam, options.spread_output ? &result.spread : nullptr);
+                          result.seam, options.spread_output ? &result.spread : nullptr, options.spread_neighbours);
   timer.lap("seam_healing");
   finish_healed(input, prepared, options, meshers, timer, result);
   return result;

@@ -49,9 +49,12 @@ struct MeshOptions {
   // waits in a file in this directory from its arrival until the mesh is assembled.
   std::string scratch;
   // Leave the mesh where its parts are (MeshResult::spread) when the bulks stay on the ranks that
-  // meshed them and the seams heal on the band alone: only the XDMF set is written then, by the
-  // owners of the parts.
+  // meshed them and the seams heal on the band alone: only formats written from the parts are
+  // asked for (RootRun's may_spread).
   bool spread_output = false;
+  // With spread_output: keep the tets across the faces the parts share (16 bytes per face), which
+  // only TetGen's .neigh file needs.
+  bool spread_neighbours = false;
   TetgenOptions tetgen;
   RunOptions run;
 };

@@ -20,12 +20,14 @@ void RootRun::prepare(InputChecks checks) {
 namespace {
 
 // Whether the mesh may stay where its parts are: only formats written from its parts (the XDMF
-// set and a .pvtu set by their owners, TetGen's files streamed from them), nothing reads the whole
+// set and a .pvtu set by their owners; TetGen's files, MEDIT and one MSH file streamed from
+// them), nothing reads the whole
 // mesh on rank 0 (no check, no comparison, no polish), and the bulks wait in memory where they
 // were meshed.
 bool may_spread(const MeshJob& job) {
   const auto written_in_parts = [](MeshFormat f) {
-    return f == MeshFormat::xdmf || f == MeshFormat::pvtu || f == MeshFormat::tetgen;
+    return f == MeshFormat::xdmf || f == MeshFormat::pvtu || f == MeshFormat::tetgen || f == MeshFormat::medit ||
+           f == MeshFormat::msh || f == MeshFormat::msh_binary;
   };
   return !job.formats.empty() && std::all_of(job.formats.begin(), job.formats.end(), written_in_parts) &&
          !job.check_output && !job.compare_tetgen && !polishes(job.options) && job.options.scratch.empty();
@@ -37,6 +39,7 @@ void RootRun::mesh(PieceScheduler& scheduler) {
   try {
     MeshOptions options = job_.options;
     options.spread_output = may_spread(job_);
+    options.spread_neighbours = std::count(job_.formats.begin(), job_.formats.end(), MeshFormat::tetgen) > 0;
     result_ = mesh_with_retries(input_, options, scheduler, &times_);
     scheduler.confirm_input();  // heard already, unless no piece was meshed
   } catch (...) {

@@ -21,7 +21,7 @@
 #include "job/job.hpp"
 #include "mpi/ranks.hpp"
 #include "mpi/spread_piece_files.hpp"
-#include "mpi/spread_tetgen_files.hpp"
+#include "mpi/spread_row_files.hpp"
 #include "mpi/write_messages.hpp"
 #include "partet/errors.hpp"
 #include "runner/serialize.hpp"
@@ -50,9 +50,9 @@ constexpr int kBlockArrays = 6;
 void send_block(const MeshBlockView& block, bool ok, int rank) {
   const auto send = [rank](const auto& run) {
     const std::string_view bytes(reinterpret_cast<const char*>(run.data), run.size * sizeof(*run.data));
-    bounded([&] { return send_bytes(bytes, rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+    send_to(rank, bytes, kWorkerSeconds);
   };
-  bounded([&] { return send_bytes(ok ? "B" : "", rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+  send_to(rank, ok ? "B" : "", kWorkerSeconds);
   if (!ok) return;
   send(block.points), send(block.tets), send(block.tet_region), send(block.tet_piece);
   send(block.faces), send(block.face_marker);
@@ -65,9 +65,7 @@ struct ReceivedBlock {
 
   static ReceivedBlock receive() {
     ReceivedBlock block;
-    const auto receive_one = [] {
-      return bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
-    };
+    const auto receive_one = [] { return receive_from(0, kRootSeconds); };
     block.made = !receive_one().empty();
     if (block.made)
       for (std::string& bytes : block.arrays) bytes = receive_one();
@@ -189,7 +187,7 @@ void write_tetgen_lines_on_every_rank(const TetgenRows& rows, BufferedFile& out)
       const std::size_t row = first + i * kRowPart;
       const std::string_view part(rows.data + row * bytes_per_row,
                                   (std::min(last, row + kRowPart) - row) * bytes_per_row);
-      bounded([&] { return send_bytes(part, r, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+      send_to(r, part, kWorkerSeconds);
     }
   }
   std::exception_ptr failure;
@@ -212,13 +210,10 @@ void format_rows_block(std::istringstream& order) {
   MPI_Comm_size(job_comm(), &size);
   const auto [first, last] = run_of(count, my_rank(), size);
   std::vector<std::string> parts(row_part_count(first, last));
-  for (std::string& part : parts)
-    part = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  for (std::string& part : parts) part = receive_from(0, kRootSeconds);
   const auto kind = static_cast<TetgenFile>(file);
   const std::size_t bytes_per_row = row_bytes(kind);
-  auto send = [](const std::string& chunk) {
-    bounded([&] { return send_bytes(chunk, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
-  };
+  auto send = [](const std::string& chunk) { send_to(0, chunk, kRootSeconds); };
   try {
     std::size_t received = 0;
     for (const std::string& part : parts) received += part.size();
@@ -292,19 +287,14 @@ class PieceFileDealer {
     }
     for (int rank : writers_)
       if (busy_[rank]) take_answer(rank);
-    for (int rank = 1; rank < size_; ++rank) send_to(rank, "");  // no more files
+    for (int rank = 1; rank < size_; ++rank) send_to(rank, "", kWorkerSeconds);  // no more files
     if (failure_) std::rethrow_exception(failure_);
   }
 
  private:
   void find_writers() {
     for (int rank = 1; rank < size_; ++rank)
-      if (bounded([&] { return recv_bytes(rank, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); }) == "1")
-        writers_.push_back(rank);
-  }
-
-  static void send_to(int rank, std::string_view bytes) {
-    bounded([&] { return send_bytes(bytes, rank, kTagBlock, job_comm(), kMaxChunk, kWorkerSeconds); });
+      if (receive_from(rank, kWorkerSeconds) == "1") writers_.push_back(rank);
   }
 
   void send_next(int rank) {
@@ -318,9 +308,10 @@ class PieceFileDealer {
     } catch (...) {
       failure_ = std::current_exception();  // the rank is still told, so it does not wait for the file
     }
-    send_to(rank, arrays ? "B" + std::to_string(i) + "/" + std::to_string(arrays->size()) : "N" + std::to_string(i));
+    send_to(rank, arrays ? "B" + std::to_string(i) + "/" + std::to_string(arrays->size()) : "N" + std::to_string(i),
+            kWorkerSeconds);
     if (arrays)
-      for (std::string_view bytes : *arrays) send_to(rank, bytes);
+      for (std::string_view bytes : *arrays) send_to(rank, bytes, kWorkerSeconds);
     busy_[rank] = true;
   }
 
@@ -331,8 +322,7 @@ class PieceFileDealer {
   }
 
   void take_answer(int rank) {
-    const std::string answer =
-        bounded([&] { return recv_bytes(rank, kTagText, job_comm(), kMaxChunk, kWorkerSeconds); });
+    const std::string answer = receive_from(rank, kWorkerSeconds);
     busy_[rank] = false;
     if (!answer.empty() && !failure_) failure_ = std::make_exception_ptr(OutputError(answer.substr(1)));
   }
@@ -363,8 +353,7 @@ std::vector<std::string> receive_piece_arrays(const std::string& header) {
   std::vector<std::string> arrays;
   if (header[0] != 'B' || header.find('/') == std::string::npos) return arrays;
   arrays.resize(std::stoul(header.substr(header.find('/') + 1)));
-  for (std::string& bytes : arrays)
-    bytes = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+  for (std::string& bytes : arrays) bytes = receive_from(0, kRootSeconds);
   return arrays;
 }
 
@@ -380,9 +369,9 @@ void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
     files.push_back({0, temporary, shown});
   const int fd = files.empty() ? -1 : ::open(files[0].temporary.c_str(), O_WRONLY | O_CLOEXEC);  // never creates it
   if (fd >= 0) ::close(fd);
-  bounded([&] { return send_bytes(fd >= 0 ? "1" : "0", 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+  send_to(0, fd >= 0 ? "1" : "0", kRootSeconds);
   for (;;) {
-    const std::string header = bounded([&] { return recv_bytes(0, kTagBlock, job_comm(), kMaxChunk, kRootSeconds); });
+    const std::string header = receive_from(0, kRootSeconds);
     if (header.empty()) return;
     const std::size_t i = std::stoul(header.substr(1));
     std::string answer;
@@ -397,7 +386,7 @@ void write_piece_files_sent(std::istringstream& order, RankStats& stats) {
     } catch (const std::exception& e) {
       answer = std::string("E") + e.what();
     }
-    bounded([&] { return send_bytes(answer, 0, kTagText, job_comm(), kMaxChunk, kRootSeconds); });
+    send_to(0, answer, kRootSeconds);
   }
 }
 
@@ -464,9 +453,9 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int sca
     writers.spread_piece_files = [spread, scale_exponent, &stats](const std::vector<PieceFile>& files) {
       write_spread_piece_files(*spread, scale_exponent, files, stats);
     };
-    writers.spread_tetgen = [spread, scale_exponent](OutputSet& set, const MeshOutput& output,
-                                                     const std::string& prefix) {
-      add_spread_tetgen_files(set, *spread, output, prefix, scale_exponent);
+    writers.spread_rows = [spread, scale_exponent](OutputSet& set, MeshFormat format, const MeshOutput& output,
+                                                   const std::string& prefix) {
+      add_spread_row_files(set, format, *spread, output, prefix, scale_exponent);
     };
   }
   if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
@@ -492,8 +481,8 @@ void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take
       join_spread_write(lines, status, kept);
     else if (kind == kSpreadPiecesOrder)
       write_own_piece_files(lines, kept, stats);
-    else if (kind == kSpreadTetgenOrder)
-      stream_own_tetgen_rows(lines, kept);
+    else if (kind == kSpreadRowsOrder)
+      stream_own_rows(lines, kept);
     else if (kind == kPiecesOrder)
       write_piece_files_sent(lines, stats);
     else

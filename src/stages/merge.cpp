@@ -587,7 +587,7 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
   return links;
 }
 
-SpreadMesh Welder::spread(TetMesh&& healed_band) {
+SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   const std::size_t k = bulks_.size();
   if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
   const AssemblyNumbering numbering = this->numbering(healed_band);
@@ -611,9 +611,12 @@ SpreadMesh Welder::spread(TetMesh&& healed_band) {
   mesh.band_solid.reserve(band_label.size());
   for (std::int32_t label : band_label) mesh.band_solid.push_back(solids[k][label]);
   // 5. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
-  std::vector<std::vector<FaceAcross>> across = faces_across_blocks(links, first_row);
-  for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);
-  mesh.band_across = std::move(across[k]);
+  if (faces_across) {
+    std::vector<std::vector<FaceAcross>> across = faces_across_blocks(links, first_row);
+    for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);
+    mesh.band_across = std::move(across[k]);
+    mesh.has_across = true;
+  }
   blocks_.assign(k, Block());
   bulks_.assign(k, Block());
   band_steiner_.assign(k, {});

@@ -84,10 +84,11 @@ class Welder {
   // the assembly with it.
   AssemblyNumbering numbering(const TetMesh& healed_band, bool drop_unused = true);
   TetMesh assemble(TetMesh&& healed_band, const AssemblyNumbering& numbering);
-  // Instead of the assembly, when only the XDMF set is written: the mesh left where its parts are
-  // (spread_mesh.hpp). The bulks kept by a store are numbered there and stay; those kept here
-  // move into the result, numbered. The welder is then empty.
-  SpreadMesh spread(TetMesh&& healed_band);
+  // Instead of the assembly, when only formats written from the parts are: the mesh left where
+  // its parts are (spread_mesh.hpp). The bulks kept by a store are numbered there and stay; those
+  // kept here move into the result, numbered. With faces_across, the tets across the blocks'
+  // shared faces too (for TetGen's .neigh). The welder is then empty.
+  SpreadMesh spread(TetMesh&& healed_band, bool faces_across = true);
   // Whether some store keeps a bulk (the pieces were split where they were meshed).
   bool keeps_bulks_elsewhere() const;
   // The tets the bulks hold (after finish_band).

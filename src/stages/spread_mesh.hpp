@@ -1,5 +1,5 @@
-// The output mesh left where its parts are (internal header): when only the XDMF set is written
-// from several ranks, rank 0 does not assemble the mesh. Each bulk stays on the rank that meshed
+// The output mesh left where its parts are (internal header): when only formats written from the
+// parts are asked for on several ranks, rank 0 does not assemble the mesh. Each bulk stays on the rank that meshed
 // it, numbered as in the assembled mesh, and its owner writes its rows; rank 0 keeps the healed
 // band, the split surface's points and the points healing added. The connected solids ("region",
 // numbered by their first tet) are found without the whole mesh: each block (a bulk, the band)
@@ -78,6 +78,7 @@ struct SpreadMesh {
   std::vector<std::int32_t> band_piece, band_solid;
   std::vector<Tet> band_neighbours;  // local, as healing left them
   std::vector<FaceAcross> band_across;
+  bool has_across = false;  // whether the blocks' faces across (band_across, SpreadBulk::across) were kept
   // The pieces' Steiner points the band's tets use (their rows are the bulks', kept elsewhere):
   // ids ascending, and their coordinates. For a .pvtu set's seam file.
   std::vector<std::int64_t> band_steiner_ids;

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# The XDMF set, a .pvtu set and TetGen's files from several ranks: rank 0 does not assemble the
-# mesh; every bulk's rows and piece file are written by the rank that meshed it, and its TetGen
-# rows are streamed from there to rank 0 (the report says assembled_on_rank0: false). The sets
-# must hold exactly what the assembled path writes (the same run with a .vtu file too, which
-# assembles): every dataset equal, the HDF5 files, every piece file and the four TetGen files
-# byte for byte, the .pvtu index naming the same files; `partet check` passes on each set.
-# Shapes with one solid and with two; 2 and 4 ranks; a .pvtu set alone, TetGen's files alone.
+# The XDMF set, a .pvtu set, TetGen's files, a MEDIT and an MSH file from several ranks: rank 0
+# does not assemble the mesh; every bulk's rows and piece file are written by the rank that
+# meshed it, and its rows in the single files are streamed from there to rank 0 (the report says
+# assembled_on_rank0: false). The sets must hold exactly what the assembled path writes (the same
+# run with a .vtu file too, which assembles): every dataset equal, the HDF5 files, every piece
+# file, the four TetGen files, the .mesh and the .msh file byte for byte, the .pvtu index naming
+# the same files; `partet check` passes on each set. Shapes with one solid and with two; 2 and 4
+# ranks; a .pvtu set alone, TetGen's files alone, a binary MSH file alone.
 # Usage: spread_output.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -35,8 +36,14 @@ same_piece_files() {  # A B: the .pvtu sets A.pvtu and B.pvtu name the same piec
   [ $files -gt 0 ] && [ $files = $(ls ${b}_*.vtu | wc -l) ] || { echo "$files piece files, against $(ls ${b}_*.vtu | wc -l)"; return 1; }
   echo "$files piece files"
 }
-same_tetgen() {  # A B: the four TetGen files of the two prefixes byte for byte
-  for x in node ele face neigh; do cmp -s $1.$x $2.$x || { echo "$1.$x differs from $2.$x"; return 1; }; done
+same_files() {  # A B: the TetGen, MEDIT and MSH files of the two prefixes byte for byte (those A has)
+  local x n=0
+  for x in node ele face neigh mesh msh; do
+    [ -e $1.$x ] || continue
+    cmp -s $1.$x $2.$x || { echo "$1.$x differs from $2.$x"; return 1; }
+    n=$((n + 1))
+  done
+  [ $n -gt 0 ] || { echo "no file at $1"; return 1; }
 }
 assembled() { /usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["assembled_on_rank0"])' "$1"; }
 regions() { /usr/bin/python3 -c 'import h5py,sys; print(int(h5py.File(sys.argv[1],"r")["/Mesh/mesh/region"][()].max()))' "$1"; }
@@ -44,9 +51,10 @@ for shape in genus3 two_spheres nested; do
   "$partet" generate $shape --faces 6000 -o $shape.off > /dev/null || exit 1
   for n in 2 4; do
     name="$shape on $n ranks"
-    "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format xdmf,pvtu,tetgen -o s_${shape}_$n --report s.json --quiet ||
+    formats=xdmf,pvtu,tetgen,medit,msh
+    "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format $formats -o s_${shape}_$n --report s.json --quiet ||
       { bad "$name: the spread run failed"; continue; }
-    "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format xdmf,pvtu,tetgen,vtu -o a_${shape}_$n --report a.json --quiet ||
+    "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format $formats,vtu -o a_${shape}_$n --report a.json --quiet ||
       { bad "$name: the assembled run failed"; continue; }
     [ "$(assembled s.json)/$(assembled a.json)" = False/True ] ||
       { bad "$name: assembled on rank 0: spread run $(assembled s.json), with a .vtu file $(assembled a.json)"; continue; }
@@ -55,11 +63,11 @@ for shape in genus3 two_spheres nested; do
     cmp -s s_${shape}_$n.h5 a_${shape}_$n.h5 && cmp -s s_${shape}_${n}_boundary.h5 a_${shape}_${n}_boundary.h5 || bytes=different
     [ $bytes = same ] || { bad "$name: the HDF5 files' datasets agree but their bytes differ"; continue; }
     if ! out=$(same_piece_files s_${shape}_$n a_${shape}_$n); then bad "$name: $out"; continue; fi
-    if ! err=$(same_tetgen s_${shape}_$n a_${shape}_$n); then bad "$name: $err"; continue; fi
-    for set in s_${shape}_$n.xdmf s_${shape}_$n.pvtu s_${shape}_$n; do
+    if ! err=$(same_files s_${shape}_$n a_${shape}_$n); then bad "$name: $err"; continue; fi
+    for set in s_${shape}_$n.xdmf s_${shape}_$n.pvtu s_${shape}_$n s_${shape}_$n.mesh; do
       "$mpiexec" -n 2 "$partet" check $shape.off $set > check.log 2>&1 || { bad "$name: partet check $set failed: $(tail -n 3 check.log)"; continue 2; }
     done
-    ok "$name: written from the owners of its parts, the assembled path's sets and TetGen files byte for byte ($(regions s_${shape}_$n.h5) solid(s), $out), checks passed"
+    ok "$name: written from the owners of its parts, the assembled path's sets, TetGen, MEDIT and MSH files byte for byte ($(regions s_${shape}_$n.h5) solid(s), $out), checks passed"
   done
 done
 # A .pvtu set alone, on 3 ranks, against the same set written with a .vtu file (assembled).
@@ -79,11 +87,23 @@ fi
   "$partet" mesh two_spheres.off -k 7 -o t_one --report a.json --quiet || bad "TetGen files alone: a run failed"
 if [ "$(assembled s.json)/$(assembled a.json)" != False/True ]; then
   bad "TetGen files alone: assembled on rank 0: $(assembled s.json), on 1 rank $(assembled a.json)"
-elif ! err=$(same_tetgen t_alone t_one); then
+elif ! err=$(same_files t_alone t_one); then
   bad "TetGen files alone: $err"
 elif ! "$mpiexec" -n 2 "$partet" check two_spheres.off t_alone > check.log 2>&1; then
   bad "TetGen files alone: partet check failed: $(tail -n 3 check.log)"
 else
   ok "TetGen files alone on 3 ranks: not assembled, 1 rank's files byte for byte ($(head -n 1 t_alone.ele | cut -d' ' -f1) tets), check passed"
+fi
+# A binary MSH file alone, on 3 ranks, with K=7, against 1 rank's; `partet check` reads it back.
+"$mpiexec" -n 3 --oversubscribe "$partet" mesh two_spheres.off -k 7 --format msh-binary -o b_alone --report s.json --quiet &&
+  "$partet" mesh two_spheres.off -k 7 --format msh-binary -o b_one --report a.json --quiet || bad "binary MSH alone: a run failed"
+if [ "$(assembled s.json)/$(assembled a.json)" != False/True ]; then
+  bad "binary MSH alone: assembled on rank 0: $(assembled s.json), on 1 rank $(assembled a.json)"
+elif ! err=$(same_files b_alone b_one); then
+  bad "binary MSH alone: $err"
+elif ! "$partet" check two_spheres.off b_alone.msh > check.log 2>&1; then
+  bad "binary MSH alone: partet check failed: $(tail -n 3 check.log)"
+else
+  ok "binary MSH alone on 3 ranks: not assembled, 1 rank's file byte for byte, check passed"
 fi
 summary

@@ -16,7 +16,9 @@
 #               silently incomplete. Needs unshare -m (root); exits 77 (skipped) without it.
 #               A .pvtu set works there: rank 0 writes the piece files rank 1 cannot see (rank 1
 #               sends the files of the bulks it keeps);
-#   full-pvtu:  the disk fills while both ranks write their piece files of a .pvtu set.
+#   full-pvtu:  the disk fills while both ranks write their piece files of a .pvtu set;
+#   full-msh:   the disk fills while rank 0 writes one MSH file, its rows streamed from the ranks
+#               keeping the mesh's parts.
 # Usage: xdmf_trouble.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -110,3 +112,5 @@ expect_full full 3m full/m "cannot write 'full/m\.[a-z]*': No space left on devi
 expect_full full-hdf5 1m full/m.xdmf "cannot write 'full/m\.h5'.*No space left on device"
 # full-pvtu: while both ranks write their piece files.
 expect_full full-pvtu 1m full/m.pvtu "cannot write 'full/m_[a-z0-9]*\.vtu': No space left on device"
+# full-msh: while rank 0 writes one MSH file, rank 1 sending the rows of the bulks it keeps.
+expect_full full-msh 2m full/m.msh "cannot write 'full/m\.msh': No space left on device"

@@ -1,0 +1,123 @@
+#include "io/row_lines.hpp"
+
+#include <cstring>
+
+#include "io/buffered_file.hpp"
+#include "io/tetgen_files.hpp"
+#include "io/text_sink.hpp"
+#include "partet/errors.hpp"
+
+namespace partet {
+namespace {
+
+template <class Row>
+Row row_at(const RowsToFormat& rows, std::size_t i) {
+  Row row;
+  std::memcpy(&row, static_cast<const char*>(rows.data) + i * sizeof(Row), sizeof(Row));
+  return row;
+}
+
+template <class Sink>
+void medit_lines(Sink& out, RowLines lines, const RowsToFormat& rows) {
+  for (std::size_t i = 0; i < rows.count; ++i) {
+    if (lines == RowLines::medit_vertex) {
+      for (double c : row_at<Point3>(rows, i)) out.real(c), out.space();
+      out.text("0\n");
+      continue;
+    }
+    for (std::int32_t v : row_at<Tet>(rows, i)) out.integer(std::int64_t{v} + 1), out.space();
+    out.integer(rows.region[i]);
+    out.newline();
+  }
+}
+
+// MSH 4.1's numbers: as text, each followed by a space, a line per row; in binary, size_t and
+// double as they are.
+template <class Sink, bool kBinary>
+struct MshNumbers {
+  Sink& out;
+  void size(std::uint64_t v) {
+    if constexpr (kBinary)
+      out.bytes(&v, sizeof v);
+    else
+      out.integer(static_cast<std::int64_t>(v)), out.space();
+  }
+  void real(double v) {
+    if constexpr (kBinary)
+      out.bytes(&v, sizeof v);
+    else
+      out.real(v), out.space();
+  }
+  void end_line() {
+    if constexpr (!kBinary) out.newline();
+  }
+};
+
+template <bool kBinary, class Sink>
+void msh_lines(Sink& sink, bool points, const RowsToFormat& rows) {
+  MshNumbers<Sink, kBinary> out{sink};
+  for (std::size_t i = 0; i < rows.count; ++i) {
+    if (points) {
+      for (double c : row_at<Point3>(rows, i)) out.real(c);
+    } else {
+      out.size(static_cast<std::uint64_t>(rows.number_from + rows.first) + i);
+      for (std::int32_t v : row_at<Tet>(rows, i)) out.size(static_cast<std::uint64_t>(v) + 1);
+    }
+    out.end_line();
+  }
+}
+
+template <class Sink>
+void format_rows(Sink& out, RowLines lines, const RowsToFormat& rows) {
+  switch (lines) {
+    case RowLines::medit_vertex:
+    case RowLines::medit_tet:
+      return medit_lines(out, lines, rows);
+    case RowLines::msh_node:
+      return msh_lines<false>(out, true, rows);
+    case RowLines::msh_tet:
+      return msh_lines<false>(out, false, rows);
+    case RowLines::msh_node_binary:
+      return msh_lines<true>(out, true, rows);
+    case RowLines::msh_tet_binary:
+      return msh_lines<true>(out, false, rows);
+    default:
+      throw InternalError("no such rows to format");
+  }
+}
+
+TetgenFile tetgen_file(RowLines lines) {
+  return lines == RowLines::tetgen_node  ? TetgenFile::node
+         : lines == RowLines::tetgen_ele ? TetgenFile::ele
+                                         : TetgenFile::neigh;
+}
+
+bool is_tetgen(RowLines lines) {
+  return lines == RowLines::tetgen_node || lines == RowLines::tetgen_ele || lines == RowLines::tetgen_neigh;
+}
+
+}  // namespace
+
+bool formats_points(RowLines lines) {
+  return lines == RowLines::tetgen_node || lines == RowLines::medit_vertex || lines == RowLines::msh_node ||
+         lines == RowLines::msh_node_binary;
+}
+
+void append_row_lines(std::string& text, RowLines lines, const RowsToFormat& rows) {
+  const auto* data = static_cast<const char*>(rows.data);
+  const auto first = static_cast<std::size_t>(rows.first);
+  if (is_tetgen(lines)) return append_tetgen_lines(text, tetgen_file(lines), data, first, rows.count, SIZE_MAX);
+  text.reserve(text.size() + rows.count * (formats_points(lines) ? 64 : 48));  // about a line's length
+  TextSink sink(text);
+  format_rows(sink, lines, rows);
+  sink.flush();
+}
+
+void write_row_lines(BufferedFile& out, RowLines lines, const RowsToFormat& rows) {
+  const auto* data = static_cast<const char*>(rows.data);
+  const auto first = static_cast<std::size_t>(rows.first);
+  if (is_tetgen(lines)) return write_tetgen_lines(out, tetgen_file(lines), data, first, rows.count);
+  format_rows(out, lines, rows);
+}
+
+}  // namespace partet
