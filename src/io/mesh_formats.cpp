@@ -3,8 +3,6 @@
 // Each is checked in the tests by an independent reader (meshio, gmsh).
 #include "io/mesh_formats.hpp"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <array>
 #include <climits>
@@ -22,6 +20,7 @@
 #include "io/msh.hpp"
 #include "io/row_lines.hpp"
 #include "io/tetgen_files.hpp"
+#include "io/vtu_file.hpp"
 #include "io/xdmf.hpp"
 #include "io/xml_text.hpp"
 #include "partet/errors.hpp"
@@ -39,60 +38,11 @@ std::int32_t piece_of(const TetMesh& mesh, std::size_t t) { return mesh.piece.em
 // ---------------------------------------------------------------------------------------------
 // VTK XML
 
-// One DataArray of the appended block, already zlib-compressed in VTK's block layout: a UInt64
-// header [blocks, block size, last block size, compressed size of each block], then the blocks.
-struct CompressedArray {
-  std::string name, type;
-  int components = 1;
-  std::vector<unsigned char> bytes;
-};
-
-template <class T>
-CompressedArray compress(std::string name, std::string type, int components, ArrayRun<T> values,
-                         const std::string& shown) {
-  constexpr std::size_t kBlock = std::size_t(1) << 20;
-  const auto* raw = reinterpret_cast<const unsigned char*>(values.data);
-  const std::size_t size = values.size * sizeof(T);
-  const std::size_t blocks = size == 0 ? 0 : (size + kBlock - 1) / kBlock;
-  std::vector<std::uint64_t> header{blocks, kBlock, blocks == 0 ? 0 : size - (blocks - 1) * kBlock};
-  // The blocks are independent: compressed on every usable CPU (the other ranks only wait
-  // during the writes), the same bytes as one after another.
-  std::vector<std::vector<unsigned char>> packed(blocks);
-  parallel_for(blocks, usable_cpus(), [&](std::size_t b) {
-    const std::size_t length = std::min(kBlock, size - b * kBlock);
-    uLongf out = compressBound(static_cast<uLong>(length));
-    packed[b].resize(out);
-    if (compress2(packed[b].data(), &out, raw + b * kBlock, static_cast<uLong>(length), Z_BEST_SPEED) != Z_OK)
-      throw OutputError("cannot compress the data of '" + shown + "' (zlib)");
-    packed[b].resize(out);
-  });
-  std::size_t data_size = 0;
-  for (const auto& p : packed) header.push_back(p.size()), data_size += p.size();
-  CompressedArray array{std::move(name), std::move(type), components, {}};
-  array.bytes.resize(header.size() * sizeof(std::uint64_t) + data_size);
-  std::memcpy(array.bytes.data(), header.data(), header.size() * sizeof(std::uint64_t));
-  unsigned char* at = array.bytes.data() + header.size() * sizeof(std::uint64_t);
-  for (const auto& p : packed) at = std::copy(p.begin(), p.end(), at);
-  return array;
-}
-
 void add_cell(const MeshOutput& output, const std::vector<std::int32_t>& region, std::size_t t, VtuCells& cells) {
   cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));
   cells.types.push_back(10);  // VTK_TETRA
   cells.piece.push_back(piece_of(output.mesh, t));
   cells.region.push_back(region[t]);
-}
-
-// Every tet and point, numbered as they are.
-VtuCells all_cells(const MeshOutput& output, const std::vector<std::int32_t>& region) {
-  const TetMesh& mesh = output.mesh;
-  VtuCells cells;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    for (std::int32_t v : mesh.tets[t]) cells.connectivity.push_back(v);
-    add_cell(output, region, t, cells);
-  }
-  for (const Point3& p : mesh.points) cells.xyz.insert(cells.xyz.end(), p.begin(), p.end());
-  return cells;
 }
 
 // The tets of each piece value, for a .pvtu set's files: one pass over the tets for all of them
@@ -208,40 +158,43 @@ VtuCells piece_file_cells(int piece, const std::vector<TetsWithRegion>& blocks) 
 }
 
 void write_vtu_file(const VtuCellsView& cells, const std::string& path, const std::string& shown) {
-  const std::size_t points = cells.xyz.size / 3, tets = cells.types.size;
-  std::vector<CompressedArray> arrays;
-  arrays.push_back(compress("Points", "Float64", 3, cells.xyz, shown));
-  arrays.push_back(compress("connectivity", "Int64", 1, cells.connectivity, shown));
-  arrays.push_back(compress("offsets", "Int64", 1, cells.offsets, shown));
-  arrays.push_back(compress("types", "UInt8", 1, cells.types, shown));
-  arrays.push_back(compress("piece", "Int32", 1, cells.piece, shown));
-  arrays.push_back(compress("region", "Int32", 1, cells.region, shown));
-  const bool global_ids = cells.global_ids.size > 0;
-  if (global_ids) arrays.push_back(compress(kGlobalPointIds, "Int64", 1, cells.global_ids, shown));
-  std::vector<std::size_t> offset(arrays.size(), 0);
-  for (std::size_t i = 1; i < arrays.size(); ++i) offset[i] = offset[i - 1] + arrays[i - 1].bytes.size();
-  auto data_array = [&](std::size_t i) {
-    return "<DataArray type=\"" + arrays[i].type + "\" Name=\"" + arrays[i].name + "\" NumberOfComponents=\"" +
-           std::to_string(arrays[i].components) + "\" format=\"appended\" offset=\"" + std::to_string(offset[i]) +
-           "\"/>\n";
+  VtuFileWriter file(path, shown, cells.xyz.size / 3, cells.types.size, cells.global_ids.size > 0);
+  const auto as_is = [&](VtuArray which, auto run) {
+    file.array(which, [&](ByteSink& out) { out.bytes(run.data, run.size * sizeof(*run.data)); });
   };
-  std::string xml =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
-      "compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" +
-      std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(tets) + "\">\n" +
-      (global_ids
-           ? "<PointData GlobalIds=\"" + std::string(kGlobalPointIds) + "\">\n" + data_array(6) + "</PointData>\n"
-           : "") +
-      "<Points>\n" + data_array(0) + "</Points>\n<Cells>\n" + data_array(1) + data_array(2) + data_array(3) +
-      "</Cells>\n<CellData Scalars=\"piece\">\n" + data_array(4) + data_array(5) +
-      "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
-  BufferedFile out(path, shown, /*must_exist=*/true);  // a temporary OutputSet made, maybe on another rank
-  out.bytes(xml.data(), xml.size());
-  for (const CompressedArray& a : arrays) out.bytes(a.bytes.data(), a.bytes.size());
-  const std::string tail = "\n</AppendedData>\n</VTKFile>\n";
-  out.bytes(tail.data(), tail.size());
-  out.close();
+  as_is(VtuArray::points, cells.xyz);
+  as_is(VtuArray::connectivity, cells.connectivity);
+  as_is(VtuArray::offsets, cells.offsets);
+  as_is(VtuArray::types, cells.types);
+  as_is(VtuArray::piece, cells.piece);
+  as_is(VtuArray::region, cells.region);
+  if (cells.global_ids.size > 0) as_is(VtuArray::global_ids, cells.global_ids);
+  file.close();
+}
+
+void write_vtu(const VtuRows& rows, const std::string& path, const std::string& shown) {
+  VtuFileWriter file(path, shown, rows.points, rows.tets, false);
+  file.array(VtuArray::points, [&](ByteSink& out) { rows.write(out, RowLines::vtu_points); });
+  file.array(VtuArray::connectivity, [&](ByteSink& out) { rows.write(out, RowLines::vtu_connectivity); });
+  file.cell_layout();
+  file.array(VtuArray::piece, [&](ByteSink& out) { rows.write(out, RowLines::vtu_piece); });
+  file.array(VtuArray::region, [&](ByteSink& out) { rows.write(out, RowLines::vtu_region); });
+  file.close();
+}
+
+VtuRows vtu_rows(const MeshOutput& output) {
+  const TetMesh& mesh = output.mesh;
+  VtuRows rows;
+  rows.points = mesh.points.size(), rows.tets = mesh.tets.size();
+  rows.write = [&mesh](ByteSink& out, RowLines lines) {
+    if (formats_points(lines)) return write_row_lines(out, lines, {mesh.points.data(), mesh.points.size(), 0, 0});
+    std::vector<std::int32_t> column;  // the regions, or the pieces when the mesh has none (-1)
+    if (lines == RowLines::vtu_region) column = region_of_tets(mesh);
+    if (lines == RowLines::vtu_piece && mesh.piece.empty()) column.assign(mesh.tets.size(), -1);
+    const std::int32_t* piece = mesh.piece.empty() ? column.data() : mesh.piece.data();
+    write_row_lines(out, lines, {mesh.tets.data(), mesh.tets.size(), 0, 0, column.data(), piece});
+  };
+  return rows;
 }
 
 PieceArrays arrays_of(const VtuCellsView& cells) {
@@ -312,10 +265,6 @@ std::vector<int> pieces_in(const MeshOutput& output) {
   for (std::size_t p = 0; p < seen.size(); ++p)
     if (seen[p]) pieces.push_back(static_cast<int>(p));
   return pieces;
-}
-
-void write_vtu(const MeshOutput& output, const std::string& path) {
-  write_vtu_file(all_cells(output, region_of_tets(output.mesh)).view(), path, path);
 }
 
 void write_pvtu(const MeshOutput&, const std::string& path, const std::vector<std::string>& piece_files) {
@@ -596,7 +545,8 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
       add_tetgen_files(set, output.mesh, output.boundary, prefix, output.split_from, writers.tetgen_lines);
       return;
     case MeshFormat::vtu:
-      set.add(path, [&](const std::string& tmp) { write_vtu(output, tmp); });
+      if (writers.spread_rows) return writers.spread_rows(set, format, output, prefix);
+      set.add(path, [&](const std::string& tmp) { write_vtu(vtu_rows(output), tmp, path); });
       return;
     case MeshFormat::msh:
     case MeshFormat::msh_binary:

@@ -132,10 +132,19 @@ inline constexpr const char* kGlobalPointIds = "GlobalPointIds";
 // errors name `shown`.
 void write_vtu_file(const VtuCellsView& cells, const std::string& path, const std::string& shown);
 
+// The rows of a single .vtu file, wherever they are (like MeshRows): write(out, lines) gives
+// every row of one raw array (vtu_points, vtu_connectivity, vtu_piece, vtu_region), in order.
+struct VtuRows {
+  std::uint64_t points = 0, tets = 0;
+  std::function<void(ByteSink& out, RowLines lines)> write;
+};
+VtuRows vtu_rows(const MeshOutput& output);
+
 // VTK XML UnstructuredGrid, binary appended data, zlib-compressed. Cell data: "piece" (the piece
-// that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the connected solid it
-// belongs to, from 1). Like write_vtu_file, into `path`, which must exist (an OutputSet's temporary).
-void write_vtu(const MeshOutput& output, const std::string& path);
+// that meshed the tet, -1: re-meshed after the merge, at a cut or by the polish) and "region" (the
+// connected solid it belongs to, from 1). Like write_vtu_file, into `path`, which must exist (an
+// OutputSet's temporary); errors name `shown`.
+void write_vtu(const VtuRows& rows, const std::string& path, const std::string& shown);
 
 // The .pvtu index naming one .vtu per piece value (each as write_vtu writes, with just that
 // piece's tets and the points they use, numbered from 0, and kGlobalPointIds their ids in the whole mesh); the names
@@ -207,7 +216,7 @@ using PieceFilesWrite =
 // piece files of a .pvtu set or the MSH partitions (empty: here, alone). With a mesh left spread
 // (MeshOutput's mesh empty), a .pvtu set's piece values and the writer of its piece files from
 // where the mesh's parts are, and the writer of the single-file formats whose rows stream from
-// there (TetGen's files, MSH, MEDIT: spread_rows).
+// there (TetGen's files, .vtu, MSH, MEDIT: spread_rows).
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;

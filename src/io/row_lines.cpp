@@ -1,5 +1,6 @@
 #include "io/row_lines.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "io/buffered_file.hpp"
@@ -67,9 +68,31 @@ void msh_lines(Sink& sink, bool points, const RowsToFormat& rows) {
   }
 }
 
+// VTK's raw arrays, as they lie in memory.
+template <class Sink>
+void vtu_values(Sink& out, RowLines lines, const RowsToFormat& rows) {
+  for (std::size_t i = 0; i < rows.count; ++i) {
+    if (lines == RowLines::vtu_points) {
+      const Point3 point = row_at<Point3>(rows, i);
+      out.bytes(point.data(), sizeof point);
+    } else if (lines == RowLines::vtu_connectivity) {
+      const Tet tet = row_at<Tet>(rows, i);
+      const std::int64_t ids[4] = {tet[0], tet[1], tet[2], tet[3]};
+      out.bytes(ids, sizeof ids);
+    } else {
+      out.bytes((lines == RowLines::vtu_piece ? rows.piece : rows.region) + i, sizeof(std::int32_t));
+    }
+  }
+}
+
 template <class Sink>
 void format_rows(Sink& out, RowLines lines, const RowsToFormat& rows) {
   switch (lines) {
+    case RowLines::vtu_points:
+    case RowLines::vtu_connectivity:
+    case RowLines::vtu_piece:
+    case RowLines::vtu_region:
+      return vtu_values(out, lines, rows);
     case RowLines::medit_vertex:
     case RowLines::medit_tet:
       return medit_lines(out, lines, rows);
@@ -100,7 +123,7 @@ bool is_tetgen(RowLines lines) {
 
 bool formats_points(RowLines lines) {
   return lines == RowLines::tetgen_node || lines == RowLines::medit_vertex || lines == RowLines::msh_node ||
-         lines == RowLines::msh_node_binary;
+         lines == RowLines::msh_node_binary || lines == RowLines::vtu_points;
 }
 
 void append_row_lines(std::string& text, RowLines lines, const RowsToFormat& rows) {
@@ -118,6 +141,23 @@ void write_row_lines(BufferedFile& out, RowLines lines, const RowsToFormat& rows
   const auto first = static_cast<std::size_t>(rows.first);
   if (is_tetgen(lines)) return write_tetgen_lines(out, tetgen_file(lines), data, first, rows.count);
   format_rows(out, lines, rows);
+}
+
+void write_row_lines(ByteSink& out, RowLines lines, const RowsToFormat& rows) {
+  constexpr std::size_t kRows = std::size_t{1} << 16;
+  std::string text;
+  for (std::size_t from = 0; from < rows.count; from += kRows) {
+    RowsToFormat part = rows;
+    part.count = std::min(kRows, rows.count - from);
+    part.first += static_cast<std::int64_t>(from);
+    const std::size_t row = formats_points(lines) ? sizeof(Point3) : sizeof(Tet);
+    part.data = static_cast<const char*>(rows.data) + from * row;
+    if (rows.region) part.region = rows.region + from;
+    if (rows.piece) part.piece = rows.piece + from;
+    text.clear();
+    append_row_lines(text, lines, part);
+    out.bytes(text.data(), text.size());
+  }
 }
 
 }  // namespace partet

@@ -20,14 +20,12 @@ void RootRun::prepare(InputChecks checks) {
 namespace {
 
 // Whether the mesh may stay where its parts are: only formats written from its parts (the XDMF
-// set and a .pvtu set by their owners; TetGen's files, MEDIT and one MSH file streamed from
-// them), nothing reads the whole
-// mesh on rank 0 (no check, no comparison, no polish), and the bulks wait in memory where they
-// were meshed.
+// set and a .pvtu set by their owners; TetGen's files, a .vtu, MEDIT and one MSH file streamed
+// from them: all but the MSH partitions), nothing reads the whole mesh on rank 0 (no check, no
+// comparison, no polish), and the bulks wait in memory where they were meshed.
 bool may_spread(const MeshJob& job) {
   const auto written_in_parts = [](MeshFormat f) {
-    return f == MeshFormat::xdmf || f == MeshFormat::pvtu || f == MeshFormat::tetgen || f == MeshFormat::medit ||
-           f == MeshFormat::msh || f == MeshFormat::msh_binary;
+    return f != MeshFormat::msh_parts && f != MeshFormat::msh_parts_binary;
   };
   return !job.formats.empty() && std::all_of(job.formats.begin(), job.formats.end(), written_in_parts) &&
          !job.check_output && !job.compare_tetgen && !polishes(job.options) && job.options.scratch.empty();

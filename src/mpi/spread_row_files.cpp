@@ -170,13 +170,19 @@ class SpreadRowsWrite {
   }
 
   void add_single_file(OutputSet& set, const std::string& prefix) {
+    const std::string shown = format_paths(format_, prefix).front();
+    if (format_ == MeshFormat::vtu) {
+      VtuRows rows;
+      rows.points = static_cast<std::uint64_t>(mesh_.points), rows.tets = static_cast<std::uint64_t>(mesh_.tets);
+      rows.write = [this](ByteSink& out, RowLines lines) { write_runs(out, lines, 0); };
+      return set.add(shown, [&](const std::string& temporary) { write_vtu(rows, temporary, shown); });
+    }
     MeshRows rows;
     rows.points = static_cast<std::uint64_t>(mesh_.points), rows.tets = static_cast<std::uint64_t>(mesh_.tets);
     if (format_ != MeshFormat::medit) rows.box = box();
     rows.write = [this](BufferedFile& out, RowLines lines, std::int64_t number_from) {
       write_runs(out, lines, number_from);
     };
-    const std::string shown = format_paths(format_, prefix).front();
     set.add(shown, [&](const std::string& temporary) {
       if (format_ == MeshFormat::medit)
         return write_medit(rows, output_.boundary, output_.split_from, temporary, shown);
@@ -245,8 +251,9 @@ class SpreadRowsWrite {
   // Orders every rank keeping some of the runs to format them all, then writes the runs in row
   // order: rank 0's own formatted here, the others' as their chunks come. After a failure (a full
   // disk, a rank that cannot format its run) it still takes every chunk ordered, so no rank is
-  // left waiting, then throws the first failure.
-  void write_runs(BufferedFile& out, RowLines lines, std::int64_t number_from) const {
+  // left waiting, then throws the first failure. Into a file, or a sink (a .vtu file's array).
+  template <class Out>
+  void write_runs(Out& out, RowLines lines, std::int64_t number_from) const {
     const std::vector<RowRun> runs = runs_of(formats_points(lines));
     send_section_orders(lines, number_from, runs);
     std::exception_ptr failure;
@@ -278,7 +285,8 @@ class SpreadRowsWrite {
     }
   }
 
-  void write_own_run(BufferedFile& out, RowLines lines, std::int64_t number_from, const RowRun& run) const {
+  template <class Out>
+  void write_own_run(Out& out, RowLines lines, std::int64_t number_from, const RowRun& run) const {
     const auto count = static_cast<std::size_t>(run.count);
     if (formats_points(lines))
       return write_row_lines(out, lines, {own_points(run).data(), count, run.first, number_from});
@@ -291,9 +299,11 @@ class SpreadRowsWrite {
       });
     }
     std::vector<std::int32_t> solid, piece;
-    if (lines == RowLines::medit_tet && run.bulk) bulk_columns(run.bulk->block, *run.bulk, solid, piece);
+    const bool columns = lines == RowLines::medit_tet || lines == RowLines::vtu_region || lines == RowLines::vtu_piece;
+    if (columns && run.bulk) bulk_columns(run.bulk->block, *run.bulk, solid, piece);
     const std::int32_t* region = run.bulk ? solid.data() : mesh_.band_solid.data();
-    write_row_lines(out, lines, {own_tets(run).data(), count, run.first, number_from, region});
+    const std::int32_t* pieces = run.bulk ? piece.data() : mesh_.band_piece.data();
+    write_row_lines(out, lines, {own_tets(run).data(), count, run.first, number_from, region, pieces});
   }
 
   MeshFormat format_;
@@ -310,7 +320,7 @@ class SpreadRowsWrite {
 struct OwnBulk {
   const TetBlock* block = nullptr;
   SpreadBulk place;
-  std::vector<std::int32_t> solid;  // per tet, for MEDIT's references
+  std::vector<std::int32_t> solid, piece;  // per tet, for MEDIT's references and a .vtu file's cell data
 };
 
 // What a rank tells rank 0 of a bulk it keeps: what the format needs (the fingerprints for
@@ -343,10 +353,8 @@ std::map<int, OwnBulk> own_bulks(MeshFormat format, const std::string& placement
       throw InternalError("the bulk of piece " + std::to_string(place.piece) + " does not match its placement");
     OwnBulk& kept = own[place.piece];
     kept = {&block, std::move(place), {}};
-    if (format == MeshFormat::medit) {
-      std::vector<std::int32_t> piece;
-      bulk_columns(block, kept.place, kept.solid, piece);
-    }
+    if (format == MeshFormat::medit || format == MeshFormat::vtu)
+      bulk_columns(block, kept.place, kept.solid, kept.piece);
     add_claim(format, kept, claims);
   }
   return own;
@@ -407,11 +415,12 @@ class RunChunks {
       neighbours = neighbour_rows(block.neighbours, place.first_tet, *across_[run_], from_, n);
       rows.data = neighbours.data();
     }
-    if (order_.lines == RowLines::medit_tet) {
-      if (bulk.solid.size() != block.tets.size())
-        throw InternalError("rank " + std::to_string(my_rank()) + " has no solids for the bulk of piece " +
+    if (order_.lines == RowLines::medit_tet || order_.lines == RowLines::vtu_region ||
+        order_.lines == RowLines::vtu_piece) {
+      if (bulk.solid.size() != block.tets.size() || bulk.piece.size() != block.tets.size())
+        throw InternalError("rank " + std::to_string(my_rank()) + " has no cell data for the bulk of piece " +
                             std::to_string(place.piece));
-      rows.region = bulk.solid.data() + from_;
+      rows.region = bulk.solid.data() + from_, rows.piece = bulk.piece.data() + from_;
     }
     append_row_lines(chunk, order_.lines, rows);
   }

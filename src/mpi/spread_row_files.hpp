@@ -1,5 +1,6 @@
 // The single files of a mesh left spread whose rows stream from where they are (internal
-// header): TetGen's four files, MEDIT's .mesh and one MSH file. Rank 0 writes each file alone,
+// header): TetGen's four files, MEDIT's .mesh, one MSH file and one .vtu file (whose arrays rank 0
+// compresses as their raw bytes come). Rank 0 writes each file alone,
 // in row order, its own rows formatted where it keeps them and every other run of rows streamed
 // from the rank keeping that bulk, which formats it; no rank holds the whole mesh, and the files
 // are those of the assembled mesh, byte for byte. The exchange (on the writes' tags):
@@ -28,7 +29,7 @@ namespace partet::mpi {
 
 inline constexpr char kSpreadRowsOrder[] = "rows-spread";
 
-// Rank 0's side: adds the files of `format` (tetgen, medit, msh or msh-binary) for PREFIX of the
+// Rank 0's side: adds the files of `format` (tetgen, vtu, medit, msh or msh-binary) for PREFIX of the
 // spread mesh (its points scaled by 2^exponent on the other ranks) to the set. Throws the first
 // failure of any rank.
 void add_spread_row_files(OutputSet& set, MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output,

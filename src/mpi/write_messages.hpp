@@ -33,9 +33,10 @@ std::optional<std::vector<T>> values_of(const std::string& bytes, std::size_t sk
 }
 
 // Takes a rank's chunks of text ("T" + text, or "E" + why it could not) until its empty one,
-// writing them into `out` unless a failure came first (then kept in `failure`): after a failure
-// the rank is still heard out, so it is not left waiting.
-inline void take_text_chunks(BufferedFile& out, int rank, std::exception_ptr& failure) {
+// writing them into `out` (a BufferedFile or a ByteSink) unless a failure came first (then kept in
+// `failure`): after a failure the rank is still heard out, so it is not left waiting.
+template <class Out>
+void take_text_chunks(Out& out, int rank, std::exception_ptr& failure) {
   for (std::string chunk = receive_from(rank, kWorkerSeconds); !chunk.empty();
        chunk = receive_from(rank, kWorkerSeconds)) {
     if (failure) continue;

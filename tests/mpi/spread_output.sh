@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The XDMF set, a .pvtu set, TetGen's files, a MEDIT and an MSH file from several ranks: rank 0
-# does not assemble the mesh; every bulk's rows and piece file are written by the rank that
-# meshed it, and its rows in the single files are streamed from there to rank 0 (the report says
-# assembled_on_rank0: false). The sets must hold exactly what the assembled path writes (the same
-# run with a .vtu file too, which assembles): every dataset equal, the HDF5 files, every piece
-# file, the four TetGen files, the .mesh and the .msh file byte for byte, the .pvtu index naming
-# the same files; `partet check` passes on each set. Shapes with one solid and with two; 2 and 4
-# ranks; a .pvtu set alone, TetGen's files alone, a binary MSH file alone.
+# The XDMF set, a .pvtu set, TetGen's files, a .vtu, a MEDIT and an MSH file from several ranks:
+# rank 0 does not assemble the mesh; every bulk's rows and piece file are written by the rank
+# that meshed it, and its rows in the single files are streamed from there to rank 0 (the report
+# says assembled_on_rank0: false). The sets must hold exactly what the assembled path writes (the
+# same run with MSH partitions too, which assemble): every dataset equal, the HDF5 files, every
+# piece file, the four TetGen files, the .vtu, the .mesh and the .msh file byte for byte, the
+# .pvtu index naming the same files; `partet check` passes on each set. Shapes with one solid and
+# with two; 2 and 4 ranks; a .pvtu set alone, TetGen's files alone, a binary MSH file alone.
 # Usage: spread_output.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -36,9 +36,9 @@ same_piece_files() {  # A B: the .pvtu sets A.pvtu and B.pvtu name the same piec
   [ $files -gt 0 ] && [ $files = $(ls ${b}_*.vtu | wc -l) ] || { echo "$files piece files, against $(ls ${b}_*.vtu | wc -l)"; return 1; }
   echo "$files piece files"
 }
-same_files() {  # A B: the TetGen, MEDIT and MSH files of the two prefixes byte for byte (those A has)
+same_files() {  # A B: the TetGen, .vtu, MEDIT and MSH files of the two prefixes byte for byte (those A has)
   local x n=0
-  for x in node ele face neigh mesh msh; do
+  for x in node ele face neigh vtu mesh msh; do
     [ -e $1.$x ] || continue
     cmp -s $1.$x $2.$x || { echo "$1.$x differs from $2.$x"; return 1; }
     n=$((n + 1))
@@ -51,31 +51,31 @@ for shape in genus3 two_spheres nested; do
   "$partet" generate $shape --faces 6000 -o $shape.off > /dev/null || exit 1
   for n in 2 4; do
     name="$shape on $n ranks"
-    formats=xdmf,pvtu,tetgen,medit,msh
+    formats=xdmf,pvtu,tetgen,vtu,medit,msh
     "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format $formats -o s_${shape}_$n --report s.json --quiet ||
       { bad "$name: the spread run failed"; continue; }
-    "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format $formats,vtu -o a_${shape}_$n --report a.json --quiet ||
+    "$mpiexec" -n $n --oversubscribe "$partet" mesh $shape.off -k 6 --format $formats,msh-parts -o a_${shape}_$n --report a.json --quiet ||
       { bad "$name: the assembled run failed"; continue; }
     [ "$(assembled s.json)/$(assembled a.json)" = False/True ] ||
-      { bad "$name: assembled on rank 0: spread run $(assembled s.json), with a .vtu file $(assembled a.json)"; continue; }
+      { bad "$name: assembled on rank 0: spread run $(assembled s.json), with MSH partitions $(assembled a.json)"; continue; }
     if ! out=$(same_sets s_${shape}_$n a_${shape}_$n 2>&1); then bad "$name: the sets differ: $out"; continue; fi
     bytes=same
     cmp -s s_${shape}_$n.h5 a_${shape}_$n.h5 && cmp -s s_${shape}_${n}_boundary.h5 a_${shape}_${n}_boundary.h5 || bytes=different
     [ $bytes = same ] || { bad "$name: the HDF5 files' datasets agree but their bytes differ"; continue; }
     if ! out=$(same_piece_files s_${shape}_$n a_${shape}_$n); then bad "$name: $out"; continue; fi
     if ! err=$(same_files s_${shape}_$n a_${shape}_$n); then bad "$name: $err"; continue; fi
-    for set in s_${shape}_$n.xdmf s_${shape}_$n.pvtu s_${shape}_$n s_${shape}_$n.mesh; do
+    for set in s_${shape}_$n.xdmf s_${shape}_$n.pvtu s_${shape}_$n s_${shape}_$n.vtu s_${shape}_$n.mesh; do
       "$mpiexec" -n 2 "$partet" check $shape.off $set > check.log 2>&1 || { bad "$name: partet check $set failed: $(tail -n 3 check.log)"; continue 2; }
     done
-    ok "$name: written from the owners of its parts, the assembled path's sets, TetGen, MEDIT and MSH files byte for byte ($(regions s_${shape}_$n.h5) solid(s), $out), checks passed"
+    ok "$name: written from the owners of its parts, the assembled path's sets, TetGen, .vtu, MEDIT and MSH files byte for byte ($(regions s_${shape}_$n.h5) solid(s), $out), checks passed"
   done
 done
-# A .pvtu set alone, on 3 ranks, against the same set written with a .vtu file (assembled).
+# A .pvtu set alone, on 3 ranks, against the same set written with MSH partitions (assembled).
 "$mpiexec" -n 3 --oversubscribe "$partet" mesh genus3.off -k 5 --format pvtu -o p_alone --report s.json --quiet &&
-  "$mpiexec" -n 3 --oversubscribe "$partet" mesh genus3.off -k 5 --format pvtu,vtu -o a_alone --report a.json --quiet ||
+  "$mpiexec" -n 3 --oversubscribe "$partet" mesh genus3.off -k 5 --format pvtu,msh-parts -o a_alone --report a.json --quiet ||
   bad "pvtu alone: a run failed"
 if [ "$(assembled s.json)/$(assembled a.json)" != False/True ]; then
-  bad "pvtu alone: assembled on rank 0: $(assembled s.json), with a .vtu file $(assembled a.json)"
+  bad "pvtu alone: assembled on rank 0: $(assembled s.json), with MSH partitions $(assembled a.json)"
 elif ! out=$(same_piece_files p_alone a_alone); then
   bad "pvtu alone: $out"
 else

@@ -3,7 +3,7 @@
 # the TetGen files' lines; a rank that cannot take part must fail the whole run on every rank,
 # publish nothing and leave the previous set as it was:
 #   lost:       rank 1 loses its block (fault injection);
-#   lost-rows:  the same, writing TetGen files from the assembled mesh (a .vtu file too);
+#   lost-rows:  the same, writing TetGen files from the assembled mesh (MSH partitions too);
 #   lost-neigh: the same, TetGen files alone, streamed from the ranks keeping the mesh's parts:
 #               rank 1 loses the faces its bulk shares with the rest of the mesh;
 #   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
@@ -18,7 +18,9 @@
 #               sends the files of the bulks it keeps);
 #   full-pvtu:  the disk fills while both ranks write their piece files of a .pvtu set;
 #   full-msh:   the disk fills while rank 0 writes one MSH file, its rows streamed from the ranks
-#               keeping the mesh's parts.
+#               keeping the mesh's parts;
+#   full-vtu:   the same with one .vtu file (its arrays compressed as they come, their offsets
+#               written last).
 # Usage: xdmf_trouble.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -50,7 +52,7 @@ fi
 expect_refused lost "rank 1 could not take its part of the mesh"
 
 if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
-  --format tetgen,vtu --quiet 2> log; then
+  --format tetgen,msh-parts --quiet 2> log; then
   echo "FAIL: lost-rows: a lost block exited 0"; exit 1
 fi
 expect_refused lost-rows "rank 1 did not receive its block of the .node file's rows"
@@ -114,3 +116,5 @@ expect_full full-hdf5 1m full/m.xdmf "cannot write 'full/m\.h5'.*No space left o
 expect_full full-pvtu 1m full/m.pvtu "cannot write 'full/m_[a-z0-9]*\.vtu': No space left on device"
 # full-msh: while rank 0 writes one MSH file, rank 1 sending the rows of the bulks it keeps.
 expect_full full-msh 2m full/m.msh "cannot write 'full/m\.msh': No space left on device"
+# full-vtu: while rank 0 writes one .vtu file, compressing the rows rank 1 sends.
+expect_full full-vtu 512k full/m.vtu "cannot write 'full/m\.vtu': No space left on device"
