@@ -6,7 +6,8 @@
 # same run with MSH partitions too, which assemble): every dataset equal, the HDF5 files, every
 # piece file, the four TetGen files, the .vtu, the .mesh and the .msh file byte for byte, the
 # .pvtu index naming the same files; `partet check` passes on each set. Shapes with one solid and
-# with two; 2 and 4 ranks; a .pvtu set alone, TetGen's files alone, a binary MSH file alone.
+# with two; 2 and 4 ranks; a .pvtu set alone, TetGen's files alone, a binary MSH file alone; two
+# runs at once on one prefix.
 # Usage: spread_output.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -105,5 +106,33 @@ elif ! "$partet" check two_spheres.off b_alone.msh > check.log 2>&1; then
   bad "binary MSH alone: partet check failed: $(tail -n 3 check.log)"
 else
   ok "binary MSH alone on 3 ranks: not assembled, 1 rank's file byte for byte, check passed"
+fi
+# Two spread runs at once on one prefix (K=5 and K=7, 2 ranks each): both end well, and what is
+# left there is one run's whole set (every single file and every .pvtu piece file as that run
+# writes them alone, no file of the other, no temporary), which `partet check` passes.
+both=(--format tetgen,vtu,medit,pvtu --quiet)
+"$mpiexec" -n 2 "$partet" mesh genus3.off -k 5 "${both[@]}" -o r5 && "$mpiexec" -n 2 "$partet" mesh genus3.off -k 7 "${both[@]}" -o r7 ||
+  bad "two runs at once: a run alone failed"
+mkdir at_once
+"$mpiexec" -n 2 "$partet" mesh genus3.off -k 5 "${both[@]}" -o at_once/m & first=$!
+"$mpiexec" -n 2 "$partet" mesh genus3.off -k 7 "${both[@]}" -o at_once/m; second=$?
+wait $first && [ $second = 0 ] || bad "two runs at once: a run failed"
+same_as() {  # K: the files at at_once/m are exactly those run K writes alone (the .pvtu index names its own prefix)
+  local f n=1
+  cmp -s <(sed "s/\"r$1_/\"X_/" r$1.pvtu) <(sed "s/\"m_/\"X_/" at_once/m.pvtu) || return 1
+  for f in r$1.node r$1.ele r$1.face r$1.neigh r$1.vtu r$1.mesh r$1_*.vtu; do
+    cmp -s $f at_once/m${f#r$1} || return 1
+    n=$((n + 1))
+  done
+  [ $n = $(ls at_once | wc -l) ]
+}
+if same_as 5 || same_as 7; then
+  if "$partet" check genus3.off at_once/m > check.log 2>&1 && "$mpiexec" -n 2 "$partet" check genus3.off at_once/m.pvtu >> check.log 2>&1; then
+    ok "two runs at once on one prefix: both ended well, one run's whole set left ($(ls at_once | wc -l) files), check passed"
+  else
+    bad "two runs at once: partet check failed: $(tail -n 3 check.log)"
+  fi
+else
+  bad "two runs at once on one prefix: the files left are no run's whole set: $(ls at_once | tr '\n' ' ')"
 fi
 summary
