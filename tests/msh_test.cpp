@@ -47,8 +47,8 @@ TEST(MshPartitions, EachPartitionHasItsTetsAndTheirBoundaryUnderTheSingleFilesTa
   EXPECT_EQ(std::vector<double>(first.box.data + 6, first.box.data + 12), (std::vector<double>{0, 0, 0, 1, 1, 1}));
 }
 
-// With many partitions each uses few of the nodes (listed by a sort, not a scan of all nodes):
-// still its own, ascending, and its tets and boundary triangles.
+// With many partitions each uses few of the nodes: still its own, ascending, and its tets and
+// boundary triangles.
 TEST(MshPartitions, ManySmallPartitionsListTheirOwnNodesAscending) {
   TetMesh mesh;
   std::vector<Triangle> boundary;
@@ -82,6 +82,49 @@ TEST(MshPartitions, RefusesABoundaryTriangleThatIsNoTetsFace) {
   TwoTets m;
   m.boundary[1] = {0, 1, 4};
   EXPECT_THROW(MshPartitions(m.output(), false), InternalError);
+}
+
+// A spread mesh's partition: its tets in blocks (a bulk, the band's with their rows), its boundary
+// triangles found from one block's tets and another's faces sent by their vertex sets. The arrays
+// are those of the assembled mesh's partition.
+TEST(MshBoundaryParts, BlocksAndFacesByVertexSetsGiveTheAssembledPartitions) {
+  const TwoTets m;
+  MshPartitions assembled(m.output(), /*binary=*/false);
+  MshBoundaryParts boundary(m.boundary);
+  const std::vector<Tet> first{m.mesh.tets[0]}, second{m.mesh.tets[1]};
+  boundary.add_tets(first, {}, [](std::size_t) { return 0u; });  // no neighbours: every face
+  std::vector<std::array<std::int32_t, 3>> faces;
+  for (int j = 0; j < 4; ++j) {
+    const FaceKey key(outward_face(second[0], j));
+    faces.push_back({key.v[0], key.v[1], key.v[2]});
+  }
+  boundary.add_faces(faces, 1);
+  boundary.group(2);
+  const std::vector<std::int64_t> rows{1};
+  MshPartHead head{2, 2, m.boundary.size(), 5, false, bounds_of(m.mesh.points)};
+  const auto point = [&](std::int64_t id) { return m.mesh.points[id]; };
+  for (int partition : {0, 1}) {
+    head.partition = static_cast<std::uint64_t>(partition) + 1;
+    const std::vector<Tet> none;
+    const MshPartTets tets{1, [&](std::size_t) -> const Tet& { return partition == 0 ? first[0] : second[0]; },
+                           [&](std::size_t) { return rows[0] - (partition == 0); }};
+    const MshPartArrays part = msh_part_arrays(head, tets, boundary.rows(partition), point);
+    const MshPartView expected = assembled.of(partition == 0 ? 0 : -1);
+    EXPECT_EQ(part.about, values(expected.about)) << partition;
+    EXPECT_EQ(part.node_tags, values(expected.node_tags)) << partition;
+    EXPECT_EQ(part.triangles, values(expected.triangles)) << partition;
+    EXPECT_EQ(part.tets, values(expected.tets)) << partition;
+    EXPECT_EQ(part.xyz, std::vector<double>(expected.xyz.data, expected.xyz.data + expected.xyz.size)) << partition;
+    EXPECT_EQ(part.box, std::vector<double>(expected.box.data, expected.box.data + 12)) << partition;
+  }
+}
+
+// A boundary triangle that no block's face matches fails the grouping.
+TEST(MshBoundaryParts, RefusesATriangleNoBlockHas) {
+  const TwoTets m;
+  MshBoundaryParts boundary(m.boundary);
+  boundary.add_tets({m.mesh.tets[0]}, {}, [](std::size_t) { return 0u; });
+  EXPECT_THROW(boundary.group(1), InternalError);
 }
 
 // The arrays as bytes and back; cut or missing arrays are refused, never written.

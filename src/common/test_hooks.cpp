@@ -135,6 +135,8 @@ double publish_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_PU
 
 void buffer_handed() { sleep_ms("PARTET_TEST_WRITE_DELAY_MS"); }
 
+bool assemble_always() { return value("PARTET_TEST_ASSEMBLE") != nullptr; }
+
 bool nameless_files_refused() { return value("PARTET_TEST_NO_NAMELESS_FILES") != nullptr; }
 
 void interrupt_cleanup() {

@@ -1,8 +1,8 @@
 // Fault injection for the tests, all in one place: each hook reads one environment variable and
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
-// tests/cli/hard_parts.sh, tests/mpi/stopped_rank.sh (its verdict, cap and silent modes too), tests/cli/outputs.sh,
-// tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh, tests/mpi/check_tetgen_ranks.sh (also
-// check_failure), tests/mpi/cap_failure.sh.
+// tests/cli/hard_parts.sh, tests/mpi/spread_output.sh, tests/mpi/stopped_rank.sh (its verdict, cap and silent modes
+// too), tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh,
+// tests/mpi/check_tetgen_ranks.sh (also check_failure), tests/mpi/cap_failure.sh.
 #pragma once
 #include <cstddef>
 
@@ -81,6 +81,10 @@ void buffer_handed();
 // PARTET_TEST_INTERRUPT_DELAY=RANK:MS: an interrupt's cleanup on that rank (0 alone) starts MS
 // later, as on a loaded machine, where a launcher's SIGKILL comes first.
 void interrupt_cleanup();
+
+// PARTET_TEST_ASSEMBLE: rank 0 always assembles the mesh, as when a check or a polish reads it
+// whole, so that tests can compare the files written from a spread mesh with the assembled path's.
+bool assemble_always();
 
 // PARTET_TEST_NO_NAMELESS_FILES: the filesystems refuse nameless files (O_TMPFILE), as NFS does.
 bool nameless_files_refused();

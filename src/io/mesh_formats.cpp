@@ -418,7 +418,7 @@ void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string&
   }
   set.add(format_paths(MeshFormat::pvtu, prefix).front(), [&](const std::string& tmp) {
     if (spread) {
-      writers.spread_piece_files(files);
+      writers.spread_piece_files(MeshFormat::pvtu, files, output);
       write_pvtu(output, tmp, sources);
       return;
     }
@@ -440,19 +440,22 @@ void add_pvtu_files(OutputSet& set, const MeshOutput& output, const std::string&
 }
 
 // An MSH set: one file per partition (msh.hpp). As for a .pvtu set, every temporary is made
-// first and the files are written together inside the last file's add.
+// first and the files are written together inside the last file's add (by the ranks keeping the
+// mesh's parts when it is spread).
 void add_msh_partition_files(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix,
-                             const PieceFilesWrite& write) {
-  const std::vector<int> pieces = msh_partition_pieces(output);
+                             const RankWriters& writers) {
+  const bool spread = static_cast<bool>(writers.spread_piece_files);
+  const std::vector<int> pieces = spread ? msh_partition_order(writers.spread_pieces) : msh_partition_pieces(output);
   std::vector<PieceFile> files;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     const std::string final_path = partition_file(prefix, i + 1);
     set.add(final_path, [&](const std::string& tmp) {
       files.push_back({pieces[i], tmp, final_path});
       if (files.size() < pieces.size()) return;
+      if (spread) return writers.spread_piece_files(format, files, output);
       MshPartitions partitions(output, format == MeshFormat::msh_parts_binary);
       write_piece_files(
-          format, files, [&](int piece) { return arrays_of(partitions.of(piece)); }, write);
+          format, files, [&](int piece) { return arrays_of(partitions.of(piece)); }, writers.piece_files);
     });
   }
   // Partition files of an earlier set at this prefix that had more partitions go with it.
@@ -569,7 +572,7 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
       return;
     case MeshFormat::msh_parts:
     case MeshFormat::msh_parts_binary:
-      add_msh_partition_files(set, format, output, prefix, writers.piece_files);
+      add_msh_partition_files(set, format, output, prefix, writers);
       return;
   }
 }

@@ -214,15 +214,16 @@ using PieceFilesWrite =
 // How the other ranks take part in writing (the MPI driver's): hdf5 writes an XDMF set's HDF5
 // files (required for xdmf); tetgen_lines formats TetGen files' lines; piece_files writes the
 // piece files of a .pvtu set or the MSH partitions (empty: here, alone). With a mesh left spread
-// (MeshOutput's mesh empty), a .pvtu set's piece values and the writer of its piece files from
-// where the mesh's parts are, and the writer of the single-file formats whose rows stream from
+// (MeshOutput's mesh empty), the piece values and the writer of a set's piece files (.pvtu, MSH
+// partitions) from where the mesh's parts are, and the writer of the single-file formats whose rows stream from
 // there (TetGen's files, .vtu, MSH, MEDIT: spread_rows).
 struct RankWriters {
   Hdf5Write hdf5;
   TetgenLines tetgen_lines;
   PieceFilesWrite piece_files;
   std::vector<int> spread_pieces;
-  std::function<void(const std::vector<PieceFile>& files)> spread_piece_files;
+  std::function<void(MeshFormat format, const std::vector<PieceFile>& files, const MeshOutput& output)>
+      spread_piece_files;
   std::function<void(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix)>
       spread_rows;
 };

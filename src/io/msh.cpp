@@ -243,53 +243,11 @@ class MshPartWriter {
   MshStream out_;
 };
 
-// The tet each boundary triangle is a face of: the triangles bucketed by their smallest vertex
-// (each entry holding the other two, so a lookup reads one place), then every open face of the
-// tets (every face when the mesh has no neighbours) looked up in its bucket. Linear, and the
-// buckets are small.
-std::vector<std::uint32_t> tet_of_boundary(const MeshOutput& output) {
-  const TetMesh& mesh = output.mesh;
-  const std::vector<Triangle>& boundary = output.boundary;
-  // start[v]: the first entry of vertex v's bucket, by a counting sort that leaves it there.
-  std::vector<std::uint32_t> start(mesh.points.size() + 1, 0);
-  for (const Triangle& t : boundary) ++start[FaceKey(t).v[0] + 1];
-  for (std::size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
-  std::vector<FaceSlot> entries(boundary.size());  // slot: the boundary triangle
-  for (std::size_t i = 0; i < boundary.size(); ++i) {
-    const FaceKey key(boundary[i]);
-    entries[start[key.v[0]]++] = {key.v[1], key.v[2], static_cast<std::uint32_t>(i)};
-  }
-  for (std::size_t v = start.size() - 1; v > 0; --v) start[v] = start[v - 1];
-  start[0] = 0;
-  constexpr std::uint32_t kNone = UINT32_MAX;
-  std::vector<std::uint32_t> tet_of(boundary.size(), kNone);
-  const bool open_faces_known = mesh.neighbours.size() == mesh.tets.size();
-  // Bound by memory latency: on every usable CPU (each triangle is one tet's face, so no two
-  // threads write the same entry).
-  constexpr std::size_t kTetsPerTask = std::size_t{1} << 16;
-  const std::size_t tasks = (mesh.tets.size() + kTetsPerTask - 1) / kTetsPerTask;
-  parallel_for(tasks, usable_cpus(), [&](std::size_t task) {
-    const std::size_t end = std::min(mesh.tets.size(), (task + 1) * kTetsPerTask);
-    for (std::size_t t = task * kTetsPerTask; t < end; ++t)
-      for (int j = 0; j < 4; ++j) {
-        if (open_faces_known && mesh.neighbours[t][j] >= 0) continue;
-        const FaceKey face(outward_face(mesh.tets[t], j));
-        for (std::size_t i = start[face.v[0]]; i < start[face.v[0] + 1]; ++i)
-          if (entries[i].mid == face.v[1] && entries[i].high == face.v[2])
-            tet_of[entries[i].slot] = static_cast<std::uint32_t>(t);
-      }
-  });
-  const auto lost = std::find(tet_of.begin(), tet_of.end(), kNone);
-  if (lost != tet_of.end())
-    throw InternalError("boundary triangle " + std::to_string(lost - tet_of.begin()) +
-                        " is not a face of any tet: the mesh cannot be split into MSH partitions");
-  return tet_of;
-}
-
 }  // namespace
 
-std::vector<int> msh_partition_pieces(const MeshOutput& output) {
-  std::vector<int> pieces = pieces_in(output);  // the seams' -1 first
+std::vector<int> msh_partition_pieces(const MeshOutput& output) { return msh_partition_order(pieces_in(output)); }
+
+std::vector<int> msh_partition_order(std::vector<int> pieces) {
   if (!pieces.empty() && pieces.front() < 0) std::rotate(pieces.begin(), pieces.begin() + 1, pieces.end());
   return pieces;
 }
@@ -319,86 +277,146 @@ void write_msh_part(const MshPartView& part, const std::string& path, const std:
   MshPartWriter(part, path, shown).write();
 }
 
+MshPartArrays msh_part_arrays(const MshPartHead& head, const MshPartTets& tets, std::vector<std::uint64_t> triangles,
+                              const std::function<Point3(std::int64_t)>& point) {
+  MshPartArrays part;
+  // The nodes: every point the tets use, ascending (a bit per point of the whole mesh).
+  std::vector<std::uint64_t> used;
+  for (std::size_t i = 0; i < tets.count; ++i)
+    for (std::int32_t v : tets.tet(i)) {
+      const auto word = static_cast<std::size_t>(v) / 64;
+      if (word >= used.size()) used.resize(word + 1, 0);
+      used[word] |= std::uint64_t{1} << (v % 64);
+    }
+  for (std::size_t word = 0; word < used.size(); ++word)
+    for (std::uint64_t bits = used[word]; bits != 0; bits &= bits - 1)
+      part.node_tags.push_back(64 * word + static_cast<std::uint64_t>(__builtin_ctzll(bits)) + 1);
+  part.xyz.reserve(3 * part.node_tags.size());
+  for (std::uint64_t tag : part.node_tags) {
+    const Point3 p = point(static_cast<std::int64_t>(tag - 1));
+    part.xyz.insert(part.xyz.end(), p.begin(), p.end());
+  }
+  Bounds own{{0, 0, 0}, {0, 0, 0}};
+  for (std::size_t i = 0; i < part.xyz.size(); i += 3)
+    for (int c = 0; c < 3; ++c) {
+      own.min[c] = i == 0 ? part.xyz[c] : std::min(own.min[c], part.xyz[i + c]);
+      own.max[c] = i == 0 ? part.xyz[c] : std::max(own.max[c], part.xyz[i + c]);
+    }
+  for (const Bounds& b : {head.model, own}) {
+    part.box.insert(part.box.end(), b.min.begin(), b.min.end());
+    part.box.insert(part.box.end(), b.max.begin(), b.max.end());
+  }
+  // The elements, tagged as in the single file: the boundary triangles from 1, then the tets.
+  part.triangles = std::move(triangles);
+  std::uint64_t whole = 0;
+  for (std::size_t i = 0; i < part.triangles.size(); i += 4) whole += part.triangles[i] <= head.split_from;
+  part.tets.reserve(5 * tets.count);
+  for (std::size_t i = 0; i < tets.count; ++i) {
+    part.tets.push_back(head.boundary + static_cast<std::uint64_t>(tets.row(i)) + 1);
+    for (std::int32_t v : tets.tet(i)) part.tets.push_back(static_cast<std::uint64_t>(v) + 1);
+  }
+  part.about = {head.partition, head.partitions, whole, head.split_from < head.boundary ? 1u : 0u,
+                head.binary ? 1u : 0u};
+  return part;
+}
+
+MshBoundaryParts::MshBoundaryParts(const std::vector<Triangle>& boundary)
+    : boundary_(boundary), partition_(boundary.size(), kNone) {
+  // start_[v]: the first entry of vertex v's bucket, by a counting sort that leaves it there.
+  std::int32_t highest = -1;
+  for (const Triangle& t : boundary) highest = std::max({highest, t[0], t[1], t[2]});
+  start_.assign(static_cast<std::size_t>(highest) + 2, 0);
+  for (const Triangle& t : boundary) ++start_[FaceKey(t).v[0] + 1];
+  for (std::size_t v = 1; v < start_.size(); ++v) start_[v] += start_[v - 1];
+  entries_.resize(boundary.size());
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    const FaceKey key(boundary[i]);
+    entries_[start_[key.v[0]]++] = {key.v[1], key.v[2], static_cast<std::uint32_t>(i)};
+  }
+  for (std::size_t v = start_.size() - 1; v > 0; --v) start_[v] = start_[v - 1];
+  start_[0] = 0;
+}
+
+void MshBoundaryParts::found(const FaceKey& face, std::uint32_t partition) {
+  if (face.v[0] < 0 || static_cast<std::size_t>(face.v[0]) + 1 >= start_.size()) return;
+  for (std::size_t i = start_[face.v[0]]; i < start_[face.v[0] + 1]; ++i)
+    if (entries_[i].mid == face.v[1] && entries_[i].high == face.v[2]) partition_[entries_[i].slot] = partition;
+}
+
+void MshBoundaryParts::add_tets(const std::vector<Tet>& tets, const std::vector<Tet>& neighbours,
+                                const std::function<std::uint32_t(std::size_t)>& partition_of) {
+  const bool open_faces_known = neighbours.size() == tets.size();
+  // Bound by memory latency: on every usable CPU (each triangle is one tet's face, so no two
+  // threads write the same entry).
+  constexpr std::size_t kTetsPerTask = std::size_t{1} << 16;
+  const std::size_t tasks = (tets.size() + kTetsPerTask - 1) / kTetsPerTask;
+  parallel_for(tasks, usable_cpus(), [&](std::size_t task) {
+    const std::size_t end = std::min(tets.size(), (task + 1) * kTetsPerTask);
+    for (std::size_t t = task * kTetsPerTask; t < end; ++t)
+      for (int j = 0; j < 4; ++j)
+        if (!open_faces_known || neighbours[t][j] < 0) found(FaceKey(outward_face(tets[t], j)), partition_of(t));
+  });
+}
+
+void MshBoundaryParts::add_faces(const std::vector<std::array<std::int32_t, 3>>& faces, std::uint32_t partition) {
+  for (const auto& face : faces) found(FaceKey(face), partition);
+}
+
+void MshBoundaryParts::group(std::size_t partitions) {
+  const auto lost = std::find(partition_.begin(), partition_.end(), kNone);
+  if (lost != partition_.end())
+    throw InternalError("boundary triangle " + std::to_string(lost - partition_.begin()) +
+                        " is not a face of any tet: the mesh cannot be split into MSH partitions");
+  std::vector<std::uint32_t>().swap(start_);
+  std::vector<FaceSlot>().swap(entries_);
+  group_items(
+      boundary_.size(), partitions, [&](std::size_t i) { return partition_[i]; }, order_, first_);
+}
+
+std::vector<std::uint64_t> MshBoundaryParts::rows(std::size_t partition) const {
+  std::vector<std::uint64_t> rows;
+  rows.reserve(4 * (first_.at(partition + 1) - first_[partition]));
+  // Ascending: the grouping is stable.
+  for (std::size_t k = first_[partition]; k < first_[partition + 1]; ++k) {
+    const std::uint32_t i = order_[k];
+    rows.push_back(std::uint64_t{i} + 1);
+    for (std::int32_t v : boundary_[i]) rows.push_back(static_cast<std::uint64_t>(v) + 1);
+  }
+  return rows;
+}
+
 MshPartitions::MshPartitions(const MeshOutput& output, bool binary)
-    : output_(output), binary_(binary), taken_by_(output.mesh.points.size(), 0) {
-  const Bounds all = bounds_of(output.mesh.points);
-  model_box_.assign(all.min.begin(), all.min.end());
-  model_box_.insert(model_box_.end(), all.max.begin(), all.max.end());
-  pieces_ = msh_partition_pieces(output);
+    : output_(output), pieces_(msh_partition_pieces(output)), triangles_(output.boundary) {
   const TetMesh& mesh = output.mesh;
+  head_.partitions = pieces_.size();
+  head_.boundary = output.boundary.size();
+  head_.split_from = std::min(output.split_from, output.boundary.size());
+  head_.binary = binary;
+  head_.model = bounds_of(mesh.points);
   const int highest = pieces_.empty() ? 0 : *std::max_element(pieces_.begin(), pieces_.end());
   std::vector<std::uint32_t> partition_of_piece(static_cast<std::size_t>(highest) + 2, 0);  // slot piece + 1
   for (std::size_t p = 0; p < pieces_.size(); ++p) partition_of_piece[pieces_[p] + 1] = static_cast<std::uint32_t>(p);
-  const auto partition_of_tet = [&](std::size_t t) -> std::size_t {
+  const auto partition_of_tet = [&](std::size_t t) -> std::uint32_t {
     return partition_of_piece[(mesh.piece.empty() ? -1 : mesh.piece[t]) + 1];
   };
-  group_items(mesh.tets.size(), pieces_.size(), partition_of_tet, tets_.order, tets_.start);
-  const std::vector<std::uint32_t> tet_of = tet_of_boundary(output);
-  group_items(
-      output.boundary.size(), pieces_.size(), [&](std::size_t i) { return partition_of_tet(tet_of[i]); },
-      triangles_.order, triangles_.start);
+  group_items(mesh.tets.size(), pieces_.size(), partition_of_tet, tet_order_, tet_start_);
+  triangles_.add_tets(mesh.tets, mesh.neighbours, partition_of_tet);
+  triangles_.group(pieces_.size());
 }
 
 MshPartView MshPartitions::of(int piece) {
   const auto found = std::find(pieces_.begin(), pieces_.end(), piece);
   if (found == pieces_.end()) throw InternalError("no MSH partition holds piece " + std::to_string(piece));
   const auto partition = static_cast<std::size_t>(found - pieces_.begin());
-  add_nodes(partition);
-  add_elements(partition);
-  return {run_of(about_), run_of(box_), run_of(node_tags_), run_of(xyz_), run_of(triangle_rows_), run_of(tet_rows_)};
-}
-
-void MshPartitions::add_nodes(std::size_t partition) {
+  MshPartHead head = head_;
+  head.partition = partition + 1;
+  const std::uint32_t* order = tet_order_.data() + tet_start_[partition];
   const TetMesh& mesh = output_.mesh;
-  node_tags_.clear(), xyz_.clear();
-  const auto stamp = static_cast<std::uint32_t>(partition + 1);
-  for (std::size_t i = tets_.start[partition]; i < tets_.start[partition + 1]; ++i)
-    for (std::int32_t v : mesh.tets[tets_.order[i]])
-      if (taken_by_[v] != stamp) taken_by_[v] = stamp, node_tags_.push_back(static_cast<std::uint64_t>(v) + 1);
-  // Ascending: by a scan of the stamps when the partition uses many of the nodes (cheaper than
-  // sorting them), else by a sort.
-  if (node_tags_.size() * 64 >= taken_by_.size()) {
-    node_tags_.clear();
-    for (std::size_t v = 0; v < taken_by_.size(); ++v)
-      if (taken_by_[v] == stamp) node_tags_.push_back(static_cast<std::uint64_t>(v) + 1);
-  } else {
-    std::sort(node_tags_.begin(), node_tags_.end());
-  }
-  xyz_.reserve(3 * node_tags_.size());
-  for (std::uint64_t tag : node_tags_)
-    xyz_.insert(xyz_.end(), mesh.points[tag - 1].begin(), mesh.points[tag - 1].end());
-  Bounds own{{0, 0, 0}, {0, 0, 0}};
-  for (std::size_t i = 0; i < xyz_.size(); i += 3)
-    for (int c = 0; c < 3; ++c) {
-      own.min[c] = i == 0 ? xyz_[c] : std::min(own.min[c], xyz_[i + c]);
-      own.max[c] = i == 0 ? xyz_[c] : std::max(own.max[c], xyz_[i + c]);
-    }
-  box_ = model_box_;
-  box_.insert(box_.end(), own.min.begin(), own.min.end());
-  box_.insert(box_.end(), own.max.begin(), own.max.end());
-}
-
-void MshPartitions::add_elements(std::size_t partition) {
-  const TetMesh& mesh = output_.mesh;
-  const std::vector<Triangle>& boundary = output_.boundary;
-  const std::size_t whole_end = std::min(output_.split_from, boundary.size());
-  // Element tags as in the single file: the boundary triangles from 1, then the tets.
-  triangle_rows_.clear(), tet_rows_.clear();
-  // Ascending (the grouping is stable), so the whole input triangles come first.
-  const auto first = triangles_.order.begin() + static_cast<std::ptrdiff_t>(triangles_.start[partition]);
-  const auto last = triangles_.order.begin() + static_cast<std::ptrdiff_t>(triangles_.start[partition + 1]);
-  const auto whole = static_cast<std::uint64_t>(std::lower_bound(first, last, whole_end) - first);
-  for (auto it = first; it != last; ++it) {
-    const std::uint32_t i = *it;
-    triangle_rows_.push_back(std::uint64_t{i} + 1);
-    for (std::int32_t v : boundary[i]) triangle_rows_.push_back(static_cast<std::uint64_t>(v) + 1);
-  }
-  for (std::size_t k = tets_.start[partition]; k < tets_.start[partition + 1]; ++k) {
-    const std::uint32_t t = tets_.order[k];
-    tet_rows_.push_back(boundary.size() + t + 1);
-    for (std::int32_t v : mesh.tets[t]) tet_rows_.push_back(static_cast<std::uint64_t>(v) + 1);
-  }
-  about_ = {partition + 1, pieces_.size(), whole, whole_end < boundary.size() ? 1u : 0u, binary_ ? 1u : 0u};
+  const MshPartTets tets{tet_start_[partition + 1] - tet_start_[partition],
+                         [&](std::size_t i) -> const Tet& { return mesh.tets[order[i]]; },
+                         [&](std::size_t i) { return static_cast<std::int64_t>(order[i]); }};
+  current_ = msh_part_arrays(head, tets, triangles_.rows(partition), [&](std::int64_t id) { return mesh.points[id]; });
+  return current_.view();
 }
 
 }  // namespace partet

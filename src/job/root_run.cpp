@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/test_hooks.hpp"
 #include "io/tetgen_files.hpp"
 #include "job/compare_tetgen.hpp"
 #include "job/report.hpp"
@@ -19,16 +20,13 @@ void RootRun::prepare(InputChecks checks) {
 
 namespace {
 
-// Whether the mesh may stay where its parts are: only formats written from its parts (the XDMF
-// set and a .pvtu set by their owners; TetGen's files, a .vtu, MEDIT and one MSH file streamed
-// from them: all but the MSH partitions), nothing reads the whole mesh on rank 0 (no check, no
+// Whether the mesh may stay where its parts are: every format is written from its parts (the
+// XDMF set, a .pvtu set and the MSH partitions by their owners; TetGen's files, a .vtu, MEDIT and
+// one MSH file streamed from them), nothing reads the whole mesh on rank 0 (no check, no
 // comparison, no polish), and the bulks wait in memory where they were meshed.
 bool may_spread(const MeshJob& job) {
-  const auto written_in_parts = [](MeshFormat f) {
-    return f != MeshFormat::msh_parts && f != MeshFormat::msh_parts_binary;
-  };
-  return !job.formats.empty() && std::all_of(job.formats.begin(), job.formats.end(), written_in_parts) &&
-         !job.check_output && !job.compare_tetgen && !polishes(job.options) && job.options.scratch.empty();
+  return !job.formats.empty() && !job.check_output && !job.compare_tetgen && !polishes(job.options) &&
+         job.options.scratch.empty() && !test_hooks::assemble_always();
 }
 
 }  // namespace

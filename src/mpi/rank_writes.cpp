@@ -450,8 +450,9 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int sca
       return write_spread_on_every_rank(*spread, scale_exponent, output, paths);
     };
     writers.spread_pieces = piece_values(*spread);
-    writers.spread_piece_files = [spread, scale_exponent, &stats](const std::vector<PieceFile>& files) {
-      write_spread_piece_files(*spread, scale_exponent, files, stats);
+    writers.spread_piece_files = [spread, scale_exponent, &stats](
+                                     MeshFormat format, const std::vector<PieceFile>& files, const MeshOutput& output) {
+      write_spread_piece_files(format, *spread, output, scale_exponent, files, stats);
     };
     writers.spread_rows = [spread, scale_exponent](OutputSet& set, MeshFormat format, const MeshOutput& output,
                                                    const std::string& prefix) {

@@ -59,14 +59,6 @@ void in_chunks(std::size_t rows, F f) {
   for (std::size_t from = 0; from < rows; from += kRowsPerChunk) f(from, std::min(kRowsPerChunk, rows - from));
 }
 
-void add_bounds(Bounds& all, bool& any, const Bounds& b) {
-  for (int c = 0; c < 3; ++c) {
-    all.min[c] = any ? std::min(all.min[c], b.min[c]) : b.min[c];
-    all.max[c] = any ? std::max(all.max[c], b.max[c]) : b.max[c];
-  }
-  any = true;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Rank 0
 
@@ -239,13 +231,8 @@ class SpreadRowsWrite {
     return all;
   }
 
-  // The bounds of all points (all zero when there is none, as bounds_of gives them).
   Bounds box() const {
-    Bounds all;
-    bool any = false;
-    for (const RowRun& run : runs_of(true))
-      add_bounds(all, any, elsewhere(run) ? claims_.at(run.bulk->piece).box : bounds_of(own_points(run)));
-    return all;
+    return bounds_of_rows(mesh_, [this](const SpreadBulk& bulk) { return claims_.at(bulk.piece).box; });
   }
 
   // Orders every rank keeping some of the runs to format them all, then writes the runs in row

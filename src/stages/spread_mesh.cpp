@@ -156,10 +156,32 @@ std::vector<int> piece_values(const SpreadMesh& mesh) {
   return values;
 }
 
-void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid) {
+void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid,
+                  std::vector<std::int64_t>* rows) {
   tets.clear(), solid.clear();
-  for (std::size_t t = 0; t < mesh.band_tets.size(); ++t)
-    if (mesh.band_piece[t] == piece) tets.push_back(mesh.band_tets[t]), solid.push_back(mesh.band_solid[t]);
+  if (rows) rows->clear();
+  for (std::size_t t = 0; t < mesh.band_tets.size(); ++t) {
+    if (mesh.band_piece[t] != piece) continue;
+    tets.push_back(mesh.band_tets[t]), solid.push_back(mesh.band_solid[t]);
+    if (rows) rows->push_back(mesh.first_band_tet + static_cast<std::int64_t>(t));
+  }
+}
+
+Bounds bounds_of_rows(const SpreadMesh& mesh, const std::function<Bounds(const SpreadBulk&)>& elsewhere) {
+  Bounds all;
+  bool any = false;
+  const auto add = [&](const Bounds& b) {
+    for (int c = 0; c < 3; ++c) {
+      all.min[c] = any ? std::min(all.min[c], b.min[c]) : b.min[c];
+      all.max[c] = any ? std::max(all.max[c], b.max[c]) : b.max[c];
+    }
+    any = true;
+  };
+  if (!mesh.split_points.empty()) add(bounds_of(mesh.split_points));
+  if (!mesh.healing_points.empty()) add(bounds_of(mesh.healing_points));
+  for (const SpreadBulk& bulk : mesh.bulks)
+    if (bulk.points > 0) add(bulk.here ? bounds_of(bulk.block.steiner_points) : elsewhere(bulk));
+  return all;
 }
 
 }  // namespace partet

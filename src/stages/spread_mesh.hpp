@@ -8,9 +8,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "stages/info.hpp"
 #include "stages/seam_band.hpp"
 
 namespace partet {
@@ -94,8 +96,13 @@ Point3 point_of(const SpreadMesh& mesh, std::int64_t id);
 // first (when healing re-meshed any), then the pieces ascending.
 std::vector<int> piece_values(const SpreadMesh& mesh);
 
-// The band's tets of one piece value, in row order, with their solids.
-void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid);
+// The band's tets of one piece value, in row order, with their solids (and rows, when asked).
+void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid,
+                  std::vector<std::int64_t>* rows = nullptr);
+
+// The bounds of every point row of the mesh (all zero when there is none, as bounds_of gives
+// them): rank 0's own, and those of the bulks kept elsewhere as `elsewhere` gives them.
+Bounds bounds_of_rows(const SpreadMesh& mesh, const std::function<Bounds(const SpreadBulk&)>& elsewhere);
 
 // A bulk's cell data as written: per tet its solid (through its component) and its piece.
 void bulk_columns(const TetBlock& bulk, const SpreadBulk& place, std::vector<std::int32_t>& solid,

@@ -3,13 +3,14 @@
 # the TetGen files' lines; a rank that cannot take part must fail the whole run on every rank,
 # publish nothing and leave the previous set as it was:
 #   lost:       rank 1 loses its block (fault injection);
-#   lost-rows:  the same, writing TetGen files from the assembled mesh (MSH partitions too);
+#   lost-rows:  the same, writing TetGen files from the assembled mesh (PARTET_TEST_ASSEMBLE);
 #   lost-neigh: the same, TetGen files alone, streamed from the ranks keeping the mesh's parts:
 #               rank 1 loses the faces its bulk shares with the rest of the mesh;
 #   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
 #               the run ends with the disk's error, nothing left behind, no rank left waiting;
 #   full-hdf5:  the same while both ranks write the XDMF set's HDF5 file;
 #   lost-vtu:   the same, writing the piece files of a .pvtu set;
+#   lost-msh-parts: the same, writing MSH partitions from the ranks keeping the mesh's parts;
 #   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
@@ -20,7 +21,8 @@
 #   full-msh:   the disk fills while rank 0 writes one MSH file, its rows streamed from the ranks
 #               keeping the mesh's parts;
 #   full-vtu:   the same with one .vtu file (its arrays compressed as they come, their offsets
-#               written last).
+#               written last);
+#   full-msh-parts: the disk fills while both ranks write their MSH partitions.
 # Usage: xdmf_trouble.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -51,8 +53,8 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
 fi
 expect_refused lost "rank 1 could not take its part of the mesh"
 
-if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
-  --format tetgen,msh-parts --quiet 2> log; then
+if PARTET_TEST_ASSEMBLE=1 PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
+  --format tetgen --quiet 2> log; then
   echo "FAIL: lost-rows: a lost block exited 0"; exit 1
 fi
 expect_refused lost-rows "rank 1 did not receive its block of the .node file's rows"
@@ -68,6 +70,12 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
   echo "FAIL: lost-vtu: a lost block exited 0"; exit 1
 fi
 expect_refused lost-vtu "rank 1 did not receive the content of 'out/m_[a-z0-9]*.vtu'"
+
+if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/p --pieces 4 \
+  --format msh-parts --quiet 2> log; then
+  echo "FAIL: lost-msh-parts: a lost block exited 0"; exit 1
+fi
+expect_refused lost-msh-parts "rank 1 did not receive the content of 'out/p_[0-9]*.msh'"
 
 if ! unshare -m true 2> /dev/null; then
   echo "skipped: not-shared needs unshare -m"; exit 77
@@ -95,9 +103,9 @@ rm out/m.pvtu out/m_*.vtu
 
 # The output directory fills up during the write (a small tmpfs): the run must end with the disk's
 # error on every rank and leave nothing there.
-expect_full() {  # NAME TMPFS-SIZE OUTPUT ERROR-PATTERN
+expect_full() {  # NAME TMPFS-SIZE OUTPUT ERROR-PATTERN [OPTION...]
   mount -t tmpfs -o size="$2" tmpfs full
-  if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o "$3" --pieces 4 --quiet 2> log; then
+  if timeout 120 "$mpiexec" -n 2 "$partet" mesh big.off -o "$3" --pieces 4 --quiet "${@:5}" 2> log; then
     umount full; echo "FAIL: $1: a full disk exited 0"; exit 1
   fi
   left=$(ls full)
@@ -118,3 +126,5 @@ expect_full full-pvtu 1m full/m.pvtu "cannot write 'full/m_[a-z0-9]*\.vtu': No s
 expect_full full-msh 2m full/m.msh "cannot write 'full/m\.msh': No space left on device"
 # full-vtu: while rank 0 writes one .vtu file, compressing the rows rank 1 sends.
 expect_full full-vtu 512k full/m.vtu "cannot write 'full/m\.vtu': No space left on device"
+# full-msh-parts: while both ranks write their MSH partitions (rank 1 from the bulks it keeps).
+expect_full full-msh-parts 2m full/m "cannot write 'full/m_[0-9]*\.msh': No space left on device" --format msh-parts
