@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "common/group_items.hpp"
+#include "common/id_bits.hpp"
 #include "common/parallel.hpp"
 #include "io/buffered_file.hpp"
+#include "io/msh_numbers.hpp"
 #include "io/row_lines.hpp"
 #include "partet/errors.hpp"
 #include "stages/info.hpp"
@@ -24,24 +26,19 @@ namespace {
 constexpr std::int32_t kVolumePhysical = 1;
 std::int32_t surface_physical(std::int32_t surface) { return surface + 1; }
 
-// MSH 4.1's numbers: size_t (8 bytes), int (4 bytes) and double in binary, text separated by
-// spaces otherwise; and the sections every file has.
+// An MSH file: its numbers (MshNumbers) and the sections every file has.
 class MshStream {
  public:
   MshStream(const std::string& path, const std::string& shown, bool must_exist, bool binary)
-      : out_(path, shown, must_exist), binary_(binary) {}
+      : out_(path, shown, must_exist), numbers_(out_, binary), binary_(binary) {}
 
-  void size(std::uint64_t v) {
-    binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(static_cast<std::int64_t>(v)), out_.space());
-  }
-  void tag(std::int32_t v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.integer(v), out_.space()); }
-  void real(double v) { binary_ ? out_.bytes(&v, sizeof v) : (out_.real(v), out_.space()); }
+  void size(std::uint64_t v) { numbers_.size(v); }
+  void tag(std::int32_t v) { numbers_.tag(v); }
+  void real(double v) { numbers_.real(v); }
+  void end_line() { numbers_.end_line(); }
   void box(const Bounds& b) {
     for (double v : b.min) real(v);
     for (double v : b.max) real(v);
-  }
-  void end_line() {
-    if (!binary_) out_.newline();
   }
   void begin_section(const char* name) { out_.text(name); }
   void end_section(const char* name) {
@@ -79,6 +76,7 @@ class MshStream {
 
  private:
   BufferedFile out_;
+  MshNumbers<BufferedFile> numbers_;
   bool binary_;
 };
 
@@ -202,9 +200,7 @@ class MshPartWriter {
     if (n > 0) {
       out_.tag(3), out_.tag(p_.volume_tag()), out_.tag(0), out_.size(n), out_.end_line();
       for (std::size_t i = 0; i < n; ++i) out_.size(tags[i]), out_.end_line();
-      for (std::size_t i = 0; i < 3 * n; i += 3)
-        out_.real(part_.xyz.data[i]), out_.real(part_.xyz.data[i + 1]), out_.real(part_.xyz.data[i + 2]),
-            out_.end_line();
+      write_row_lines(out_.file(), p_.binary ? RowLines::msh_node_binary : RowLines::msh_node, {part_.xyz.data, n});
     }
     out_.end_section("$EndNodes\n");
   }
@@ -280,21 +276,16 @@ void write_msh_part(const MshPartView& part, const std::string& path, const std:
 MshPartArrays msh_part_arrays(const MshPartHead& head, const MshPartTets& tets, std::vector<std::uint64_t> triangles,
                               const std::function<Point3(std::int64_t)>& point) {
   MshPartArrays part;
-  // The nodes: every point the tets use, ascending (a bit per point of the whole mesh).
-  std::vector<std::uint64_t> used;
+  // The nodes: every point the tets use, ascending.
+  IdBits used;
   for (std::size_t i = 0; i < tets.count; ++i)
-    for (std::int32_t v : tets.tet(i)) {
-      const auto word = static_cast<std::size_t>(v) / 64;
-      if (word >= used.size()) used.resize(word + 1, 0);
-      used[word] |= std::uint64_t{1} << (v % 64);
-    }
-  for (std::size_t word = 0; word < used.size(); ++word)
-    for (std::uint64_t bits = used[word]; bits != 0; bits &= bits - 1)
-      part.node_tags.push_back(64 * word + static_cast<std::uint64_t>(__builtin_ctzll(bits)) + 1);
+    for (std::int32_t v : tets.tet(i)) used.insert(static_cast<std::uint64_t>(v));
+  part.node_tags = used.ascending<std::uint64_t>();
   part.xyz.reserve(3 * part.node_tags.size());
-  for (std::uint64_t tag : part.node_tags) {
-    const Point3 p = point(static_cast<std::int64_t>(tag - 1));
+  for (std::uint64_t& tag : part.node_tags) {
+    const Point3 p = point(static_cast<std::int64_t>(tag));
     part.xyz.insert(part.xyz.end(), p.begin(), p.end());
+    ++tag;  // MSH's tags from 1
   }
   Bounds own{{0, 0, 0}, {0, 0, 0}};
   for (std::size_t i = 0; i < part.xyz.size(); i += 3)

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "io/buffered_file.hpp"
+#include "io/msh_numbers.hpp"
 #include "io/tetgen_files.hpp"
 #include "io/text_sink.hpp"
 #include "partet/errors.hpp"
@@ -32,31 +33,9 @@ void medit_lines(Sink& out, RowLines lines, const RowsToFormat& rows) {
   }
 }
 
-// MSH 4.1's numbers: as text, each followed by a space, a line per row; in binary, size_t and
-// double as they are.
-template <class Sink, bool kBinary>
-struct MshNumbers {
-  Sink& out;
-  void size(std::uint64_t v) {
-    if constexpr (kBinary)
-      out.bytes(&v, sizeof v);
-    else
-      out.integer(static_cast<std::int64_t>(v)), out.space();
-  }
-  void real(double v) {
-    if constexpr (kBinary)
-      out.bytes(&v, sizeof v);
-    else
-      out.real(v), out.space();
-  }
-  void end_line() {
-    if constexpr (!kBinary) out.newline();
-  }
-};
-
-template <bool kBinary, class Sink>
-void msh_lines(Sink& sink, bool points, const RowsToFormat& rows) {
-  MshNumbers<Sink, kBinary> out{sink};
+template <class Sink>
+void msh_lines(Sink& sink, bool binary, bool points, const RowsToFormat& rows) {
+  MshNumbers<Sink> out(sink, binary);
   for (std::size_t i = 0; i < rows.count; ++i) {
     if (points) {
       for (double c : row_at<Point3>(rows, i)) out.real(c);
@@ -97,13 +76,13 @@ void format_rows(Sink& out, RowLines lines, const RowsToFormat& rows) {
     case RowLines::medit_tet:
       return medit_lines(out, lines, rows);
     case RowLines::msh_node:
-      return msh_lines<false>(out, true, rows);
+      return msh_lines(out, false, true, rows);
     case RowLines::msh_tet:
-      return msh_lines<false>(out, false, rows);
+      return msh_lines(out, false, false, rows);
     case RowLines::msh_node_binary:
-      return msh_lines<true>(out, true, rows);
+      return msh_lines(out, true, true, rows);
     case RowLines::msh_tet_binary:
-      return msh_lines<true>(out, false, rows);
+      return msh_lines(out, true, false, rows);
     default:
       throw InternalError("no such rows to format");
   }

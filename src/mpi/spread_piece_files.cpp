@@ -10,6 +10,7 @@
 #include <string>
 #include <type_traits>
 
+#include "common/id_bits.hpp"
 #include "common/log.hpp"
 #include "common/test_hooks.hpp"
 #include "io/msh.hpp"
@@ -375,16 +376,14 @@ void receive_band_part(const SetOrder& set, OwnFile& own) {
 
 // The points the files use that this rank does not keep (outside its bulks' Steiner rows), ascending.
 std::vector<std::int64_t> points_asked(const std::vector<OwnFile>& files) {
-  std::vector<std::int64_t> asked;
+  IdBits asked;  // not every use listed: a surface point is in about 20 tets
   const auto add = [&](const std::vector<Tet>& tets, const SpreadBulk& place) {
     for (const Tet& t : tets)
       for (std::int32_t v : t)
-        if (v < place.first_point || v >= place.first_point + place.points) asked.push_back(v);
+        if (v < place.first_point || v >= place.first_point + place.points) asked.insert(static_cast<std::uint64_t>(v));
   };
   for (const OwnFile& own : files) add(own.bulk->tets, *own.place), add(own.band, *own.place);
-  std::sort(asked.begin(), asked.end());
-  asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
-  return asked;
+  return asked.ascending<std::int64_t>();
 }
 
 // A point's coordinates on this rank: its bulk's Steiner points, else those asked of rank 0.
