@@ -111,6 +111,10 @@ void worker_death(int rank) {
   }
 }
 
+void write_out_of_memory(int rank) {
+  if (rank == 1 && injected("worker:write-out-of-memory")) throw std::bad_alloc();
+}
+
 bool block_lost(int rank) { return rank == 1 && injected("worker:lose-block"); }
 
 int publish_failure() {

@@ -61,6 +61,11 @@ void worker_death(int rank);
 // every rank.
 bool block_lost(int rank);
 
+// PARTET_INJECT_FAILURE="worker:write-out-of-memory": rank 1 runs out of memory (std::bad_alloc)
+// making its part of a file written from a spread mesh: its rows of a single file streamed to rank
+// 0, or a piece or partition file of its own.
+void write_out_of_memory(int rank);
+
 // PARTET_INJECT_PUBLISH_FAILURE=N: the N-th new file's move into place fails (0: none).
 int publish_failure();
 // Called at each step of a publish (0: the journal just written; 1: past its error handling, then

@@ -307,11 +307,11 @@ void write_medit(const MeshRows& rows, const std::vector<Triangle>& boundary, st
   out.close();
 }
 
-MeshRows mesh_rows(const MeshOutput& output) {
+MeshRows mesh_rows(const MeshOutput& output, bool box) {
   const TetMesh& mesh = output.mesh;
   MeshRows rows;
   rows.points = mesh.points.size(), rows.tets = mesh.tets.size();
-  rows.box = bounds_of(mesh.points);
+  if (box) rows.box = bounds_of(mesh.points);
   rows.write = [&mesh](BufferedFile& out, RowLines lines, std::int64_t number_from) {
     if (formats_points(lines)) return write_row_lines(out, lines, {mesh.points.data(), mesh.points.size(), 0, 0});
     std::vector<std::int32_t> region;
@@ -555,13 +555,14 @@ void add_mesh_files(OutputSet& set, MeshFormat format, const MeshOutput& output,
     case MeshFormat::msh_binary:
       if (writers.spread_rows) return writers.spread_rows(set, format, output, prefix);
       set.add(path, [&](const std::string& tmp) {
-        write_msh(mesh_rows(output), output.boundary, output.split_from, tmp, path, format == MeshFormat::msh_binary);
+        write_msh(mesh_rows(output, true), output.boundary, output.split_from, tmp, path,
+                  format == MeshFormat::msh_binary);
       });
       return;
     case MeshFormat::medit:
       if (writers.spread_rows) return writers.spread_rows(set, format, output, prefix);
       set.add(path, [&](const std::string& tmp) {
-        write_medit(mesh_rows(output), output.boundary, output.split_from, tmp, path);
+        write_medit(mesh_rows(output, false), output.boundary, output.split_from, tmp, path);
       });
       return;
     case MeshFormat::xdmf:

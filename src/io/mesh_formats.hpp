@@ -158,11 +158,11 @@ std::vector<int> pieces_in(const MeshOutput& output);
 // mesh's (mesh_rows), or a spread mesh's, streamed from the ranks keeping its parts.
 struct MeshRows {
   std::uint64_t points = 0, tets = 0;
-  Bounds box;  // of the points (MSH's model)
+  Bounds box;  // of the points (MSH's model; all zero when not asked for)
   // Writes every row of points (a points kind) or of tets, in order; msh_tet's tags from number_from.
   std::function<void(BufferedFile& out, RowLines lines, std::int64_t number_from)> write;
 };
-MeshRows mesh_rows(const MeshOutput& output);
+MeshRows mesh_rows(const MeshOutput& output, bool box);
 
 // Gmsh MSH 4.1: nodes, tetrahedra (physical group 1 "volume") and the boundary triangles
 // (physical group 2 "boundary"; the parts of split input triangles, from split_from on: physical

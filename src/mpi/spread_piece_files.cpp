@@ -427,11 +427,12 @@ void write_one(const SetOrder& set, std::size_t files, OwnFile& own, const std::
                         "'");
     if (static_cast<std::int64_t>(own.bulk->steiner_points.size()) != own.place->points)
       throw InternalError("the bulk of piece " + std::to_string(own.place->piece) + " does not match its placement");
+    test_hooks::write_out_of_memory(my_rank());
     const auto point = [&](std::int64_t id) { return point_here(own, asked, xyz, id); };
     if (set.msh()) {
-      const MshPartArrays part =
-          msh_part_arrays(set.head(own.index, files, own.model),
-                          part_tets(own.bulk, own.place->first_tet, own.band, own.band_rows), own.triangles, point);
+      const MshPartArrays part = msh_part_arrays(set.head(own.index, files, own.model),
+                                                 part_tets(own.bulk, own.place->first_tet, own.band, own.band_rows),
+                                                 std::move(own.triangles), point);
       return write_or_send(part.view(), own.file, stats);
     }
     std::vector<std::int32_t> solid, piece;
@@ -442,8 +443,8 @@ void write_one(const SetOrder& set, std::size_t files, OwnFile& own, const std::
       cells.xyz.insert(cells.xyz.end(), p.begin(), p.end());
     }
     write_or_send(cells.view(), own.file, stats);
-  } catch (const std::exception& e) {
-    send_to(0, std::string("E") + e.what(), kRootSeconds);
+  } catch (const std::exception&) {
+    send_to(0, "E" + error_message(std::current_exception(), my_rank()), kRootSeconds);
   }
 }
 

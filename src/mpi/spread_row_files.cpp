@@ -371,8 +371,8 @@ class RunChunks {
       append_text(chunk, bulk, n);
       from_ += n;
       ended_ = from_ == rows;
-    } catch (const std::exception& e) {
-      chunk = std::string("E") + e.what();
+    } catch (const std::exception&) {
+      chunk = "E" + error_message(std::current_exception(), my_rank());
       ended_ = true;
     }
     return chunk;
@@ -387,6 +387,7 @@ class RunChunks {
   }
 
   void append_text(std::string& chunk, const OwnBulk& bulk, std::size_t n) const {
+    test_hooks::write_out_of_memory(my_rank());
     const TetBlock& block = *bulk.block;
     const SpreadBulk& place = bulk.place;
     const auto from = static_cast<std::int64_t>(from_);

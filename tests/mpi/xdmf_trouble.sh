@@ -11,6 +11,10 @@
 #   full-hdf5:  the same while both ranks write the XDMF set's HDF5 file;
 #   lost-vtu:   the same, writing the piece files of a .pvtu set;
 #   lost-msh-parts: the same, writing MSH partitions from the ranks keeping the mesh's parts;
+#   oom-FORMAT: rank 1 runs out of memory making its part of a file written from the ranks
+#               keeping the mesh's parts (its rows of TetGen's files, a .vtu, .mesh or .msh file
+#               streamed to rank 0; its .pvtu piece files or MSH partitions): the run fails with
+#               rank 1's own out-of-memory message;
 #   not-shared: rank 1 runs in its own mount namespace where the output directory is an empty
 #               tmpfs of the same path (a node-local directory, not the one rank 0 writes to);
 #               writing its rows into a file of its own there would leave rank 0's file
@@ -76,6 +80,14 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
   echo "FAIL: lost-msh-parts: a lost block exited 0"; exit 1
 fi
 expect_refused lost-msh-parts "rank 1 did not receive the content of 'out/p_[0-9]*.msh'"
+
+for format in tetgen vtu medit msh-binary pvtu msh-parts; do
+  if PARTET_INJECT_FAILURE=worker:write-out-of-memory "$mpiexec" -n 2 "$partet" mesh other.off -o out/w --pieces 4 \
+    --format $format --quiet 2> log; then
+    echo "FAIL: oom-$format: running out of memory exited 0"; exit 1
+  fi
+  expect_refused oom-$format "rank 1 ran out of memory (at [0-9]* MB"
+done
 
 if ! unshare -m true 2> /dev/null; then
   echo "skipped: not-shared needs unshare -m"; exit 77
