@@ -16,6 +16,8 @@
 //              runs before, and sends per run its text in chunks, "T" + text (or "E" + why not),
 //              then ""; rank 0 takes every chunk ordered, even after a failure;
 //   0 -> rank: "" once the files are written (or failed): the rank's part is over.
+// Rank 0's side is in spread_row_files.cpp, the other ranks' in stream_own_rows.cpp, what both
+// say in spread_row_order.hpp.
 #pragma once
 #include <sstream>
 #include <string>
