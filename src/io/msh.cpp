@@ -30,7 +30,7 @@ std::int32_t surface_physical(std::int32_t surface) { return surface + 1; }
 class MshStream {
  public:
   MshStream(const std::string& path, const std::string& shown, bool must_exist, bool binary)
-      : out_(path, shown, must_exist), numbers_(out_, binary), binary_(binary) {}
+      : out_(path, shown, must_exist), numbers_(out_, binary) {}
 
   void size(std::uint64_t v) { numbers_.size(v); }
   void tag(std::int32_t v) { numbers_.tag(v); }
@@ -42,17 +42,17 @@ class MshStream {
   }
   void begin_section(const char* name) { out_.text(name); }
   void end_section(const char* name) {
-    if (binary_) out_.newline();
+    if (binary()) out_.newline();
     out_.text(name);
   }
   void close() { out_.close(); }
   BufferedFile& file() { return out_; }
-  bool binary() const { return binary_; }
+  bool binary() const { return numbers_.binary(); }
 
   // $MeshFormat, $PhysicalNames and $Entities (the model).
   void model(const Bounds& box, bool split) {
-    out_.text(binary_ ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
-    if (binary_) {
+    out_.text(binary() ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
+    if (binary()) {
       const int one = 1;  // lets readers detect the byte order
       out_.bytes(&one, sizeof one);
       out_.newline();
@@ -77,7 +77,6 @@ class MshStream {
  private:
   BufferedFile out_;
   MshNumbers<BufferedFile> numbers_;
-  bool binary_;
 };
 
 // ---------------------------------------------------------------------------------------------
