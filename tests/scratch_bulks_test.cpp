@@ -22,6 +22,8 @@
 #include "stage_batches.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
+#include "stages/seam_healing.hpp"
+#include "stages/spread_mesh.hpp"
 #include "test_support.hpp"
 
 namespace partet {
@@ -213,6 +215,56 @@ TEST(ScratchBulks, AWelderWhoseBulksWaitedOnDiskGivesTheSameMesh) {
       for (int piece = 0; piece < k; ++piece) EXPECT_FALSE(store.holds(piece));
       EXPECT_EQ(files_in(dir), 0u);
     }
+}
+
+// A mesh left spread (several ranks, --scratch): this process's bulks come back from its scratch
+// file and are its own, here, as those it kept in memory; the welder keeps nothing elsewhere, and
+// the file is empty after.
+TEST(ScratchBulks, AMeshLeftSpreadTakesItsBulksBackFromDisk) {
+  for (const char* name : {"torus", "nested"}) {
+    SCOPED_TRACE(name);
+    const SurfaceMesh input = generate_surface(name, 1500);
+    const MeshedPieces s = mesh_pieces_in_batch(input, 4);
+    const SplitSurface& split = s.prepared.split;
+    const BandSpec spec{split.input_vertex_count, static_cast<std::int32_t>(split.points.size()),
+                        split.input_vertex_count,
+                        split.input_vertex_count + static_cast<std::int32_t>(split.cut_vertex_count()), 1};
+    const std::string dir = temp_dir("scratch_spread");
+    ScratchBulks store(dir);
+    Welder in_memory(split, s.prepared.pieces), on_disk(split, s.prepared.pieces);
+    in_memory.split_on_arrival(spec), on_disk.split_on_arrival(spec);
+    on_disk.keep_bulks_in(store);
+    for (const auto& result : s.results) in_memory.add(PieceTetMesh(result)), on_disk.add(PieceTetMesh(result));
+    EXPECT_FALSE(on_disk.keeps_bulks_elsewhere());  // its own file is not another rank
+    TetMesh a = in_memory.finish_band(split.points, spec), b = on_disk.finish_band(split.points, spec);
+    const HealOptions heal{false, 0, false};
+    heal_seams(a, input, split, heal, regions_here(s.options));
+    heal_seams(b, input, split, heal, regions_here(s.options));
+    EXPECT_EQ(store.stats().bulks, 4);
+    const SpreadMesh want = in_memory.spread(std::move(a)), got = on_disk.spread(std::move(b));
+    EXPECT_TRUE(store.pieces().empty());
+    EXPECT_EQ(files_in(dir), 0u);
+    ASSERT_EQ(got.bulks.size(), want.bulks.size());
+    EXPECT_EQ(got.points, want.points);
+    EXPECT_EQ(got.tets, want.tets);
+    EXPECT_EQ(got.split_points, want.split_points);
+    EXPECT_EQ(got.band_tets, want.band_tets);
+    EXPECT_EQ(got.band_solid, want.band_solid);
+    for (std::size_t p = 0; p < want.bulks.size(); ++p) {
+      SCOPED_TRACE("piece " + std::to_string(p));
+      const SpreadBulk &g = got.bulks[p], &w = want.bulks[p];
+      EXPECT_TRUE(g.here);
+      EXPECT_EQ(g.first_point, w.first_point);
+      EXPECT_EQ(g.first_tet, w.first_tet);
+      EXPECT_EQ(g.block.tets, w.block.tets);
+      EXPECT_EQ(g.block.neighbours, w.block.neighbours);
+      EXPECT_EQ(g.block.steiner_points, w.block.steiner_points);
+      EXPECT_EQ(g.solid, w.solid);
+      ASSERT_EQ(g.across.size(), w.across.size());
+      for (std::size_t i = 0; i < w.across.size(); ++i)
+        EXPECT_TRUE(g.across[i].face == w.across[i].face && g.across[i].tet == w.across[i].tet);
+    }
+  }
 }
 
 // A retry keeps the pieces that did not fail: a piece whose bulk waited on disk comes back as added.

@@ -22,11 +22,12 @@ namespace {
 
 // Whether the mesh may stay where its parts are: every format is written from its parts (the
 // XDMF set, a .pvtu set and the MSH partitions by their owners; TetGen's files, a .vtu, MEDIT and
-// one MSH file streamed from them), nothing reads the whole mesh on rank 0 (no check, no
-// comparison, no polish), and the bulks wait in memory where they were meshed.
+// one MSH file streamed from them) and nothing reads the whole mesh on rank 0 (no check, no
+// comparison, no polish). With --scratch the bulks come back from their files for the writers,
+// each to the rank that meshed it.
 bool may_spread(const MeshJob& job) {
   return !job.formats.empty() && !job.check_output && !job.compare_tetgen && !polishes(job.options) &&
-         job.options.scratch.empty() && !test_hooks::assemble_always();
+         !test_hooks::assemble_always();
 }
 
 }  // namespace

@@ -491,7 +491,8 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
 }
 
 bool Welder::keeps_bulks_elsewhere() const {
-  return std::any_of(stored_.begin(), stored_.end(), [](const StoredBulk& s) { return s.stored; });
+  return std::any_of(stored_.begin(), stored_.end(),
+                     [this](const StoredBulk& s) { return s.stored && s.store != store_; });
 }
 
 namespace {
@@ -546,6 +547,9 @@ BlockLinks spread_band(const AssemblyNumbering& numbering, TetMesh&& healed_band
 
 std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh) {
   const std::size_t k = bulks_.size();
+  // This process's own store (scratch files) gives its bulks back: the writers take them here.
+  for (std::size_t p = 0; p < k; ++p)
+    if (stored_[p].stored && stored_[p].store == store_) bulk_here(p);
   std::vector<BulkNumbering> shares;
   std::vector<std::size_t> steiner_points;  // each piece's, before the numbering drops some
   for (std::size_t p = 0; p < k; ++p)

@@ -85,11 +85,12 @@ class Welder {
   AssemblyNumbering numbering(const TetMesh& healed_band, bool drop_unused = true);
   TetMesh assemble(TetMesh&& healed_band, const AssemblyNumbering& numbering);
   // Instead of the assembly, when only formats written from the parts are: the mesh left where
-  // its parts are (spread_mesh.hpp). The bulks kept by a store are numbered there and stay; those
-  // kept here move into the result, numbered. With faces_across, the tets across the blocks'
-  // shared faces too (for TetGen's .neigh). The welder is then empty.
+  // its parts are (spread_mesh.hpp). The bulks kept by an owner's store (add_split) are numbered
+  // there and stay; those kept here, or in this process's own store (keep_bulks_in), move into
+  // the result, numbered. With faces_across, the tets across the blocks' shared faces too (for
+  // TetGen's .neigh). The welder is then empty.
   SpreadMesh spread(TetMesh&& healed_band, bool faces_across = true);
-  // Whether some store keeps a bulk (the pieces were split where they were meshed).
+  // Whether an owner's store keeps a bulk (the pieces were split where they were meshed).
   bool keeps_bulks_elsewhere() const;
   // The tets the bulks hold (after finish_band).
   std::size_t bulk_tet_count() const;

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # --scratch DIR (the paper's memory mode): the pieces' bulks wait in a file there, and the mesh is
-# the same, byte for byte, as without; nothing stays in DIR after a run, nor after an interrupt
-# (SIGTERM while the bulks are there), nor after a kill (SIGKILL: the file has no name in DIR, so
-# the system frees it); a DIR that is not a directory is a usage error (exit 2) before any work.
+# the same, byte for byte, as without (on several ranks without a quality bound, written from the
+# ranks that meshed the pieces, as without --scratch); nothing stays in DIR after a run, nor after
+# an interrupt (SIGTERM while the bulks are there), nor after a kill (SIGKILL: the file has no
+# name in DIR, so the system frees it); a DIR that is not a directory is a usage error (exit 2)
+# before any work.
 # With MPIEXEC and its arguments, every run is on those ranks.
 # Usage: scratch.sh PARTET [MPIEXEC ARGS...]
 set -uo pipefail
@@ -24,14 +26,21 @@ for quality in "" "1.414"; do
   run mesh torus.off -k 6 "${q[@]}" -o b --scratch scratch --report b.json --quiet || bad "q='$quality': with --scratch"
   same=1
   for f in node ele face neigh; do cmp -s a.$f b.$f || same=0; done
-  read -r bulks kept on_disk < <(python3 -c "import json; r = json.load(open('b.json'))
-print(r['scratch']['bulks'], r['bulks_where_meshed'], int(sum(x['bulks_on_disk'] for x in r['rank'])))")
+  read -r bulks kept on_disk assembled < <(python3 -c "import json; r = json.load(open('b.json'))
+print(r['scratch']['bulks'], r['bulks_where_meshed'], int(sum(x['bulks_on_disk'] for x in r['rank'])), r['assembled_on_rank0'])")
   left=$(ls -A scratch)
   # (On several ranks, which pieces rank 0 meshes itself depends on timing.)
   if [ $same = 1 ] && [ $((bulks + kept)) -ge 6 ] && [ "$kept" = "$on_disk" ] &&
      { [ ${#launch[@]} -gt 0 ] || [ "$bulks" = 6 ]; } && [ -z "$left" ]; then
     ok "q='$quality': the same files with --scratch; of 6 bulks, $bulks waited on rank 0's disk, $on_disk on the disk of the ranks that meshed them; nothing left"
   else bad "q='$quality': same=$same bulks=$bulks kept=$kept on_disk=$on_disk left='$left'"; fi
+  # Without a quality bound, on several ranks, the bulks came back from disk to the rank that
+  # meshed them for the writes: rank 0 did not assemble the mesh (one process always does).
+  if [ -z "$quality" ]; then
+    want=True; [ ${#launch[@]} -gt 0 ] && want=False
+    [ "$assembled" = $want ] && ok "q='': assembled on rank 0: $assembled, as expected with --scratch" ||
+      bad "q='': assembled on rank 0: $assembled, expected $want"
+  fi
   # Without --scratch, the ranks that kept bulks in memory numbered them there before the assembly.
   read -r kept numbering < <(python3 -c "import json; r = json.load(open('a.json'))
 print(r['bulks_where_meshed'], sum(x['bulk_number_seconds'] for x in r['rank'] if x['bulks_kept'] > 0) > 0)")
