@@ -36,6 +36,13 @@ std::size_t files_in(const std::string& directory) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(directory), fs::directory_iterator()));
 }
 
+// The band around the cut vertices alone (healing without the caps' points), `layers` deep.
+BandSpec cut_vertices_band(const SplitSurface& split, int layers) {
+  const std::int32_t first_removed = split.input_vertex_count;
+  return {split.input_vertex_count, static_cast<std::int32_t>(split.points.size()), first_removed,
+          first_removed + static_cast<std::int32_t>(split.cut_vertex_count()), layers};
+}
+
 // This process's open files in directory (a nameless file shows as "DIR/#inode (deleted)").
 std::vector<int> descriptors_into(const std::string& directory) {
   std::vector<int> found;
@@ -197,9 +204,7 @@ TEST(ScratchBulks, AWelderWhoseBulksWaitedOnDiskGivesTheSameMesh) {
       const SurfaceMesh input = generate_surface("torus", 1500);
       const MeshedPieces s = mesh_pieces_in_batch(input, k);
       const SplitSurface& split = s.prepared.split;
-      const std::int32_t first_removed = split.input_vertex_count;
-      const BandSpec spec{split.input_vertex_count, static_cast<std::int32_t>(split.points.size()), first_removed,
-                          first_removed + static_cast<std::int32_t>(split.cut_vertex_count()), layers};
+      const BandSpec spec = cut_vertices_band(split, layers);
       const std::string dir = temp_dir("scratch_welder");
       ScratchBulks store(dir);
       Welder in_memory(split, s.prepared.pieces), on_disk(split, s.prepared.pieces);
@@ -226,9 +231,7 @@ TEST(ScratchBulks, AMeshLeftSpreadTakesItsBulksBackFromDisk) {
     const SurfaceMesh input = generate_surface(name, 1500);
     const MeshedPieces s = mesh_pieces_in_batch(input, 4);
     const SplitSurface& split = s.prepared.split;
-    const BandSpec spec{split.input_vertex_count, static_cast<std::int32_t>(split.points.size()),
-                        split.input_vertex_count,
-                        split.input_vertex_count + static_cast<std::int32_t>(split.cut_vertex_count()), 1};
+    const BandSpec spec = cut_vertices_band(split, 1);
     const std::string dir = temp_dir("scratch_spread");
     ScratchBulks store(dir);
     Welder in_memory(split, s.prepared.pieces), on_disk(split, s.prepared.pieces);
@@ -275,9 +278,7 @@ TEST(ScratchBulks, APieceWhoseBulkWaitedOnDiskComesBackAsItWasAdded) {
   const std::string dir = temp_dir("scratch_take_back");
   ScratchBulks store(dir);
   Welder welder(split, s.prepared.pieces);
-  welder.split_on_arrival(BandSpec{split.input_vertex_count, static_cast<std::int32_t>(split.points.size()),
-                                   split.input_vertex_count,
-                                   split.input_vertex_count + static_cast<std::int32_t>(split.cut_vertex_count()), 1});
+  welder.split_on_arrival(cut_vertices_band(split, 1));
   welder.keep_bulks_in(store);
   for (const auto& result : s.results) welder.add(PieceTetMesh(result));
   for (std::size_t piece = 0; piece < s.results.size(); ++piece) EXPECT_TRUE(store.holds(static_cast<int>(piece)));

@@ -456,7 +456,7 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int sca
     };
     writers.spread_rows = [spread, scale_exponent](OutputSet& set, MeshFormat format, const MeshOutput& output,
                                                    const std::string& prefix) {
-      add_spread_row_files(set, format, *spread, output, prefix, scale_exponent);
+      add_spread_row_files(set, format, *spread, output, prefix, scale_exponent, write_tetgen_lines_on_every_rank);
     };
   }
   if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;

@@ -45,10 +45,12 @@ class RemoteBulks : public BulkStore {
     broadcast(kNumberBulks);
     broadcast_text(serialize_bulk_shares(kept));
   }
-  // Every worker sends the links of the bulks it keeps, numbered, by piece.
-  std::vector<std::pair<int, BlockLinks>> links(std::int32_t input_vertices) override {
+  // Every worker makes the links of the bulks it keeps, numbered, and sends them, by piece.
+  void ask_links(std::int32_t input_vertices) override {
     broadcast(kLinkBulks);
     bounded([&] { return broadcast_int(input_vertices, 0, job_comm(), collective_limit()); });
+  }
+  std::vector<std::pair<int, BlockLinks>> links() override {
     int size = 1;
     MPI_Comm_size(job_comm(), &size);
     std::vector<std::pair<int, BlockLinks>> all;

@@ -21,8 +21,9 @@ namespace {
 
 class SpreadRowsWrite {
  public:
-  SpreadRowsWrite(MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output, int exponent)
-      : format_(format), mesh_(mesh), output_(output), exponent_(exponent) {
+  SpreadRowsWrite(MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output, int exponent,
+                  const TetgenLines& face_lines)
+      : format_(format), mesh_(mesh), output_(output), exponent_(exponent), face_lines_(face_lines) {
     MPI_Comm_size(job_comm(), &size_);
   }
 
@@ -41,6 +42,9 @@ class SpreadRowsWrite {
       throw;
     }
     end();
+    // 3. TetGen's .face: rank 0 keeps every row, and every rank formats its share of them at once
+    //    (the ranks keeping bulks had the most of the .ele and .neigh rows).
+    if (format_ == MeshFormat::tetgen) add_face_file(set, prefix);
   }
 
  private:
@@ -96,26 +100,34 @@ class SpreadRowsWrite {
 
   void add_tetgen_files(OutputSet& set, const std::string& prefix) {
     if (!mesh_.has_across) throw InternalError("the spread mesh kept no faces across its parts for the .neigh file");
-    const std::string id =
-        mesh_id(fingerprint(true), fingerprint(false), fingerprint_rows(TetgenFile::face, output_.boundary));
-    for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::face, TetgenFile::neigh}) {
+    id_ = mesh_id(fingerprint(true), fingerprint(false), fingerprint_rows(TetgenFile::face, output_.boundary));
+    for (TetgenFile file : {TetgenFile::node, TetgenFile::ele, TetgenFile::neigh}) {
       const std::string shown = prefix + extension(file);
-      const bool faces = file == TetgenFile::face;
-      const std::size_t count = faces ? output_.boundary.size()
-                                      : static_cast<std::size_t>(file == TetgenFile::node ? mesh_.points : mesh_.tets);
+      const std::size_t count = static_cast<std::size_t>(file == TetgenFile::node ? mesh_.points : mesh_.tets);
       const RowLines lines = file == TetgenFile::node  ? RowLines::tetgen_node
                              : file == TetgenFile::ele ? RowLines::tetgen_ele
                                                        : RowLines::tetgen_neigh;
       set.add(shown, [&](const std::string& temporary) {
         write_tetgen_file(
-            file, count, id, temporary, shown,
-            [&](BufferedFile& out) {
-              if (!faces) return write_runs(out, lines, 0);
-              write_tetgen_lines(out, file, bytes_of(run_of(output_.boundary)).data(), 0, count, output_.split_from);
-            },
+            file, count, id_, temporary, shown, [&](BufferedFile& out) { write_runs(out, lines, 0); },
             Closing::in_background);
       });
     }
+  }
+
+  void add_face_file(OutputSet& set, const std::string& prefix) const {
+    const std::string shown = prefix + extension(TetgenFile::face);
+    const TetgenRows rows{TetgenFile::face, bytes_of(run_of(output_.boundary)).data(), output_.boundary.size(),
+                          output_.split_from};
+    set.add(shown, [&](const std::string& temporary) {
+      write_tetgen_file(
+          TetgenFile::face, rows.count, id_, temporary, shown,
+          [&](BufferedFile& out) {
+            if (face_lines_) return face_lines_(rows, out);
+            write_tetgen_lines(rows, 0, rows.count, out);
+          },
+          Closing::in_background);
+    });
   }
 
   void add_single_file(OutputSet& set, const std::string& prefix) {
@@ -254,15 +266,17 @@ class SpreadRowsWrite {
   const SpreadMesh& mesh_;
   const MeshOutput& output_;
   int exponent_ = 0;
+  const TetgenLines& face_lines_;
   int size_ = 1;
   std::map<int, Claim> claims_;  // by piece: the bulks kept elsewhere
+  std::string id_;               // TetGen's files: the set's ID
 };
 
 }  // namespace
 
 void add_spread_row_files(OutputSet& set, MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output,
-                          const std::string& prefix, int exponent) {
-  SpreadRowsWrite(format, mesh, output, exponent).run(set, prefix);
+                          const std::string& prefix, int exponent, const TetgenLines& face_lines) {
+  SpreadRowsWrite(format, mesh, output, exponent, face_lines).run(set, prefix);
 }
 
 }  // namespace partet::mpi

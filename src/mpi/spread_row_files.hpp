@@ -15,7 +15,8 @@
 //              blocks); the rank formats them, up to kReadAheadBytes ahead while rank 0 writes the
 //              runs before, and sends per run its text in chunks, "T" + text (or "E" + why not),
 //              then ""; rank 0 takes every chunk ordered, even after a failure;
-//   0 -> rank: "" once the files are written (or failed): the rank's part is over.
+//   0 -> rank: "" once the files are written (or failed): the rank's part is over;
+// then, for TetGen's files, the .face file's rows, formatted on every rank (a "rows" order).
 // Rank 0's side is in spread_row_files.cpp, the other ranks' in stream_own_rows.cpp, what both
 // say in spread_row_order.hpp.
 #pragma once
@@ -33,9 +34,10 @@ inline constexpr char kSpreadRowsOrder[] = "rows-spread";
 
 // Rank 0's side: adds the files of `format` (tetgen, vtu, medit, msh or msh-binary) for PREFIX of the
 // spread mesh (its points scaled by 2^exponent on the other ranks) to the set. Throws the first
-// failure of any rank.
+// failure of any rank. TetGen's .face file, whose rows rank 0 keeps, is written after the
+// exchange with face_lines (every rank formats a share; empty: here).
 void add_spread_row_files(OutputSet& set, MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output,
-                          const std::string& prefix, int exponent);
+                          const std::string& prefix, int exponent, const TetgenLines& face_lines = {});
 
 // A worker's side of a kSpreadRowsOrder (its first line read).
 void stream_own_rows(std::istringstream& order, BulksForWrites& bulks);

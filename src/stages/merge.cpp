@@ -559,6 +559,9 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
   std::vector<BlockLinks> links(k);
   std::vector<char> linked(k, 0);
   std::set<BulkStore*> stores;
+  for (std::size_t p = 0; p < k; ++p)
+    if (stored_[p].stored) stores.insert(stored_[p].store);
+  for (BulkStore* store : stores) store->ask_links(input_vertices);  // made there while these are here
   std::int64_t row = 0;
   for (std::size_t p = 0; p < k; ++p) {
     SpreadBulk& bulk = mesh.bulks.emplace_back();
@@ -568,10 +571,7 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
     bulk.first_tet = row;
     bulk.tets = static_cast<std::int64_t>(bulk_tets(p));
     row += bulk.tets;
-    if (stored_[p].stored) {
-      stores.insert(stored_[p].store);
-      continue;
-    }
+    if (stored_[p].stored) continue;
     bulk.here = true;
     bulk.block = std::move(bulks_[p]);
     std::vector<std::int32_t> label;
@@ -579,7 +579,7 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
     linked[p] = 1;
   }
   for (BulkStore* store : stores)
-    for (auto& [piece, found] : store->links(input_vertices)) {
+    for (auto& [piece, found] : store->links()) {
       if (piece < 0 || static_cast<std::size_t>(piece) >= k || !stored_[piece].stored)
         throw InternalError("links of a bulk no store keeps (piece " + std::to_string(piece) + ")");
       links[piece] = std::move(found);

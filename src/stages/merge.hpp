@@ -26,9 +26,11 @@ class BulkStore {
   // can numbers them where they are (number_bulk; the MPI driver's owners, all at once) and gives
   // them back numbered; by default the welder numbers them as they come back.
   virtual void number(const std::vector<BulkShare>& /*shares*/) {}
-  // For a mesh left spread (Welder::spread), after number: the links (block_links, with
-  // input_vertices) of every bulk kept here, by piece.
-  virtual std::vector<std::pair<int, BlockLinks>> links(std::int32_t /*input_vertices*/) { return {}; }
+  // For a mesh left spread (Welder::spread), after number: asks for the links (block_links, with
+  // input_vertices) of every bulk kept here, which a store may make meanwhile (the owners, while
+  // the welder links its own bulks); links returns them, by piece.
+  virtual void ask_links(std::int32_t /*input_vertices*/) {}
+  virtual std::vector<std::pair<int, BlockLinks>> links() { return {}; }
 };
 
 // Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
