@@ -43,6 +43,14 @@ BandSpec cut_vertices_band(const SplitSurface& split, int layers) {
           first_removed + static_cast<std::int32_t>(split.cut_vertex_count()), layers};
 }
 
+// Two welders of the same pieces split on arrival: one keeps the bulks in memory, the other in
+// `store`; every piece added to both.
+void add_to_both(Welder& in_memory, Welder& on_disk, BulkStore& store, const MeshedPieces& s, const BandSpec& spec) {
+  in_memory.split_on_arrival(spec), on_disk.split_on_arrival(spec);
+  on_disk.keep_bulks_in(store);
+  for (const auto& result : s.results) in_memory.add(PieceTetMesh(result)), on_disk.add(PieceTetMesh(result));
+}
+
 // This process's open files in directory (a nameless file shows as "DIR/#inode (deleted)").
 std::vector<int> descriptors_into(const std::string& directory) {
   std::vector<int> found;
@@ -208,9 +216,7 @@ TEST(ScratchBulks, AWelderWhoseBulksWaitedOnDiskGivesTheSameMesh) {
       const std::string dir = temp_dir("scratch_welder");
       ScratchBulks store(dir);
       Welder in_memory(split, s.prepared.pieces), on_disk(split, s.prepared.pieces);
-      in_memory.split_on_arrival(spec), on_disk.split_on_arrival(spec);
-      on_disk.keep_bulks_in(store);
-      for (const auto& result : s.results) in_memory.add(PieceTetMesh(result)), on_disk.add(PieceTetMesh(result));
+      add_to_both(in_memory, on_disk, store, s, spec);
       TetMesh a = in_memory.finish_band(split.points, spec), b = on_disk.finish_band(split.points, spec);
       EXPECT_EQ(store.stats().bulks, k);
       for (int piece = 0; piece < k; ++piece) EXPECT_TRUE(store.holds(piece));
@@ -235,9 +241,7 @@ TEST(ScratchBulks, AMeshLeftSpreadTakesItsBulksBackFromDisk) {
     const std::string dir = temp_dir("scratch_spread");
     ScratchBulks store(dir);
     Welder in_memory(split, s.prepared.pieces), on_disk(split, s.prepared.pieces);
-    in_memory.split_on_arrival(spec), on_disk.split_on_arrival(spec);
-    on_disk.keep_bulks_in(store);
-    for (const auto& result : s.results) in_memory.add(PieceTetMesh(result)), on_disk.add(PieceTetMesh(result));
+    add_to_both(in_memory, on_disk, store, s, spec);
     EXPECT_FALSE(on_disk.keeps_bulks_elsewhere());  // its own file is not another rank
     TetMesh a = in_memory.finish_band(split.points, spec), b = on_disk.finish_band(split.points, spec);
     const HealOptions heal{false, 0, false};

@@ -86,17 +86,6 @@ const char* header_tail(TetgenFile file) {
   return "\n";
 }
 
-// Every file has one layout: a header line, one line per row, and the id line.
-void write_rows(const TetgenRows& rows, const TetgenLines& lines, const std::string& id, const std::string& path,
-                const std::string& shown, Closing closing) {
-  write_tetgen_file(rows.file, rows.count, id, path, shown, [&](BufferedFile& out) {
-    if (lines)
-      lines(rows, out);
-    else
-      write_tetgen_lines(rows, 0, rows.count, out);
-  }, closing);
-}
-
 template <class Row>
 TetgenRows rows_of(TetgenFile file, const std::vector<Row>& rows, std::size_t split_from = SIZE_MAX) {
   return {file, reinterpret_cast<const char*>(rows.data()), rows.size(), split_from};
@@ -468,10 +457,21 @@ void write_tetgen_file(TetgenFile file, std::size_t count, const std::string& id
   closing == Closing::in_background ? out.close_in_background() : out.close();
 }
 
+// Every file has one layout: a header line, one line per row, and the id line.
+void write_tetgen_file(const TetgenRows& rows, const TetgenLines& lines, const std::string& id, const std::string& path,
+                       const std::string& shown, Closing closing) {
+  write_tetgen_file(rows.file, rows.count, id, path, shown, [&](BufferedFile& out) {
+    if (lines)
+      lines(rows, out);
+    else
+      write_tetgen_lines(rows, 0, rows.count, out);
+  }, closing);
+}
+
 void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<Triangle>& boundary_faces,
                        const std::string& id, const std::string& path, const std::string& shown_path,
                        std::size_t split_from, const TetgenLines& lines, Closing closing) {
-  const auto write = [&](const TetgenRows& rows) { write_rows(rows, lines, id, path, shown_path, closing); };
+  const auto write = [&](const TetgenRows& rows) { write_tetgen_file(rows, lines, id, path, shown_path, closing); };
   switch (file) {
     case TetgenFile::node: return write(rows_of(file, mesh.points));
     case TetgenFile::ele: return write(rows_of(file, mesh.tets));

@@ -72,6 +72,11 @@ void write_tetgen_file(TetgenFile file, const TetMesh& mesh, const std::vector<T
                        std::size_t split_from = SIZE_MAX, const TetgenLines& lines = {},
                        Closing closing = Closing::now);
 
+// Writes one file of packed rows to `path` (errors name `shown`): a header line, one line per row
+// (by `lines`; empty: here), and the id line.
+void write_tetgen_file(const TetgenRows& rows, const TetgenLines& lines, const std::string& id, const std::string& path,
+                       const std::string& shown, Closing closing);
+
 // Writes one file of `count` rows to `path` (errors name `shown`), its lines by write_lines, in
 // order: for a mesh whose rows come from several places (a spread mesh's owners).
 void write_tetgen_file(TetgenFile file, std::size_t count, const std::string& id, const std::string& path,

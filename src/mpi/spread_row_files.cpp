@@ -120,13 +120,7 @@ class SpreadRowsWrite {
     const TetgenRows rows{TetgenFile::face, bytes_of(run_of(output_.boundary)).data(), output_.boundary.size(),
                           output_.split_from};
     set.add(shown, [&](const std::string& temporary) {
-      write_tetgen_file(
-          TetgenFile::face, rows.count, id_, temporary, shown,
-          [&](BufferedFile& out) {
-            if (face_lines_) return face_lines_(rows, out);
-            write_tetgen_lines(rows, 0, rows.count, out);
-          },
-          Closing::in_background);
+      write_tetgen_file(rows, face_lines_, id_, temporary, shown, Closing::in_background);
     });
   }
 
