@@ -100,6 +100,8 @@ void check_failure(int rank) {
   if (rank == 1 && injected("check:out-of-memory")) throw std::bad_alloc();
 }
 
+bool check_finds_inverted_tet(int rank) { return rank == 1 && injected("check:inverted-tet"); }
+
 double check_pass_bytes(double fallback) { return seconds_or("PARTET_TEST_CHECK_PASS_BYTES", fallback); }
 
 double verdict_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_VERDICT_WAIT_S", fallback); }

@@ -45,6 +45,9 @@ void share_stop(int rank);
 // PARTET_INJECT_FAILURE="check:out-of-memory": in a check on several ranks, rank 1 runs out of
 // memory (std::bad_alloc) once the files are read, while the other ranks go on into the checks.
 void check_failure(int rank);
+// check:inverted-tet: rank 1 of a check on several ranks counts one inverted tet more (a check
+// that fails, for `mesh --check` on several ranks: tests/mpi/spread_check.sh).
+bool check_finds_inverted_tet(int rank);
 // PARTET_TEST_CHECK_PASS_BYTES=B: the bytes the check on several ranks takes at a time (else
 // fallback): a rank's records per pass, and a TetGen file's text per read; so that small meshes
 // are checked in many passes and reads too.

@@ -396,6 +396,8 @@ void OutputSet::add(const std::string& final_path, const std::function<void(cons
   }
 }
 
+const std::string& OutputSet::temporary_name_suffix() const { return impl_->suffix; }
+
 void OutputSet::supersede(const std::string& directory, std::function<bool(const std::string&)> belongs) {
   impl_->families.push_back({directory, std::move(belongs)});
 }

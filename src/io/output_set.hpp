@@ -48,6 +48,8 @@ class OutputSet {
   void discard();
 
   const std::vector<std::string>& final_paths() const { return finals_; }
+  // What each file's temporary name adds to its final name.
+  const std::string& temporary_name_suffix() const;
   // The longest temporary or set-aside name this set makes beside final_path.
   static std::size_t longest_extra_name(const std::string& final_path);
 

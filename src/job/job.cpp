@@ -117,6 +117,24 @@ CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const Mes
   return check;
 }
 
+std::optional<MeshFormat> format_checked_on_ranks(const MeshJob& job) {
+  if (job.options.allow_split_faces) return std::nullopt;  // the check on ranks knows the exact rule only
+  for (MeshFormat format : {MeshFormat::tetgen, MeshFormat::xdmf})
+    if (std::count(job.formats.begin(), job.formats.end(), format)) return format;
+  return std::nullopt;
+}
+
+CheckReport check_written(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result,
+                          const OutputSet& outputs, const WrittenSetCheck& check, StageTimes& times) {
+  const std::optional<MeshFormat> format = format_checked_on_ranks(job);
+  if (!format || !check) throw InternalError("the mesh was left spread with no way to check its files");
+  StageTimer timer(&times);
+  CheckReport report = check({*format, job.output_prefix, outputs.temporary_name_suffix(), &input, result.planes});
+  timer.lap("check");
+  if (!report.ok()) throw Error("the result failed its own check: " + report.violations.front());
+  return report;
+}
+
 void write_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times,
                   OutputSet& outputs, const RankWriters& writers) {
   StageTimer timer(&times);

@@ -4,6 +4,8 @@
 // driver calls these on rank 0.
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -97,6 +99,25 @@ void check_outputs(const MeshJob& job);
 
 // Checks the result if asked (throws Error when the check fails).
 CheckReport check_result(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result, StageTimes& times);
+
+// The files of a mesh left where its parts are, written under temporary names (each final name
+// followed by `suffix`) and not published yet: with --check, every rank reads them back and
+// checks them before they are published (mpi/set_check.hpp).
+struct WrittenSet {
+  MeshFormat format = MeshFormat::tetgen;  // TetGen's files or the XDMF set's: read by prefix
+  std::string prefix, suffix;
+  const SurfaceMesh* input = nullptr;
+  std::vector<CutPlane> planes;  // for the quality of the seam zone
+};
+using WrittenSetCheck = std::function<CheckReport(const WrittenSet&)>;
+// The format whose files --check reads back when the mesh is not assembled: TetGen's, else the
+// XDMF set's. Empty when the job writes neither or may split input faces: rank 0 then assembles
+// the mesh and checks it in memory.
+std::optional<MeshFormat> format_checked_on_ranks(const MeshJob& job);
+// --check of a result left spread: its files in `outputs`, read back through `check` (throws
+// Error when the check fails).
+CheckReport check_written(const MeshJob& job, const SurfaceMesh& input, const MeshResult& result,
+                          const OutputSet& outputs, const WrittenSetCheck& check, StageTimes& times);
 // Writes the mesh files under temporary names into `outputs` (published once every rank agrees);
 // an XDMF set's HDF5 file, and TetGen files' lines, with the other ranks' help (writers). Reads
 // only the input's triangles (the output's boundary when the numbering is the input's).

@@ -131,7 +131,7 @@ std::string report_json(const JobSummary& s) {
     report["cut_planes"].push_back({{"normal", p.normal}, {"offset", p.offset}});
   if (s.job.check_output) {
     // The seam zone (tets crossing or touching a cut plane) against the rest.
-    const ZoneQuality zones = zone_quality(s.result.mesh, s.result.planes);
+    const ZoneQuality zones = s.check.zones ? *s.check.zones : zone_quality(s.result.mesh, s.result.planes);
     report["quality"] = {{"all", quality_json(s.check.quality)},
                          {"seam_zone", quality_json(zones.seam)},
                          {"elsewhere", quality_json(zones.elsewhere)}};

@@ -23,11 +23,11 @@ namespace {
 // Whether the mesh may stay where its parts are: every format is written from its parts (the
 // XDMF set, a .pvtu set and the MSH partitions by their owners; TetGen's files, a .vtu, MEDIT and
 // one MSH file streamed from them) and nothing reads the whole mesh on rank 0 (no check, no
-// comparison, no polish). With --scratch the bulks come back from their files for the writers,
-// each to the rank that meshed it.
+// comparison, no polish; --check reads the files back on every rank when it can). With
+// --scratch the bulks come back from their files for the writers, each to the rank that meshed it.
 bool may_spread(const MeshJob& job) {
-  return !job.formats.empty() && !job.check_output && !job.compare_tetgen && !polishes(job.options) &&
-         !test_hooks::assemble_always();
+  return !job.formats.empty() && (!job.check_output || format_checked_on_ranks(job)) && !job.compare_tetgen &&
+         !polishes(job.options) && !test_hooks::assemble_always();
 }
 
 }  // namespace
@@ -45,7 +45,7 @@ void RootRun::mesh(PieceScheduler& scheduler) {
   }
 }
 
-void RootRun::check_and_write(const RankWriters& writers) {
+void RootRun::check_and_write(const RankWriters& writers, const WrittenSetCheck& check_files) {
   scale_points(input_.points, -scale_exponent_);
   scale_points(result_.mesh.points, -scale_exponent_);
   if (SpreadMesh* spread = result_.spread.get()) {  // the owners of the other bulks scale theirs
@@ -55,14 +55,17 @@ void RootRun::check_and_write(const RankWriters& writers) {
     scale_points(spread->band_steiner_points, -scale_exponent_);
   }
   for (CutPlane& plane : result_.planes) plane.offset = std::ldexp(plane.offset, -scale_exponent_);
-  check_ = check_result(job_, input_, result_, times_);
+  // A mesh left spread is checked in its files, by every rank, before they are published.
+  const bool checks_files = job_.check_output && result_.spread;
+  if (!checks_files) check_ = check_result(job_, input_, result_, times_);
   // After the check only a comparison with TetGen alone reads the input's points (the mesh has
   // its own copy): 24 bytes per input vertex less while the files are written.
   input_vertices_ = input_.points.size();
   if (!job_.report_path.empty())
     estimated_costs_ = estimated_piece_costs(input_, result_.planes, job_.options.density);
-  if (!job_.compare_tetgen) std::vector<Point3>().swap(input_.points);
+  if (!job_.compare_tetgen && !checks_files) std::vector<Point3>().swap(input_.points);
   write_result(job_, input_, result_, times_, outputs_, writers);
+  if (checks_files) check_ = check_written(job_, input_, result_, outputs_, check_files, times_);
 }
 
 void RootRun::publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& records, double seconds) {

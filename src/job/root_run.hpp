@@ -30,8 +30,9 @@ class RootRun {
   void mesh(PieceScheduler& scheduler);
   // 9. Back to the input's own scale (exactly); the result checked (--check) and written under
   //    temporary names (an XDMF set's HDF5 file and TetGen files' lines through `writers`, which
-  //    the driver has every rank take part in).
-  void check_and_write(const RankWriters& writers);
+  //    the driver has every rank take part in). A mesh left spread is checked after the write,
+  //    in its files, through `check_files` (every rank reads its part).
+  void check_and_write(const RankWriters& writers, const WrittenSetCheck& check_files = {});
   // 10. Once every rank has agreed: the report joins the files, the set is published, the summary
   //     printed. `pieces` says where each piece was meshed (by index).
   void publish(const std::vector<RankStats>& ranks, const std::map<int, PieceRecord>& pieces, double seconds);

@@ -14,14 +14,30 @@
 
 namespace partet::distributed {
 
-InputFigures read_input(MPI_Comm comm, int rank, const std::string& path) {
-  InputFigures input;
-  throw_if_any(comm, rank == 0 ? error_of(path, [&] { input.surface = read_surface(path); }) : "");
+namespace {
+
+void add_figures(MPI_Comm comm, int rank, InputFigures& input) {
   long double figures[2] = {0, 0};  // enclosed volume, Euler characteristic
   if (rank == 0)
-    figures[0] = enclosed_volume_precise(input.surface), figures[1] = surface_euler_characteristic(input.surface);
+    figures[0] = enclosed_volume_precise(input.surface()), figures[1] = surface_euler_characteristic(input.surface());
   MPI_Bcast(figures, 2, MPI_LONG_DOUBLE, 0, comm);
   input.volume = figures[0], input.euler = figures[1];
+}
+
+}  // namespace
+
+InputFigures read_input(MPI_Comm comm, int rank, const std::string& path) {
+  InputFigures input;
+  throw_if_any(comm, rank == 0 ? error_of(path, [&] { input.read = read_surface(path); }) : "");
+  add_figures(comm, rank, input);
+  return input;
+}
+
+InputFigures held_input(MPI_Comm comm, int rank, const SurfaceMesh* held) {
+  InputFigures input;
+  input.held = held;
+  throw_if_any(comm, rank == 0 && !held ? "rank 0 holds no input to check the mesh against" : "");
+  add_figures(comm, rank, input);
   return input;
 }
 
@@ -166,8 +182,8 @@ struct TetgenFileShare {
   std::int64_t base = 0;
 };
 
-TetgenFileShare file_share(const Part& part, const std::string& prefix, TetgenFile file) {
-  TetgenFileShare share{prefix + extension(file), {}, 0};
+TetgenFileShare file_share(const Part& part, const std::string& prefix, TetgenFile file, const std::string& suffix) {
+  TetgenFileShare share{prefix + extension(file) + suffix, {}, 0};
   throw_if_any(part.comm, error_of(share.path, [&] {
                  share.layout = tetgen_file_layout(share.path, file);
                  share.base = share.layout.first_index;
@@ -277,19 +293,19 @@ void read_mesh_part(Part& part, const std::string& path) {
   part.totals.tets = counts[0], part.totals.faces = counts[1];
 }
 
-TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix) {
+TetgenExtras read_tetgen_parts(Part& part, const std::string& prefix, const std::string& suffix) {
   SetIds ids;
-  const TetgenFileShare node = file_share(part, prefix, TetgenFile::node);
+  const TetgenFileShare node = file_share(part, prefix, TetgenFile::node, suffix);
   part.totals.points = static_cast<std::uint64_t>(node.layout.count);
   part.block.points = place_file<Point3>(
       part, node, TetgenFile::node, node.base, [](TetgenRowsRead& rows) { return std::move(rows.points); }, ids);
-  const TetgenFileShare ele = file_share(part, prefix, TetgenFile::ele);
+  const TetgenFileShare ele = file_share(part, prefix, TetgenFile::ele, suffix);
   part.totals.tets = static_cast<std::uint64_t>(ele.layout.count);
   part.block.tets = place_file<std::array<Id, 4>>(
       part, ele, TetgenFile::ele, ele.base,
       [&](TetgenRowsRead& rows) { return rows_of_ids<4>(rows.values, node.base, false); }, ids);
-  keep_faces(part, file_share(part, prefix, TetgenFile::face), node.base, ids);
-  const TetgenFileShare neigh = file_share(part, prefix, TetgenFile::neigh);
+  keep_faces(part, file_share(part, prefix, TetgenFile::face, suffix), node.base, ids);
+  const TetgenFileShare neigh = file_share(part, prefix, TetgenFile::neigh, suffix);
   if (neigh.layout.count != ele.layout.count)
     throw InputError(neigh.path + ": " + std::to_string(neigh.layout.count) + " neighbour rows for " +
                      std::to_string(ele.layout.count) + " tetrahedra");  // on every rank

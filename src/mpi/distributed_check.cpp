@@ -73,9 +73,19 @@ bool all_valid(const Part& part, const Row& row) {
 // ---------------------------------------------------------------------------------------------
 // The checks, one per step
 
+// The quality of every tet, and when there are planes of the seam zone's and the rest's.
+struct Tallies {
+  const std::vector<CutPlane>* planes = nullptr;
+  QualityTally all, seam, elsewhere;
+  void add(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+    all.add(a, b, c, d);
+    if (planes) (in_seam_zone(*planes, a, b, c, d) ? seam : elsewhere).add(a, b, c, d);
+  }
+};
+
 // Tets: orientation and volume (6x, long double), and their quality tallied. In runs of tets, one
 // per pass, so that the ids and points fetched for them stay within kPassBytes.
-long double check_tets(const Part& part, Counts& counts, QualityTally& quality) {
+long double check_tets(const Part& part, Counts& counts, Tallies& quality) {
   std::vector<char> marked(part.block.points.size(), 0);  // this rank's points used by a tet
   const std::size_t tets = part.block.tets.size();
   const std::uint64_t passes = passes_for(part.comm, 4 * tets, sizeof(Id) + sizeof(Point3));
@@ -444,11 +454,13 @@ MeshQuality quality_on_ranks(MPI_Comm comm, const QualityTally& tally) {
 // The checks on the part every rank holds, their counts summed over the ranks, and the report.
 // `boundary` names the files that list the boundary faces; "" when none does (VTK files): the
 // faces in one tet are then taken for the boundary, and checked against the input.
-DistributedCheckReport check_part(Part& part, const InputFigures& input, const std::string& boundary) {
+DistributedCheckReport check_part(Part& part, const InputFigures& input, const std::string& boundary,
+                                  const std::vector<CutPlane>* planes = nullptr) {
   test_hooks::check_failure(part.rank);
   Counts counts{};
-  QualityTally quality;
+  Tallies quality{planes, {}, {}, {}};
   long double volume6 = check_tets(part, counts, quality);
+  if (test_hooks::check_finds_inverted_tet(part.rank)) ++counts[inverted];
   if (boundary.empty()) {
     FreeFaces unlisted;
     check_faces(part, counts, &unlisted);
@@ -459,12 +471,14 @@ DistributedCheckReport check_part(Part& part, const InputFigures& input, const s
   }
   count_edges(part, counts);
   check_duplicate_points(part, counts);
-  check_boundary_is_input(part, part.rank == 0 ? &input.surface : nullptr, counts);
+  check_boundary_is_input(part, part.rank == 0 ? &input.surface() : nullptr, counts);
   MPI_Allreduce(MPI_IN_PLACE, counts.data(), kCounts, MPI_INT64_T, MPI_SUM, part.comm);
   MPI_Allreduce(MPI_IN_PLACE, &volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, part.comm);
 
   DistributedCheckReport report;
-  report.quality = quality_on_ranks(part.comm, quality);
+  report.quality = quality_on_ranks(part.comm, quality.all);
+  if (planes) report.zones = ZoneQuality{quality_on_ranks(part.comm, quality.seam),
+                                         quality_on_ranks(part.comm, quality.elsewhere)};
   report.violations = violations_of(counts, boundary);
   report.vertices = static_cast<std::int64_t>(part.totals.points);
   report.tets = static_cast<std::int64_t>(part.totals.tets);
@@ -495,32 +509,53 @@ Part part_of(MPI_Comm comm) {
   return part;
 }
 
-}  // namespace
-
-DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
-  Part part = part_of(comm);
-  // 1. The input, on rank 0 (its volume and Euler characteristic go to every rank).
-  const InputFigures input = read_input(comm, part.rank, input_path);
-  // 2. Every rank its rows of the HDF5 files.
-  part.block = read_mesh_hdf5(comm, prefix + ".h5", prefix + "_boundary.h5", part.totals);
-  // 3. The checks, their counts summed over the ranks.
-  return check_part(part, input, "the boundary file");
+// An XDMF set's check once the input's figures are known: every rank its rows of the HDF5
+// files, then the checks, their counts summed over the ranks.
+DistributedCheckReport check_xdmf_files(Part& part, const InputFigures& input, const std::string& prefix,
+                                        const std::string& suffix, const std::vector<CutPlane>* planes) {
+  part.block = read_mesh_hdf5(part.comm, prefix + ".h5" + suffix, prefix + "_boundary.h5" + suffix, part.totals);
+  return check_part(part, input, "the boundary file", planes);
 }
 
-DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
-  Part part = part_of(comm);
-  // 1. The input, on rank 0.
-  const InputFigures input = read_input(comm, part.rank, input_path);
-  // 2. Every rank the same share of each file's bytes; points, tets and neighbour rows to their
-  // owners (runs of ids), the faces kept where read.
-  const TetgenExtras extras = read_tetgen_parts(part, prefix);
-  // 3. The checks, their counts summed over the ranks; the .neigh rows and the set's ID.
-  DistributedCheckReport report = check_part(part, input, "the .face file");
+// A TetGen set's check once the input's figures are known: every rank the same share of each
+// file's bytes (points, tets and neighbour rows to their owners, the faces kept where read), then
+// the checks, their counts summed over the ranks, the .neigh rows and the set's ID.
+DistributedCheckReport check_tetgen_files(Part& part, const InputFigures& input, const std::string& prefix,
+                                          const std::string& suffix, const std::vector<CutPlane>* planes) {
+  const TetgenExtras extras = read_tetgen_parts(part, prefix, suffix);
+  DistributedCheckReport report = check_part(part, input, "the .face file", planes);
   if (const std::int64_t wrong = check_neighbours(part, extras.neighbours); wrong > 0)
     report.violations.push_back(std::to_string(wrong) + " tet faces have another neighbour in the .neigh file than "
                                                         "the tets imply");
   if (!extras.set_violation.empty()) report.violations.push_back(extras.set_violation);
   return report;
+}
+
+}  // namespace
+
+DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  Part part = part_of(comm);
+  // The input, on rank 0 (its volume and Euler characteristic go to every rank).
+  const InputFigures input = read_input(comm, part.rank, input_path);
+  return check_xdmf_files(part, input, prefix, "", nullptr);
+}
+
+DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  Part part = part_of(comm);
+  const InputFigures input = read_input(comm, part.rank, input_path);
+  return check_tetgen_files(part, input, prefix, "", nullptr);
+}
+
+DistributedCheckReport check_unpublished_xdmf_set(MPI_Comm comm, const UnpublishedSet& set) {
+  Part part = part_of(comm);
+  const InputFigures input = held_input(comm, part.rank, set.input);
+  return check_xdmf_files(part, input, set.prefix, set.suffix, &set.planes);
+}
+
+DistributedCheckReport check_unpublished_tetgen_set(MPI_Comm comm, const UnpublishedSet& set) {
+  Part part = part_of(comm);
+  const InputFigures input = held_input(comm, part.rank, set.input);
+  return check_tetgen_files(part, input, set.prefix, set.suffix, &set.planes);
 }
 
 DistributedCheckReport check_mesh_file_set(MPI_Comm comm, const std::string& input_path, const std::string& path) {

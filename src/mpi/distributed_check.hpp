@@ -11,9 +11,11 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "partet/mesh_types.hpp"
 #include "stages/quality.hpp"
 
 namespace partet {
@@ -24,6 +26,7 @@ struct DistributedCheckReport {  // the same on every rank
   double tet_volume = 0, surface_volume = 0;
   long euler_mesh = 0, euler_expected = 0;
   MeshQuality quality;  // as one process finds it (the averages summed in another order)
+  std::optional<ZoneQuality> zones;  // the seam zone's and the rest's, when the planes were given
   bool ok() const { return violations.empty(); }
 };
 
@@ -47,5 +50,18 @@ DistributedCheckReport check_mesh_file_set(MPI_Comm comm, const std::string& inp
 // (on every rank) on a missing file, a malformed row, an index missing, repeated or out of range,
 // or a set without an ID (not partet's: its faces are not promised outward).
 DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix);
+
+// A set a run wrote and has not published yet (`mesh --check` on several ranks, with the mesh
+// left where its parts are): the same checks on its files under their temporary names (each
+// final name followed by `suffix`), against the input rank 0 holds, and the quality of the seam
+// zone and of the rest given the cut planes. Collective over comm, as above.
+struct UnpublishedSet {
+  std::string prefix;                 // absolute, the same on every rank
+  std::string suffix;                 // the temporaries' (OutputSet::temporary_name_suffix)
+  const SurfaceMesh* input = nullptr;  // rank 0's
+  std::vector<CutPlane> planes;
+};
+DistributedCheckReport check_unpublished_tetgen_set(MPI_Comm comm, const UnpublishedSet& set);
+DistributedCheckReport check_unpublished_xdmf_set(MPI_Comm comm, const UnpublishedSet& set);
 
 }  // namespace partet

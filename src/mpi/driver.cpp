@@ -20,6 +20,7 @@
 #include "mpi/input_check_ranks.hpp"
 #include "mpi/rank_writes.hpp"
 #include "mpi/ranks.hpp"
+#include "mpi/set_check.hpp"
 #include "mpi/root_scheduler.hpp"
 #include "mpi/worker.hpp"
 #include "partet/errors.hpp"
@@ -250,7 +251,8 @@ JobStatus run_mesh_job(const MeshJob& job) {
         const AddSeconds timer{state.stats.write_seconds};
         const CpuLoan loan(node_cpus);  // the ranks on this node only format and wait meanwhile
         root->check_and_write(
-            rank_writers(state.size, state.stats, root->result().spread.get(), root->scale_exponent()));
+            rank_writers(state.size, state.stats, root->result().spread.get(), root->scale_exponent()),
+            check_on_every_rank);
       });
     end_writes();
   } else {

@@ -20,6 +20,7 @@
 #include "io/xdmf.hpp"
 #include "job/job.hpp"
 #include "mpi/ranks.hpp"
+#include "mpi/set_check.hpp"
 #include "mpi/spread_piece_files.hpp"
 #include "mpi/spread_row_files.hpp"
 #include "mpi/write_messages.hpp"
@@ -486,6 +487,8 @@ void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take
       stream_own_rows(lines, kept);
     else if (kind == kPiecesOrder)
       write_piece_files_sent(lines, stats);
+    else if (kind == kSetCheckOrder)
+      join_set_check(lines, status);
     else
       format_rows_block(lines);
   }

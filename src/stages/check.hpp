@@ -1,6 +1,7 @@
 // Independent verification of a tet mesh against the surface it should fill.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +29,7 @@ struct CheckReport {
   double tet_volume = 0, surface_volume = 0;
   long euler_mesh = 0, euler_expected = 0;
   MeshQuality quality;
+  std::optional<ZoneQuality> zones;  // the seam zone's and the rest's, when the check found them
   bool ok() const { return violations.empty(); }
 };
 

@@ -172,21 +172,28 @@ MeshQuality mesh_quality(const TetMesh& mesh, const std::function<bool(std::size
   return tally.figures(tally.amips[rank99]);
 }
 
+bool in_seam_zone(const std::vector<CutPlane>& planes, const Point3& a, const Point3& b, const Point3& c,
+                  const Point3& d) {
+  if (planes.empty()) return false;
+  const Point3& n = planes.front().normal;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Point3* p : {&a, &b, &c, &d}) {
+    const double x = dot(n, *p);
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  // Planes are sorted by offset: is one in [lo, hi]?
+  auto it = std::lower_bound(planes.begin(), planes.end(), lo,
+                             [](const CutPlane& plane, double x) { return plane.offset < x; });
+  return it != planes.end() && it->offset <= hi;
+}
+
 std::vector<char> seam_zone(const TetMesh& mesh, const std::vector<CutPlane>& planes) {
   std::vector<char> zone(mesh.tets.size(), 0);
-  if (planes.empty()) return zone;
-  const Point3& n = planes.front().normal;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (auto v : mesh.tets[t]) {
-      const double x = dot(n, mesh.points[v]);
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-    // Planes are sorted by offset: is one in [lo, hi]?
-    auto it = std::lower_bound(planes.begin(), planes.end(), lo,
-                               [](const CutPlane& plane, double x) { return plane.offset < x; });
-    zone[t] = it != planes.end() && it->offset <= hi;
+    const Tet& tet = mesh.tets[t];
+    zone[t] = in_seam_zone(planes, mesh.points[tet[0]], mesh.points[tet[1]], mesh.points[tet[2]],
+                           mesh.points[tet[3]]);
   }
   return zone;
 }

@@ -65,8 +65,11 @@ TetShape tet_shape(const Point3& a, const Point3& b, const Point3& c, const Poin
 // (12.1 for 5 deg).
 double amips_lower_bound(double dihedral_deg);
 
-// The seam zone: the tets that cross or touch a cut plane (where two pieces met).
+// The seam zone: the tets that cross or touch a cut plane (where two pieces met). The planes
+// are parallel and sorted by offset.
 std::vector<char> seam_zone(const TetMesh& mesh, const std::vector<CutPlane>& planes);
+bool in_seam_zone(const std::vector<CutPlane>& planes, const Point3& a, const Point3& b, const Point3& c,
+                  const Point3& d);
 
 // The quality of the seam zone and of the rest (the report, and `partet check --report`).
 struct ZoneQuality {

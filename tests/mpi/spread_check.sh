@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# `mesh --check` on several ranks with the mesh left where its parts are: rank 0 does not assemble
+# the mesh to check it; every rank reads back its part of the files just written (TetGen's, or the
+# XDMF set's) before they are published. The report's check equals the assembled path's (the same
+# run with PARTET_TEST_ASSEMBLE): the counts, volumes and the quality of the whole mesh, of the
+# seam zone and of the rest (sums to rounding, the rest exactly), and the files are the same
+# bytes. A check that fails, or a rank out of memory while checking, publishes nothing and
+# leaves the previous set in place. 2 ranks, and 4 oversubscribed.
+# Usage: spread_check.sh PARTET MPIEXEC
+set -uo pipefail
+partet=$1 mpiexec=$2
+source "$(dirname "$0")/../harness.sh"
+cd "$work"
+"$partet" generate genus3 --faces 20000 -o g3.off > /dev/null
+# The check's figures in two reports: equal, the averages to 1e-9.
+same_check() {
+  /usr/bin/python3 - "$1" "$2" << 'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["assembled_on_rank0"] is False and b["assembled_on_rank0"] is True, "assembled: %s %s" % (
+    a["assembled_on_rank0"], b["assembled_on_rank0"])
+assert "check" in a["stage_seconds"], "no check stage"
+for zone in ("all", "seam_zone", "elsewhere"):
+    qa, qb = a["quality"][zone], b["quality"][zone]
+    assert set(qa) == set(qb), zone
+    for key in qa:
+        x, y = qa[key], qb[key]
+        if key.endswith("avg"):
+            assert abs(x - y) <= 1e-9 * max(1.0, abs(y)), (zone, key, x, y)
+        else:
+            assert x == y, (zone, key, x, y)
+assert a["quality"]["all"]["tets"] == a["counts"]["output_tets"] > 0, "tets"
+assert a["quality"]["seam_zone"]["tets"] > 0 and a["quality"]["elsewhere"]["tets"] > 0, "zones"
+assert a["quality"]["seam_zone"]["tets"] + a["quality"]["elsewhere"]["tets"] == a["counts"]["output_tets"], "zones' sum"
+print("%d tets, %d in the seam zone" % (a["counts"]["output_tets"], a["quality"]["seam_zone"]["tets"]))
+PY
+}
+
+for n in 2 4; do
+  launch=("$mpiexec" -n $n --oversubscribe)
+  # 1. TetGen's files, and the XDMF set, checked where they are, as the assembled path checks them.
+  for format in tetgen xdmf; do
+    "${launch[@]}" "$partet" mesh g3.off -k 5 --format $format --check -o s$n$format --report s.json > s.log 2>&1 &&
+      PARTET_TEST_ASSEMBLE=1 "${launch[@]}" -x PARTET_TEST_ASSEMBLE "$partet" mesh g3.off -k 5 --format $format \
+        --check -o a$n$format --report a.json > a.log 2>&1 || { bad "$n ranks, $format: a run failed: $(tail -n 3 s.log a.log)"; continue; }
+    if ! grep -q "check passed" s.log; then bad "$n ranks, $format: no 'check passed': $(tail -n 3 s.log)"
+    elif ! out=$(same_check s.json a.json 2>&1); then bad "$n ranks, $format: $out"
+    elif [ $format = tetgen ] && ! cat s$n$format.{node,ele,face,neigh} | cmp -s - <(cat a$n$format.{node,ele,face,neigh}); then
+      bad "$n ranks, $format: the files differ from the assembled path's"
+    elif ls -A | grep -q "tmp-"; then bad "$n ranks, $format: temporaries left: $(ls -A | grep tmp-)"
+    else ok "$n ranks, $format: checked on the ranks, not assembled, as the assembled check finds it ($out)"; fi
+  done
+done
+
+# 2. A check that fails: the run fails saying why, and the previous set stays as it was.
+"$mpiexec" -n 2 "$partet" mesh g3.off -k 5 -o kept --quiet || bad "the first run failed"
+md5=$(cat kept.node kept.ele kept.face kept.neigh | md5sum)
+PARTET_INJECT_FAILURE=check:inverted-tet "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o kept > f.log 2>&1
+code=$?
+if [ $code = 0 ]; then bad "a failed check: exit 0"
+elif ! grep -q "the result failed its own check: 1 tets are inverted" f.log; then bad "a failed check: $(tail -n 3 f.log)"
+elif [ "$(cat kept.node kept.ele kept.face kept.neigh | md5sum)" != "$md5" ]; then bad "a failed check: the previous set changed"
+elif ls -A | grep -q "tmp-"; then bad "a failed check: temporaries left: $(ls -A | grep tmp-)"
+else ok "a failed check: exit $code, '$(grep -o 'the result failed its own check: [^;]*' f.log | head -n 1)', the previous set intact"; fi
+
+# 3. A rank out of memory while it checks (the others wait for it in the check's exchanges): the
+# job ends at once saying which rank, and nothing is published.
+PARTET_INJECT_FAILURE=check:out-of-memory timeout -k 10 120 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o oom > o.log 2>&1
+code=$?
+sleep 1  # the reaper removes the temporaries of the process the abort ended
+if [ $code = 0 ] || [ $code = 124 ]; then bad "a rank out of memory while checking: exit $code: $(tail -n 3 o.log)"
+elif ! grep -q "out of memory on rank 1 while checking" o.log; then bad "a rank out of memory while checking: $(tail -n 5 o.log)"
+elif ls oom.* > /dev/null 2>&1; then bad "a rank out of memory while checking: left $(ls oom.*)"
+else ok "a rank out of memory while checking: exit $code, '$(grep -o 'out of memory on rank 1[^;]*' o.log | head -n 1)', nothing published or left"; fi
+summary
