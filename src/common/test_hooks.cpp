@@ -143,6 +143,8 @@ void buffer_handed() { sleep_ms("PARTET_TEST_WRITE_DELAY_MS"); }
 
 bool assemble_always() { return value("PARTET_TEST_ASSEMBLE") != nullptr; }
 
+double available_mb_for_check(double measured) { return seconds_or("PARTET_TEST_AVAILABLE_MB", measured); }
+
 bool nameless_files_refused() { return value("PARTET_TEST_NO_NAMELESS_FILES") != nullptr; }
 
 void interrupt_cleanup() {

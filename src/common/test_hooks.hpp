@@ -93,6 +93,10 @@ void interrupt_cleanup();
 // PARTET_TEST_ASSEMBLE: rank 0 always assembles the mesh, as when a check or a polish reads it
 // whole, so that tests can compare the files written from a spread mesh with the assembled path's.
 bool assemble_always();
+// PARTET_TEST_AVAILABLE_MB: the memory rank 0 finds available when it decides whether to
+// assemble the mesh for `mesh --check` (else `measured`): a small value has the ranks check the
+// files, as when rank 0 lacks the memory.
+double available_mb_for_check(double measured);
 
 // PARTET_TEST_NO_NAMELESS_FILES: the filesystems refuse nameless files (O_TMPFILE), as NFS does.
 bool nameless_files_refused();

@@ -459,13 +459,30 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   return result;
 }
 
+namespace {
+
+// Whether the mesh is left where its parts are (when it can be: heal_band), decided once the
+// pieces are meshed, when this process's memory is known.
+bool leaves_spread(const MeshOptions& options) {
+  if (!options.spread_output) return false;
+  const double needed = options.assemble_if_available_bytes;
+  if (needed <= 0) return true;
+  const double available = test_hooks::available_mb_for_check(available_memory_mb()) * 1048576.0;
+  if (available < needed) return true;
+  log::debug("assembling the mesh to check it in memory: " + std::to_string(static_cast<long>(available / 1048576)) +
+             " MB available, " + std::to_string(static_cast<long>(needed / 1048576)) + " MB needed");
+  return false;
+}
+
+}  // namespace
+
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, Welder& welder, TetMesh&& band,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
   StageTimer timer(times);
   MeshResult result;
   RegionMeshers meshers(options, scheduler);
   result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(),
-                          result.seam, options.spread_output ? &result.spread : nullptr, options.spread_neighbours);
+                          result.seam, leaves_spread(options) ? &result.spread : nullptr, options.spread_neighbours);
   timer.lap("seam_healing");
   finish_healed(input, prepared, options, meshers, timer, result);
   return result;

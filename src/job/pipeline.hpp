@@ -52,6 +52,10 @@ struct MeshOptions {
   // meshed them and the seams heal on the band alone: only formats written from the parts are
   // asked for (RootRun's may_spread).
   bool spread_output = false;
+  // With spread_output: assemble the mesh after all when this process has at least this many
+  // bytes available once the pieces are meshed (--check: a check in memory takes a third of the
+  // time every rank takes to read the files back). 0: never.
+  double assemble_if_available_bytes = 0;
   // With spread_output: keep the tets across the faces the parts share (16 bytes per face), which
   // only TetGen's .neigh file needs.
   bool spread_neighbours = false;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# `mesh --check` on several ranks with the mesh left where its parts are: rank 0 does not assemble
-# the mesh to check it; every rank reads back its part of the files just written (TetGen's, or the
-# XDMF set's) before they are published. The report's check equals the assembled path's (the same
+# `mesh --check` on several ranks with the mesh left where its parts are. When rank 0 has the
+# memory, it assembles the mesh and checks it in memory (faster); else (here: 1 MB available,
+# PARTET_TEST_AVAILABLE_MB) it does not assemble the mesh to check it: every rank reads back its
+# part of the files just written (TetGen's, or the XDMF set's) before they are published. The report's check equals the assembled path's (the same
 # run with PARTET_TEST_ASSEMBLE): the counts, volumes and the quality of the whole mesh, of the
 # seam zone and of the rest (sums to rounding, the rest exactly), and the files are the same
 # bytes. A check that fails, or a rank out of memory while checking, publishes nothing and
@@ -40,7 +41,8 @@ for n in 2 4; do
   launch=("$mpiexec" -n $n --oversubscribe)
   # 1. TetGen's files, and the XDMF set, checked where they are, as the assembled path checks them.
   for format in tetgen xdmf; do
-    "${launch[@]}" "$partet" mesh g3.off -k 5 --format $format --check -o s$n$format --report s.json > s.log 2>&1 &&
+    PARTET_TEST_AVAILABLE_MB=1 "${launch[@]}" -x PARTET_TEST_AVAILABLE_MB "$partet" mesh g3.off -k 5 --format $format \
+      --check -o s$n$format --report s.json > s.log 2>&1 &&
       PARTET_TEST_ASSEMBLE=1 "${launch[@]}" -x PARTET_TEST_ASSEMBLE "$partet" mesh g3.off -k 5 --format $format \
         --check -o a$n$format --report a.json > a.log 2>&1 || { bad "$n ranks, $format: a run failed: $(tail -n 3 s.log a.log)"; continue; }
     if ! grep -q "check passed" s.log; then bad "$n ranks, $format: no 'check passed': $(tail -n 3 s.log)"
@@ -52,10 +54,17 @@ for n in 2 4; do
   done
 done
 
-# 2. A check that fails: the run fails saying why, and the previous set stays as it was.
+# 2. With the memory for it (this machine, this small mesh), rank 0 assembles the mesh and checks
+# it in memory.
+"$mpiexec" -n 2 "$partet" mesh g3.off -k 5 --check -o m --report m.json > m.log 2>&1 || bad "the run with memory failed"
+if [ "$(python3 -c "import json; print(json.load(open('m.json'))['assembled_on_rank0'])")" = True ] && grep -q "check passed" m.log; then
+  ok "with the memory for it: assembled and checked in memory"
+else bad "with the memory for it: $(tail -n 3 m.log)"; fi
+
+# 3. A check that fails: the run fails saying why, and the previous set stays as it was.
 "$mpiexec" -n 2 "$partet" mesh g3.off -k 5 -o kept --quiet || bad "the first run failed"
 md5=$(cat kept.node kept.ele kept.face kept.neigh | md5sum)
-PARTET_INJECT_FAILURE=check:inverted-tet "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o kept > f.log 2>&1
+PARTET_INJECT_FAILURE=check:inverted-tet PARTET_TEST_AVAILABLE_MB=1 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o kept > f.log 2>&1
 code=$?
 if [ $code = 0 ]; then bad "a failed check: exit 0"
 elif ! grep -q "the result failed its own check: 1 tets are inverted" f.log; then bad "a failed check: $(tail -n 3 f.log)"
@@ -63,9 +72,9 @@ elif [ "$(cat kept.node kept.ele kept.face kept.neigh | md5sum)" != "$md5" ]; th
 elif ls -A | grep -q "tmp-"; then bad "a failed check: temporaries left: $(ls -A | grep tmp-)"
 else ok "a failed check: exit $code, '$(grep -o 'the result failed its own check: [^;]*' f.log | head -n 1)', the previous set intact"; fi
 
-# 3. A rank out of memory while it checks (the others wait for it in the check's exchanges): the
+# 4. A rank out of memory while it checks (the others wait for it in the check's exchanges): the
 # job ends at once saying which rank, and nothing is published.
-PARTET_INJECT_FAILURE=check:out-of-memory timeout -k 10 120 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o oom > o.log 2>&1
+PARTET_INJECT_FAILURE=check:out-of-memory PARTET_TEST_AVAILABLE_MB=1 timeout -k 10 120 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o oom > o.log 2>&1
 code=$?
 sleep 1  # the reaper removes the temporaries of the process the abort ended
 if [ $code = 0 ] || [ $code = 124 ]; then bad "a rank out of memory while checking: exit $code: $(tail -n 3 o.log)"
