@@ -119,6 +119,8 @@ void write_out_of_memory(int rank) {
 
 bool block_lost(int rank) { return rank == 1 && injected("worker:lose-block"); }
 
+bool output_unseen(int rank) { return rank == 1 && injected("worker:output-unseen"); }
+
 int publish_failure() {
   const char* spec = value("PARTET_INJECT_PUBLISH_FAILURE");
   return spec ? std::atoi(spec) : 0;

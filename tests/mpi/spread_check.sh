@@ -54,6 +54,16 @@ for n in 2 4; do
   done
 done
 
+# A rank that cannot open the files (a node without rank 0's output directory; rank 1 here, of
+# 3) sits the check out; the others check the whole set.
+PARTET_INJECT_FAILURE=worker:output-unseen PARTET_TEST_AVAILABLE_MB=1 "$mpiexec" -n 3 --oversubscribe "$partet" mesh g3.off -k 5 \
+  --check -o u --report u.json > u.log 2>&1 &&
+  PARTET_TEST_ASSEMBLE=1 "$mpiexec" -x PARTET_TEST_ASSEMBLE -n 3 --oversubscribe "$partet" mesh g3.off -k 5 --check -o ua \
+    --report ua.json > ua.log 2>&1 || bad "a rank without the files: a run failed: $(tail -n 3 u.log ua.log)"
+if ! out=$(same_check u.json ua.json 2>&1); then bad "a rank without the files: $out"
+elif ! grep -q "rank 1 cannot open .*the other ranks check the files" u.log; then bad "a rank without the files: no warning: $(tail -n 3 u.log)"
+else ok "a rank without the files (1 of 3) sat the check out; the others found what the assembled check finds ($out)"; fi
+
 # 2. With the memory for it (this machine, this small mesh), rank 0 assembles the mesh and checks
 # it in memory.
 "$mpiexec" -n 2 "$partet" mesh g3.off -k 5 --check -o m --report m.json > m.log 2>&1 || bad "the run with memory failed"
