@@ -20,16 +20,17 @@ void RootRun::prepare(InputChecks checks) {
 
 namespace {
 
-// Whether the mesh may stay where its parts are: every format is written from its parts (the
-// XDMF set, a .pvtu set and the MSH partitions by their owners; TetGen's files, a .vtu, MEDIT and
-// one MSH file streamed from them) and nothing reads the whole mesh on rank 0 (no check, no
-// comparison, no polish; --check reads the files back on every rank when it can). With
-// --scratch the bulks come back from their files for the writers, each to the rank that meshed it.
 // What rank 0 needs available to assemble the mesh and check it in memory (--check): it grew
 // by 131 bytes per input face doing so at 22.1M faces on 2 ranks (1,375 -> 4,279 MB), with half
 // as much again to spare. With less, the ranks check the files (slower, spread over the ranks).
 constexpr double kAssembledCheckBytesPerFace = 200;
 
+// Whether the mesh may stay where its parts are: every format is written from its parts (the
+// XDMF set, a .pvtu set and the MSH partitions by their owners; TetGen's files, a .vtu, MEDIT and
+// one MSH file streamed from them) and nothing must read the whole mesh on rank 0 (no comparison,
+// no polish, and a check only when the ranks can read its files back: TetGen's or the XDMF set).
+// With --scratch the bulks come back from their files for the writers, each to the rank that
+// meshed it.
 bool may_spread(const MeshJob& job) {
   return !job.formats.empty() && (!job.check_output || format_checked_on_ranks(job)) && !job.compare_tetgen &&
          !polishes(job.options) && !test_hooks::assemble_always();
