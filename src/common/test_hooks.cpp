@@ -119,6 +119,8 @@ void write_out_of_memory(int rank) {
 
 bool block_lost(int rank) { return rank == 1 && injected("worker:lose-block"); }
 
+bool points_lost(int rank) { return rank == 1 && injected("worker:lose-points"); }
+
 bool output_unseen(int rank) { return rank == 1 && injected("worker:output-unseen"); }
 
 int publish_failure() {

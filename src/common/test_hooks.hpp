@@ -63,6 +63,9 @@ void worker_death(int rank);
 // or of a TetGen file's rows (as if it ran out of memory taking it), so the write must fail on
 // every rank.
 bool block_lost(int rank);
+// PARTET_INJECT_FAILURE="worker:lose-points": rank 1 loses its share of the input's points that
+// rank 0 gives it to format for a single file written from a spread mesh.
+bool points_lost(int rank);
 // PARTET_INJECT_FAILURE="worker:output-unseen": rank 1 cannot open the files written for
 // `mesh --check` on the ranks, as on a node that does not share rank 0's output directory.
 bool output_unseen(int rank);

@@ -431,7 +431,7 @@ std::size_t row_bytes(TetgenFile file) {
 
 void append_tetgen_lines(std::string& text, TetgenFile file, const char* data, std::size_t first, std::size_t count,
                          std::size_t split_from) {
-  text.reserve(text.size() + count * (file == TetgenFile::node ? 64 : 40));  // about a line's length
+  text.reserve(text.size() + count * (file == TetgenFile::node ? 80 : 48));  // a little more than a line's length
   TextSink sink(text);
   format_lines(sink, file, data, first, count, split_from);
   sink.flush();

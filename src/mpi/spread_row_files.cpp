@@ -49,10 +49,13 @@ class SpreadRowsWrite {
 
  private:
   // A run of rows: a bulk's, or (bulk null) rank 0's own points (the split surface's, then those
-  // healing added) or the band's tets.
+  // healing added) or the band's tets; of those, rows [from, from + count), formatted by rank
+  // given_to (another rank formats a share of the split surface's points for rank 0).
   struct RowRun {
     std::int64_t first = 0, count = 0;
     const SpreadBulk* bulk = nullptr;
+    std::int64_t from = 0;
+    int given_to = 0;
   };
 
   struct Claim {
@@ -170,10 +173,35 @@ class SpreadRowsWrite {
 
   bool elsewhere(const RowRun& run) const { return run.bulk && !run.bulk->here; }
 
+  // The rank that formats a run's rows.
+  int formatter(const RowRun& run) const { return elsewhere(run) ? claims_.at(run.bulk->piece).rank : run.given_to; }
+
+  // The runs of a section, the split surface's points dealt out so that every rank formats about
+  // as many rows as the others: they are most of a points section's rows, and rank 0 keeps them
+  // all (the other ranks keep bulks, with few points of their own).
+  std::vector<RowRun> dealt_runs(bool points) const {
+    std::vector<RowRun> runs = runs_of(points);
+    const auto split = std::find_if(runs.begin(), runs.end(), [](const RowRun& r) { return !r.bulk && r.first == 0; });
+    if (!points || size_ == 1 || split == runs.end()) return runs;
+    std::vector<std::size_t> kept(static_cast<std::size_t>(size_), 0);
+    for (const RowRun& run : runs)
+      if (&run != &*split) kept[static_cast<std::size_t>(formatter(run))] += static_cast<std::size_t>(run.count);
+    const std::vector<std::size_t> shares = point_shares(static_cast<std::size_t>(split->count), kept);
+    std::vector<RowRun> dealt;
+    for (std::size_t rank = 0, from = 0; rank < shares.size(); from += shares[rank], ++rank)
+      if (shares[rank] > 0) {
+        const auto at = static_cast<std::int64_t>(from);
+        dealt.push_back({at, static_cast<std::int64_t>(shares[rank]), nullptr, at, static_cast<int>(rank)});
+      }
+    const auto at = runs.erase(split);
+    runs.insert(at, dealt.begin(), dealt.end());
+    return runs;
+  }
+
   // Rank 0's own rows of a run.
   const std::vector<Point3>& own_points(const RowRun& run) const {
     if (run.bulk) return run.bulk->block.steiner_points;
-    return run.first == 0 ? mesh_.split_points : mesh_.healing_points;
+    return run.first < static_cast<std::int64_t>(mesh_.split_points.size()) ? mesh_.split_points : mesh_.healing_points;
   }
   const std::vector<Tet>& own_tets(const RowRun& run) const {
     return run.bulk ? run.bulk->block.tets : mesh_.band_tets;
@@ -204,12 +232,12 @@ class SpreadRowsWrite {
   // left waiting, then throws the first failure. Into a file, or a sink (a .vtu file's array).
   template <class Out>
   void write_runs(Out& out, RowLines lines, std::int64_t number_from) const {
-    const std::vector<RowRun> runs = runs_of(formats_points(lines));
+    const std::vector<RowRun> runs = dealt_runs(formats_points(lines));
     send_section_orders(lines, number_from, runs);
     std::exception_ptr failure;
     for (const RowRun& run : runs) {
-      if (elsewhere(run)) {
-        take_text_chunks(out, claims_.at(run.bulk->piece).rank, failure);
+      if (formatter(run) != 0) {
+        take_text_chunks(out, formatter(run), failure);
         continue;
       }
       if (failure) continue;
@@ -222,16 +250,24 @@ class SpreadRowsWrite {
     if (failure) std::rethrow_exception(failure);
   }
 
+  // Each rank's order, then what it formats from: a bulk's faces across (.neigh), rank 0's points.
   void send_section_orders(RowLines lines, std::int64_t number_from, const std::vector<RowRun>& runs) const {
-    std::map<int, std::vector<const SpreadBulk*>> by_rank;
+    std::map<int, std::vector<const RowRun*>> by_rank;
     for (const RowRun& run : runs)
-      if (elsewhere(run)) by_rank[claims_.at(run.bulk->piece).rank].push_back(run.bulk);
-    for (const auto& [rank, bulks] : by_rank) {
+      if (formatter(run) != 0) by_rank[formatter(run)].push_back(&run);
+    for (const auto& [rank, its_runs] : by_rank) {
       SectionOrder order{lines, number_from, {}};
-      for (const SpreadBulk* bulk : bulks) order.pieces.push_back(bulk->piece);
+      for (const RowRun* run : its_runs) order.pieces.push_back(run->bulk ? run->bulk->piece : kGivenPoints);
       send_to(rank, order.bytes(), kWorkerSeconds);
       if (lines == RowLines::tetgen_neigh)
-        for (const SpreadBulk* bulk : bulks) send_to(rank, bytes_of(run_of(bulk->across)), kWorkerSeconds);
+        for (const RowRun* run : its_runs) send_to(rank, bytes_of(run_of(run->bulk->across)), kWorkerSeconds);
+      for (const RowRun* run : its_runs) {
+        if (run->bulk) continue;
+        send_to(rank, {reinterpret_cast<const char*>(&run->first), sizeof run->first}, kWorkerSeconds);
+        const Point3* rows = own_points(*run).data() + run->from;
+        send_to(rank, {reinterpret_cast<const char*>(rows), static_cast<std::size_t>(run->count) * sizeof(Point3)},
+                kWorkerSeconds);
+      }
     }
   }
 
@@ -239,7 +275,7 @@ class SpreadRowsWrite {
   void write_own_run(Out& out, RowLines lines, std::int64_t number_from, const RowRun& run) const {
     const auto count = static_cast<std::size_t>(run.count);
     if (formats_points(lines))
-      return write_row_lines(out, lines, {own_points(run).data(), count, run.first, number_from});
+      return write_row_lines(out, lines, {own_points(run).data() + run.from, count, run.first, number_from});
     if (lines == RowLines::tetgen_neigh) {
       return in_chunks(count, [&](std::size_t from, std::size_t n) {
         const std::vector<Tet> rows =

@@ -12,9 +12,13 @@
 //   0 -> rank: per section of rows of a file, once rank 0 reaches it: "F", the kind of rows
 //              (RowLines), the number of row 0 (int64) and the pieces of the runs the rank keeps,
 //              in row order (for TetGen's .neigh, then per run the bulk's faces shared with other
-//              blocks); the rank formats them, up to kReadAheadBytes ahead while rank 0 writes the
-//              runs before, and sends per run its text in chunks, "T" + text (or "E" + why not),
-//              then ""; rank 0 takes every chunk ordered, even after a failure;
+//              blocks). In a section of points, a run can also be a share of the split surface's
+//              points, which rank 0 keeps (kGivenPoints): rank 0 deals them out so that every rank
+//              formats about as many rows, and sends per such run the number of its first row
+//              (int64), then its points. The rank formats its runs, up to kReadAheadBytes ahead
+//              while rank 0 writes the runs before, and sends per run its text in chunks, "T" +
+//              text (or "E" + why not), then ""; rank 0 takes every chunk ordered, even after a
+//              failure;
 //   0 -> rank: "" once the files are written (or failed): the rank's part is over;
 // then, for TetGen's files, the .face file's rows, formatted on every rank (a "rows" order).
 // Rank 0's side is in spread_row_files.cpp, the other ranks' in stream_own_rows.cpp, what both

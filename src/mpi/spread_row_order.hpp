@@ -19,8 +19,13 @@ inline constexpr std::size_t kRowsPerChunk = std::size_t{1} << 18;
 // A claim: the piece, the fingerprints of the points and tets (2 words each), the bounds (6 doubles).
 inline constexpr std::size_t kClaimWords = 11;
 
+// Among an order's pieces: a run of rank 0's own points (the input's, most of a points section's
+// rows) that the rank formats for rank 0, sent after the order: the number of its first row
+// (int64), then its rows.
+inline constexpr std::int32_t kGivenPoints = -1;
+
 // A section's order to one rank: "F", the kind of rows, the number of row 0, then the pieces of
-// its runs (int32 each), in row order.
+// its runs (int32 each, or kGivenPoints), in row order.
 struct SectionOrder {
   RowLines lines = RowLines::tetgen_node;
   std::int64_t number_from = 0;
@@ -44,6 +49,23 @@ struct SectionOrder {
     return values.has_value();
   }
 };
+
+// How many rows of rank 0's own run of `run` points each rank formats (rank 0's share first, then
+// rank 1's, ...), so that all format about as many rows of the section: kept[r] rows of it are
+// rank r's anyway (its bulks; rank 0's other runs). The ranks that keep the fewest take the most.
+inline std::vector<std::size_t> point_shares(std::size_t run, const std::vector<std::size_t>& kept) {
+  std::size_t total = run;
+  for (std::size_t rows : kept) total += rows;
+  const std::size_t each = (total + kept.size() - 1) / std::max<std::size_t>(1, kept.size());
+  std::vector<std::size_t> shares(kept.size(), 0);
+  std::size_t left = run;
+  for (std::size_t r = 1; r < kept.size(); ++r) {
+    shares[r] = std::min(left, each > kept[r] ? each - kept[r] : 0);
+    left -= shares[r];
+  }
+  if (!shares.empty()) shares[0] = left;
+  return shares;
+}
 
 // Calls f(from, count) for each chunk of `rows` rows.
 template <class F>

@@ -4,9 +4,10 @@
 
 #include <algorithm>
 #include <cstring>
-#include <deque>
 #include <exception>
 #include <map>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "common/log.hpp"
@@ -15,6 +16,7 @@
 #include "io/row_lines.hpp"
 #include "io/tetgen_files.hpp"
 #include "mpi/spread_row_order.hpp"
+#include "mpi/transport.hpp"
 #include "mpi/write_messages.hpp"
 #include "partet/errors.hpp"
 #include "runner/serialize.hpp"
@@ -69,13 +71,33 @@ std::map<int, OwnBulk> own_bulks(MeshFormat format, const std::string& placement
   return own;
 }
 
-// The chunks of one section's runs this rank keeps, in order: per run "T" + its text, a chunk at
+// Rank 0's points this rank formats for it (kGivenPoints): the number of the first row, and the
+// rows as they came (formatted from there: no copy).
+struct GivenPoints {
+  std::int64_t first = 0;
+  std::string rows;
+  std::size_t count() const { return rows.size() / sizeof(Point3); }
+};
+
+// The run after a kGivenPoints in the order (both messages are taken whatever they hold); nothing
+// when they are no such run.
+std::optional<GivenPoints> receive_given_points() {
+  const auto first = values_of<std::int64_t>(receive_from(0, kRootSeconds));
+  GivenPoints given;
+  given.rows = receive_from(0, kRootSeconds);
+  if (!first || first->size() != 1 || given.rows.size() % sizeof(Point3) != 0 || test_hooks::points_lost(my_rank()))
+    return std::nullopt;
+  given.first = first->front();
+  return given;
+}
+
+// The chunks of one section's runs this rank formats, in order: per run "T" + its text, a chunk at
 // a time ("E" + why not, when it cannot), then "" after the run.
 class RunChunks {
  public:
   RunChunks(SectionOrder order, std::vector<std::optional<std::vector<FaceAcross>>> across,
-            const std::map<int, OwnBulk>& own)
-      : order_(std::move(order)), across_(std::move(across)), own_(own) {}
+            std::vector<std::optional<GivenPoints>> given, const std::map<int, OwnBulk>& own)
+      : order_(std::move(order)), across_(std::move(across)), given_(std::move(given)), own_(own) {}
 
   bool done() const { return run_ == order_.pieces.size(); }
 
@@ -86,11 +108,12 @@ class RunChunks {
     }
     std::string chunk = "T";
     try {
-      const OwnBulk& bulk = bulk_of(order_.pieces[run_]);
-      const std::size_t rows =
-          formats_points(order_.lines) ? bulk.block->steiner_points.size() : bulk.block->tets.size();
+      const std::size_t rows = rows_of_run();
       const std::size_t n = std::min(kRowsPerChunk, rows - from_);
-      append_text(chunk, bulk, n);
+      if (order_.pieces[run_] == kGivenPoints)
+        append_given_text(chunk, n);
+      else
+        append_text(chunk, bulk_of(order_.pieces[run_]), n);
       from_ += n;
       ended_ = from_ == rows;
     } catch (const std::exception&) {
@@ -101,6 +124,29 @@ class RunChunks {
   }
 
  private:
+  std::size_t rows_of_run() const {
+    if (order_.pieces[run_] == kGivenPoints) return given().count();
+    const TetBlock& block = *bulk_of(order_.pieces[run_]).block;
+    return formats_points(order_.lines) ? block.steiner_points.size() : block.tets.size();
+  }
+
+  const GivenPoints& given() const {
+    if (!given_[run_])
+      throw OutputError("rank " + std::to_string(my_rank()) +
+                        " did not receive its share of the input's points to format");
+    return *given_[run_];
+  }
+
+  void append_given_text(std::string& chunk, std::size_t n) const {
+    test_hooks::write_out_of_memory(my_rank());
+    if (!formats_points(order_.lines))
+      throw InternalError("rank " + std::to_string(my_rank()) + " was given points to format as other rows");
+    const GivenPoints& points = given();
+    append_row_lines(chunk, order_.lines,
+                     {points.rows.data() + from_ * sizeof(Point3), n, points.first + static_cast<std::int64_t>(from_),
+                      order_.number_from});
+  }
+
   const OwnBulk& bulk_of(std::int32_t piece) const {
     const auto found = own_.find(piece);
     if (found == own_.end())
@@ -137,33 +183,30 @@ class RunChunks {
 
   SectionOrder order_;
   std::vector<std::optional<std::vector<FaceAcross>>> across_;
+  std::vector<std::optional<GivenPoints>> given_;  // per run: rank 0's points (kGivenPoints)
   const std::map<int, OwnBulk>& own_;
   std::size_t run_ = 0, from_ = 0;
   bool ended_ = false;
 };
 
-// Answers one section's order: formats up to kReadAheadBytes ahead, then sends chunk after chunk,
-// formatting the next while rank 0 writes the last.
+// Answers one section's order: sends each chunk as soon as it is formatted and goes on formatting
+// while rank 0 takes them (or writes the runs before this rank's), up to kReadAheadBytes ahead.
 void answer_section_order(const std::string& bytes, const std::map<int, OwnBulk>& own) {
   SectionOrder order;
   if (!order.read(bytes)) order = {};  // no runs: rank 0 finds none of the text it ordered
   std::vector<std::optional<std::vector<FaceAcross>>> across(order.pieces.size());
   if (order.lines == RowLines::tetgen_neigh)
     for (auto& faces : across) faces = values_of<FaceAcross>(receive_from(0, kRootSeconds));
-  RunChunks chunks(std::move(order), std::move(across), own);
-  std::deque<std::string> ready;
-  std::size_t ready_bytes = 0;
-  const auto format_next = [&] {
-    ready.push_back(chunks.next());
-    ready_bytes += ready.back().size();
-  };
-  while (!chunks.done() && ready_bytes < kReadAheadBytes) format_next();
-  while (!ready.empty()) {
-    send_to(0, ready.front(), kRootSeconds);
-    ready_bytes -= ready.front().size();
-    ready.pop_front();
-    if (!chunks.done()) format_next();
+  std::vector<std::optional<GivenPoints>> given(order.pieces.size());
+  for (std::size_t run = 0; run < given.size(); ++run)
+    if (order.pieces[run] == kGivenPoints) given[run] = receive_given_points();
+  RunChunks chunks(std::move(order), std::move(across), std::move(given), own);
+  SendQueue sent(0, kTagText, job_comm(), kRootSeconds);
+  while (!chunks.done()) {
+    while (sent.bytes_waiting() >= kReadAheadBytes) bounded([&] { sent.wait_oldest(); });
+    sent.push(chunks.next());
   }
+  bounded([&] { sent.wait_all(); });
 }
 
 }  // namespace

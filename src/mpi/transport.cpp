@@ -41,6 +41,51 @@ std::uint64_t send_bytes(std::string_view bytes, int dest, int tag, MPI_Comm com
   return size + sizeof(size);
 }
 
+SendQueue::~SendQueue() {
+  for (Message& message : messages_)
+    MPI_Waitall(static_cast<int>(message.requests.size()), message.requests.data(), MPI_STATUSES_IGNORE);
+}
+
+void SendQueue::push(std::string bytes) {
+  Message& message = messages_.emplace_back();
+  message.bytes = std::move(bytes);
+  message.size = message.bytes.size();
+  message.requests.emplace_back();
+  MPI_Isend(&message.size, 1, MPI_UINT64_T, dest_, tag_, comm_, &message.requests.back());
+  for (std::size_t offset = 0; offset < message.bytes.size(); offset += kMaxChunk) {
+    const std::size_t n = std::min(kMaxChunk, message.bytes.size() - offset);
+    message.requests.emplace_back();
+    MPI_Isend(message.bytes.data() + offset, static_cast<int>(n), MPI_BYTE, dest_, tag_, comm_,
+              &message.requests.back());
+  }
+  waiting_bytes_ += message.bytes.size();
+}
+
+bool SendQueue::taken(Message& message) {
+  int done = 0;
+  MPI_Testall(static_cast<int>(message.requests.size()), message.requests.data(), &done, MPI_STATUSES_IGNORE);
+  return done != 0;
+}
+
+std::size_t SendQueue::bytes_waiting() {
+  while (!messages_.empty() && taken(messages_.front())) {
+    waiting_bytes_ -= messages_.front().bytes.size();
+    messages_.pop_front();
+  }
+  return waiting_bytes_;
+}
+
+void SendQueue::wait_oldest() {
+  if (messages_.empty()) return;
+  for (MPI_Request& request : messages_.front().requests) wait_sleeping(request, MPI_STATUS_IGNORE, timeout_seconds_);
+  waiting_bytes_ -= messages_.front().bytes.size();
+  messages_.pop_front();
+}
+
+void SendQueue::wait_all() {
+  while (!messages_.empty()) wait_oldest();
+}
+
 std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk, double timeout_seconds) {
   std::uint64_t size = 0;
   MPI_Request request;

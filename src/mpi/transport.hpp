@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <deque>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -32,6 +33,40 @@ std::uint64_t send_bytes(std::string_view bytes, int dest, int tag, MPI_Comm com
 // Receives what send_bytes sent; the header may take up to timeout_seconds to come (0: no limit).
 std::string recv_bytes(int source, int tag, MPI_Comm comm, std::size_t max_chunk = kMaxChunk,
                        double timeout_seconds = 0);
+
+// Messages to one rank that go while this rank works on: each is sent as send_bytes sends it
+// (its size, then its bytes) but only posted here, and kept until the receiver has taken it.
+// They arrive in the order pushed (MPI lets no message overtake another on the same tag).
+class SendQueue {
+ public:
+  SendQueue(int dest, int tag, MPI_Comm comm, double timeout_seconds = 0)
+      : dest_(dest), tag_(tag), comm_(comm), timeout_seconds_(timeout_seconds) {}
+  // Waits for what is still on its way (without a limit: only an exception can leave any).
+  ~SendQueue();
+  SendQueue(const SendQueue&) = delete;
+  SendQueue& operator=(const SendQueue&) = delete;
+
+  void push(std::string bytes);
+  // The bytes not yet taken (it lets go of those taken).
+  std::size_t bytes_waiting();
+  // Waits, at most timeout_seconds, for the oldest message, or for all; Stalled after that.
+  void wait_oldest();
+  void wait_all();
+
+ private:
+  struct Message {
+    std::string bytes;
+    std::uint64_t size = 0;
+    std::vector<MPI_Request> requests;  // the size, then the bytes' chunks
+  };
+  bool taken(Message& message);
+
+  int dest_, tag_;
+  MPI_Comm comm_;
+  double timeout_seconds_;
+  std::deque<Message> messages_;  // oldest first (a deque: MPI holds their addresses)
+  std::size_t waiting_bytes_ = 0;
+};
 
 // Collectives that sleep while they wait, at most timeout_seconds (0: no limit).
 int broadcast_int(int value, int root, MPI_Comm comm, double timeout_seconds = 0);

@@ -1,5 +1,7 @@
 // Chunked transfer under mpiexec -n 2: a message above 2 GiB (beyond MPI's int counts), and
-// small chunk sizes that do not divide the message length. Exits non-zero on any mismatch.
+// small chunk sizes that do not divide the message length; then a SendQueue: messages pushed
+// before the receiver takes any (so pushing must not wait for it), empty ones among them, taken
+// by recv_bytes in the order pushed. Exits non-zero on any mismatch.
 #include <mpi.h>
 
 #include <cstdint>
@@ -51,6 +53,24 @@ int main(int argc, char** argv) {
       const std::string got = partet::mpi::recv_bytes(0, 7, MPI_COMM_WORLD, c.chunk);
       const bool ok = matches(got, c.bytes);
       std::printf("%s: %zu bytes in chunks of %zu\n", ok ? "ok" : "MISMATCH", c.bytes, c.chunk);
+      if (!ok) ++failures;
+    }
+  }
+  // A SendQueue: rank 1 pushes every message, then tells rank 0 (on another tag) to start taking.
+  const std::size_t queued[] = {3000017, 0, 17, 5000011, 0, 1};
+  if (rank == 1) {
+    partet::mpi::SendQueue queue(0, 9, MPI_COMM_WORLD, 60);
+    std::size_t pushed = 0;
+    for (std::size_t bytes : queued) queue.push(make_message(bytes)), pushed += bytes;
+    if (queue.bytes_waiting() > pushed) ++failures;
+    partet::mpi::send_bytes("go", 0, 10, MPI_COMM_WORLD);
+    queue.wait_all();
+    if (queue.bytes_waiting() != 0) ++failures;
+  } else if (rank == 0) {
+    if (partet::mpi::recv_bytes(1, 10, MPI_COMM_WORLD) != "go") ++failures;
+    for (std::size_t bytes : queued) {
+      const bool ok = matches(partet::mpi::recv_bytes(1, 9, MPI_COMM_WORLD), bytes);
+      std::printf("%s: queued message of %zu bytes, in order\n", ok ? "ok" : "MISMATCH", bytes);
       if (!ok) ++failures;
     }
   }

@@ -6,6 +6,9 @@
 #   lost-rows:  the same, writing TetGen files from the assembled mesh (PARTET_TEST_ASSEMBLE);
 #   lost-neigh: the same, TetGen files alone, streamed from the ranks keeping the mesh's parts:
 #               rank 1 loses the faces its bulk shares with the rest of the mesh;
+#   lost-points-FORMAT: the same, TetGen's files or one .vtu file streamed from the ranks keeping
+#               the mesh's parts: rank 1 loses the share of the input's points rank 0 gave it
+#               to format (so rank 1 must have been given one);
 #   full:       the output directory fills up while rank 0 writes the lines the ranks formatted:
 #               the run ends with the disk's error, nothing left behind, no rank left waiting;
 #   full-hdf5:  the same while both ranks write the XDMF set's HDF5 file;
@@ -68,6 +71,14 @@ if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.
   echo "FAIL: lost-neigh: a lost block exited 0"; exit 1
 fi
 expect_refused lost-neigh "rank 1 did not receive the faces its bulk of piece [0-9]* shares with the rest of the mesh"
+
+for format in tetgen vtu; do
+  if PARTET_INJECT_FAILURE=worker:lose-points "$mpiexec" -n 2 "$partet" mesh other.off -o out/t --pieces 4 \
+    --format $format --quiet 2> log; then
+    echo "FAIL: lost-points-$format: lost points exited 0"; exit 1
+  fi
+  expect_refused lost-points-$format "rank 1 did not receive its share of the input's points to format"
+done
 
 if PARTET_INJECT_FAILURE=worker:lose-block "$mpiexec" -n 2 "$partet" mesh other.off -o out/m.pvtu --pieces 4 \
   --quiet 2> log; then
