@@ -6,8 +6,14 @@
 # (tests/cluster/slurm.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each phase's start, so a slow run shows where its time went.
+started=$(date +%s)
+phase() { echo "== $1 (at $(date +%H:%M:%S), $(($(date +%s) - started)) s in)"; }
+phase "install"
 scripts/install-deps.sh
+phase "build"
 scripts/build.sh
+phase "tests"
 source scripts/common.sh
 export OMPI_MCA_rmaps_base_oversubscribe=1
 args=(--test-dir build --output-on-failure -j "${PARTET_TEST_JOBS:-2}")
@@ -15,9 +21,10 @@ args=(--test-dir build --output-on-failure -j "${PARTET_TEST_JOBS:-2}")
 if [ -n "${PARTET_TEST_LABEL:-}" ]; then args+=(-L "$PARTET_TEST_LABEL"); else args+=(-LE "known_failure|^sweep$"); fi
 ctest "${args[@]}"
 # The Debian package, installed and removed again (needs root: CI sets PARTET_TEST_PACKAGE=1).
-if [ "${PARTET_TEST_PACKAGE:-0}" = 1 ]; then tests/package/deb.sh build; fi
+if [ "${PARTET_TEST_PACKAGE:-0}" = 1 ]; then phase "package" && tests/package/deb.sh build; fi
 if [ "${PARTET_TEST_SLURM:-0}" = 1 ]; then
   # On a shared model when ../shared is beside the checkout, else on a generated surface.
+  phase "slurm"
   model=../shared/meshes/fertility.off
   [ -f "$model" ] || model=""
   tests/cluster/slurm.sh build/partet $model
@@ -31,3 +38,4 @@ if [ "${PARTET_TEST_SLURM:-0}" = 1 ]; then
     exit "$code"
   fi
 fi
+phase "done"

@@ -110,6 +110,7 @@ class RunChunks {
     try {
       const std::size_t rows = rows_of_run();
       const std::size_t n = std::min(kRowsPerChunk, rows - from_);
+      test_hooks::write_out_of_memory(my_rank());
       if (order_.pieces[run_] == kGivenPoints)
         append_given_text(chunk, n);
       else
@@ -138,7 +139,6 @@ class RunChunks {
   }
 
   void append_given_text(std::string& chunk, std::size_t n) const {
-    test_hooks::write_out_of_memory(my_rank());
     if (!formats_points(order_.lines))
       throw InternalError("rank " + std::to_string(my_rank()) + " was given points to format as other rows");
     const GivenPoints& points = given();
@@ -155,7 +155,6 @@ class RunChunks {
   }
 
   void append_text(std::string& chunk, const OwnBulk& bulk, std::size_t n) const {
-    test_hooks::write_out_of_memory(my_rank());
     const TetBlock& block = *bulk.block;
     const SpreadBulk& place = bulk.place;
     const auto from = static_cast<std::int64_t>(from_);

@@ -46,6 +46,9 @@ SendQueue::~SendQueue() {
     MPI_Waitall(static_cast<int>(message.requests.size()), message.requests.data(), MPI_STATUSES_IGNORE);
 }
 
+// The framing is send_bytes' (the size, then parts of at most kMaxChunk), but every part is
+// posted at once: send_bytes posts one part at a time, since with small parts (any max_chunk)
+// a million requests outstanding would swamp the receiver's queue of unexpected messages.
 void SendQueue::push(std::string bytes) {
   Message& message = messages_.emplace_back();
   message.bytes = std::move(bytes);

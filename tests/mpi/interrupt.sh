@@ -11,6 +11,7 @@ set -uo pipefail
 partet=$1 mpiexec=$2
 source "$(dirname "$0")/../harness.sh"
 "$partet" generate torus --faces 200000 -o "$work/big.off" > /dev/null || exit 1
+"$partet" generate genus3 --faces 6000 -o "$work/small.off" > /dev/null || exit 1  # previous sets
 processes() {  # running ones (a zombie waiting to be reaped does not count)
   local n=0
   for pid in $(pgrep -f "mesh $work/big.off"); do
@@ -20,7 +21,7 @@ processes() {  # running ones (a zombie waiting to be reaped does not count)
 }
 # Waits until a TetGen child (a partet whose parent is partet) runs; prints its pid.
 child_of_job() {
-  for i in $(seq 200); do
+  for i in $(seq 600); do
     for pid in $(pgrep -f "mesh $work/big.off"); do
       parent=$(awk '{print $4}' "/proc/$pid/stat" 2> /dev/null)
       [ -n "$parent" ] && [ "$(cat "/proc/$parent/comm" 2> /dev/null)" = partet ] && { echo "$pid"; return; }
@@ -47,7 +48,7 @@ ls "$work" | grep -q '^one' && bad "SIGTERM: files left: $(ls "$work")" || ok "S
 "$mpiexec" -n 2 "$partet" mesh "$work/big.off" -o "$work/two" --pieces 4 > "$work/log2" 2>&1 &
 launcher=$!
 victim=""
-for i in $(seq 200); do
+for i in $(seq 600); do
   for pid in $(pgrep -f "mesh $work/big.off"); do
     if tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" &&
        pgrep -P "$pid" > /dev/null; then victim=$pid; fi
@@ -76,7 +77,7 @@ ls "$work" | grep -q '^two\.[a-z]*$' && bad "SIGKILL: output files: $(ls "$work"
 # PARTET_TEST_WRITE_DELAY_MS so the signal lands inside it, while rank 1 sends rank 0 the lines
 # of the bulks it keeps (the mesh is not assembled) or waits to write its .pvtu piece files. The job ends with "interrupted", the previous set at the prefix is kept byte for
 # byte, and no temporary is left.
-"$partet" mesh "$work/big.off" -o "$work/w" --pieces 4 --quiet --format tetgen,pvtu
+"$partet" mesh "$work/small.off" -o "$work/w" --pieces 4 --quiet --format tetgen,pvtu
 mkdir "$work/before" && cp "$work"/w.* "$work"/w_*.vtu "$work/before/"
 PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
   -o "$work/w" --pieces 4 --format tetgen,pvtu > "$work/log3" 2>&1 &
@@ -127,7 +128,7 @@ rank1_holds() {
 # 4. SIGTERM while rank 1 writes an MSH partition file: the ranks write the partitions at once,
 # each slowed as above; the signal comes once a temporary rank 1 holds open has 4 MB.
 rm -f "$work"/w.* "$work"/w_*.vtu
-"$partet" mesh "$work/big.off" -o "$work/p" --pieces 2 --quiet --format msh-parts
+"$partet" mesh "$work/small.off" -o "$work/p" --pieces 2 --quiet --format msh-parts
 mkdir "$work/before4" && cp "$work"/p_*.msh "$work/before4/"
 PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
   -o "$work/p" --pieces 2 --format msh-parts > "$work/log4" 2>&1 &
@@ -143,7 +144,6 @@ after_interrupt "partition write" "$work/log4" "$work/before4"
 # comes from a small input.
 rm -f "$work"/p_*.msh
 "$partet" generate torus --faces 320000 -o "$work/big.off" > /dev/null || exit 1
-"$partet" generate genus3 --faces 6000 -o "$work/small.off" > /dev/null || exit 1
 "$mpiexec" -n 2 "$partet" mesh "$work/small.off" -o "$work/v" --pieces 2 --quiet --format pvtu --report "$work/v.json"
 grep -q '"assembled_on_rank0": false' "$work/v.json" || bad "spread write: the mesh was assembled"
 mkdir "$work/before5" && cp "$work"/v.pvtu "$work"/v_*.vtu "$work/before5/"
