@@ -88,9 +88,15 @@ void become_reaper(int from_partet) {
   ::sigprocmask(SIG_SETMASK, &none, nullptr);
   const int null = ::open("/dev/null", O_RDWR);
   for (int fd = 0; fd < 3; ++fd) ::dup2(null, fd);
-  const long open_max = ::sysconf(_SC_OPEN_MAX);
-  for (int fd = 3; fd < (open_max > 0 && open_max < 65536 ? open_max : 65536); ++fd)
-    if (fd != from_partet) ::close(fd);
+  // close_range: two calls instead of one close per possible descriptor (65536 of them, about
+  // 0.1 s of CPU at every start); the loop where the kernel lacks it (before Linux 5.9).
+  const bool closed = from_partet >= 3 && (from_partet == 3 || ::close_range(3, from_partet - 1, 0) == 0) &&
+                      ::close_range(from_partet + 1, ~0U, 0) == 0;
+  if (!closed) {
+    const long open_max = ::sysconf(_SC_OPEN_MAX);
+    for (int fd = 3; fd < (open_max > 0 && open_max < 65536 ? open_max : 65536); ++fd)
+      if (fd != from_partet) ::close(fd);
+  }
   (void)!::chdir("/");  // (the paths it gets are absolute)
 }
 

@@ -13,7 +13,9 @@ mpiexec=$2
 source "$(dirname "$0")/../harness.sh"
 cd "$work"
 "$partet" generate torus --faces 200000 -o "$work/in.off" > /dev/null || exit 1
-"$partet" mesh in.off -o m --pieces 4 --quiet --format tetgen,pvtu || exit 1
+# The previous set, and the run of step 4 (which needs no large file), from a small input.
+"$partet" generate genus3 --faces 6000 -o "$work/small.off" > /dev/null || exit 1
+"$partet" mesh small.off -o m --pieces 4 --quiet --format tetgen,pvtu || exit 1
 mkdir before && cp m.* m_*.vtu before/
 
 # Starts the run (the command given), waits until it is inside a large file's write (a temporary
@@ -80,7 +82,7 @@ reaper_of() {  # PID: the reaper that process started (the one holding the other
   done
 }
 every_temporary() { [ "$(ls | grep -c '\.tmp-')" -ge 13 ]; }  # 4 + 1 + 4 pieces and 4 partitions at least
-all=(mesh "$work/in.off" -o m --pieces 4 --format tetgen,pvtu,msh-parts)
+all=(mesh "$work/small.off" -o m --pieces 4 --format tetgen,pvtu,msh-parts)
 PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS=20000 "$partet" "${all[@]}" > log 2>&1 &
 pid=$!
 if wait_while_running 120 every_temporary; then
@@ -96,7 +98,7 @@ if wait_while_running 120 every_temporary; then
   code=$?
   remaining=$(ls | grep '\.tmp-')
   if [ -n "$reaper" ] && [[ "$left" == *m_p0.vtu* ]] && [[ "$left" == *m_1.msh* ]] && [ -z "$changed" ] && [ $code = 0 ] &&
-    [ -z "$remaining" ] && "$partet" check in.off m > /dev/null 2>&1; then
+    [ -z "$remaining" ] && "$partet" check small.off m > /dev/null 2>&1; then
     ok "reaper and run killed: the temporaries of $left stayed, the previous set kept; the next run removed them and published"
   else
     bad "reaper ('$reaper') and run killed: left '$left', changed '$changed'; the next run: exit $code, left '$remaining': $(tail -n 3 log)"
