@@ -248,7 +248,7 @@ int launched_size() {
 // MPI_Init. Run alone (no launcher), the process talks only to itself: Open MPI is asked not to
 // start its helper daemon (partet never spawns or connects to other jobs) and to load no network
 // transport (probing for Omni-Path hardware alone sleeps about 0.1 s). Together they cost every
-// one-process run about 0.4 s. A user's own settings of these parameters are kept.
+// one-process run about 0.35 s. A user's own settings of these parameters are kept.
 void start_mpi(int& argc, char**& argv) {
   bool launched = false;  // srun sets SLURM_PROCID in a batch script too: such runs keep the defaults
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
