@@ -304,8 +304,10 @@ class JournalLock {
       refuse(path_, std::strerror(errno));
     }
     const Journal journal = Journal::read(fd);
-    holder_ = "another partet run (pid " + std::to_string(journal.pid) +
-              (journal.host == host_tag() ? " on this host)" : ", host " + journal.host + ")");
+    // An owner between taking the journal and writing it (or stopped there) has not named itself.
+    holder_ = journal.pid <= 0 ? "another partet run (its journal not yet written)"
+                               : "another partet run (pid " + std::to_string(journal.pid) +
+                                     (journal.host == host_tag() ? " on this host)" : ", host " + journal.host + ")");
     const LockTry lock = try_lock(fd);
     const bool owner_gone =
         lock == LockTry::acquired ||

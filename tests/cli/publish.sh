@@ -180,7 +180,8 @@ done
 restore_old
 PARTET_TEST_PUBLISH_DELAY_MS=300 "$partet" "${new[@]}" > log.holder 2>&1 &
 holder=$!
-for i in $(seq 100); do [ -e m.partet-publish ] && break; sleep 0.05; done
+# Stopped once its journal names it (a moment after the journal file appears: see below).
+for i in $(seq 600); do grep -q "^owner $holder " m.partet-publish 2> /dev/null && break; sleep 0.05; done
 kill -STOP "$holder"
 start=$(date +%s)
 PARTET_TEST_PUBLISH_WAIT_S=3 "$partet" mesh torus.off -o m -k 3 --quiet > log 2>&1
@@ -196,6 +197,24 @@ wait "$holder"
 code=$?
 [ "$code" -eq 0 ] && rm -f log.holder && is_new && ok "the stopped run, continued, published its set" ||
   bad "the continued run: exit $code, files $(listing)"
+
+# 5b. A holder stopped after taking the journal but before writing it (held here by a process
+#     that locks an empty one): the waiting run says it has not named itself, not "pid 0".
+restore_old
+python3 -c "
+import fcntl, sys, time
+f = open('m.partet-publish', 'w'); fcntl.lockf(f, fcntl.LOCK_EX); print('held', flush=True); time.sleep(60)
+" > held.log &
+locker=$!
+for i in $(seq 200); do grep -q held held.log 2> /dev/null && break; sleep 0.05; done
+PARTET_TEST_PUBLISH_WAIT_S=2 "$partet" mesh torus.off -o m -k 3 --quiet > log 2>&1
+code=$?
+kill "$locker" 2> /dev/null
+wait "$locker" 2> /dev/null
+rm -f held.log m.partet-publish
+[ "$code" -eq 1 ] && grep -q "gave up after 2 s waiting for another partet run (its journal not yet written)" log &&
+  is_old && ok "a lock holder that has not written its journal: said so, gave up (exit $code), previous set kept" ||
+  bad "a holder without a journal: exit $code, files $(listing): $(cat log)"
 
 # 6. A single .msh at m_7 (another run's, named like a partition) is not the set's: it stays,
 #    while the previous set's partitions 4 and 5 go.
