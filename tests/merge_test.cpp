@@ -9,6 +9,7 @@
 #include "partet/errors.hpp"
 #include "stage_batches.hpp"
 #include "stage_helpers.hpp"
+#include "stages/assembly_numbering.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
 #include "stages/topology.hpp"
@@ -84,6 +85,25 @@ void expect_valid_weld(const Welded& w) {
 
   const double volume = enclosed_volume(w.input);
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
+// The sizes past int32: points always refused (tets name them in int32), tets only where the mesh
+// is held in one process (a mesh left on its ranks checks with tets 0: its rows are 64-bit).
+TEST(Weld, SizesPastInt32AreRefusedWithTheirReason) {
+  const std::size_t past = std::size_t{1} << 31, most = past - 1;
+  EXPECT_NO_THROW(check_int32_sizes(most, most));
+  EXPECT_NO_THROW(check_int32_sizes(0, most));
+  const auto message = [](std::size_t tets, std::size_t points) {
+    try {
+      check_int32_sizes(tets, points);
+    } catch (const MeshingError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(0, past).find("more than 2^31 points"), std::string::npos) << message(0, past);
+  EXPECT_NE(message(past, most).find("more than 2^31 tetrahedra"), std::string::npos) << message(past, most);
+  EXPECT_NE(message(past, most).find("several ranks"), std::string::npos) << message(past, most);
 }
 
 TEST(Weld, PiecesOfGeneratedShapes) {

@@ -55,6 +55,18 @@ MeshResult expect_meshes(const SurfaceMesh& input, const MeshOptions& options) {
   return result;
 }
 
+// A mesh that may stay on its ranks is assembled for a check in memory only with the memory for it,
+// and never with more tets than an assembled mesh can number (int32, with room for healing).
+TEST(MeshSurface, AMeshIsAssembledToBeCheckedOnlyWhenItFits) {
+  const double gb = 1e9;
+  EXPECT_TRUE(assembles_to_check(8 * gb, 4 * gb, 20'000'000));
+  EXPECT_FALSE(assembles_to_check(2 * gb, 4 * gb, 20'000'000));     // too little memory
+  EXPECT_FALSE(assembles_to_check(8 * gb, 0, 20'000'000));          // no check asked for
+  EXPECT_TRUE(assembles_to_check(1e6 * gb, 4 * gb, std::size_t{1} << 30));
+  EXPECT_FALSE(assembles_to_check(1e6 * gb, 4 * gb, (std::size_t{1} << 30) + 1));  // checked in its files
+  EXPECT_FALSE(assembles_to_check(1e6 * gb, 4 * gb, std::size_t{3} << 31));
+}
+
 TEST(MeshSurface, Sphere) {
   const SurfaceMesh s = generate_surface("sphere", 2000);
   for (int k : {1, 2, 3, 8}) {

@@ -1,5 +1,5 @@
 // The rows of the single-file formats: a string and a file get the same bytes, runs cut anywhere
-// join to the whole, and the numbers are those of the file's rows.
+// join to the whole, the numbers are those of the file's rows, and tets past 2^31 are named in full.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -10,6 +10,7 @@
 
 #include "io/buffered_file.hpp"
 #include "io/row_lines.hpp"
+#include "stages/spread_mesh.hpp"
 #include "test_support.hpp"
 
 namespace partet {
@@ -22,6 +23,7 @@ constexpr RowLines kAllKinds[] = {RowLines::tetgen_node,  RowLines::tetgen_ele, 
 struct Rows {
   std::vector<Point3> points;
   std::vector<Tet> tets;
+  std::vector<NeighbourRow> neighbours;  // .neigh rows: 64-bit
   std::vector<std::int32_t> region;
 };
 
@@ -29,10 +31,12 @@ Rows random_rows(std::size_t n) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> coordinate(-1e3, 1e3);
   std::uniform_int_distribution<std::int32_t> id(-1, 1 << 30);
+  std::uniform_int_distribution<std::int64_t> tet(-1, std::int64_t{1} << 40);
   Rows rows;
   for (std::size_t i = 0; i < n; ++i) {
     rows.points.push_back({coordinate(random), coordinate(random), coordinate(random)});
     rows.tets.push_back({id(random), id(random), id(random), id(random)});
+    rows.neighbours.push_back({tet(random), tet(random), tet(random), tet(random)});
     rows.region.push_back(1 + static_cast<std::int32_t>(i % 3));
   }
   return rows;
@@ -40,8 +44,9 @@ Rows random_rows(std::size_t n) {
 
 // Rows [from, from + n) of `rows` as the kind formats them, row `from` being the file's row `first`.
 RowsToFormat run(RowLines lines, const Rows& rows, std::size_t from, std::size_t n, std::int64_t number_from = 0) {
-  const void* data = formats_points(lines) ? static_cast<const void*>(rows.points.data() + from)
-                                           : static_cast<const void*>(rows.tets.data() + from);
+  const void* data = formats_points(lines)               ? static_cast<const void*>(rows.points.data() + from)
+                     : lines == RowLines::tetgen_neigh ? static_cast<const void*>(rows.neighbours.data() + from)
+                                                       : static_cast<const void*>(rows.tets.data() + from);
   return {data, n, static_cast<std::int64_t>(from), number_from, rows.region.data() + from};
 }
 
@@ -94,6 +99,50 @@ TEST(RowLines, NumbersAreTheFilesRows) {
   EXPECT_EQ(text_of(RowLines::msh_node_binary, one).size(), 3 * sizeof(double));
   EXPECT_EQ(text_of(RowLines::msh_tet_binary, run(RowLines::msh_tet_binary, rows, 0, 1, 1)).size(),
             5 * sizeof(std::uint64_t));
+}
+
+// A spread mesh may have 2^31 tets or more (each block fewer): its .neigh rows name them in full,
+// in every way a writer formats them (a string, a file, a sink a chunk at a time).
+TEST(RowLines, NeighboursPastTwoToThe31AreWrittenInFull) {
+  const std::int64_t first_row = std::int64_t{3} << 30;  // 3221225472: past INT32_MAX
+  const std::vector<Tet> own{{1, -1, -1, 2}, {-1, 0, -1, -1}, {0, -1, -1, -1}};
+  const std::vector<FaceAcross> across{{4 * 1 + 2, std::int64_t{5} << 31}, {4 * 2 + 1, 7}};
+  const std::vector<NeighbourRow> rows = neighbour_rows(own, first_row, across, 0, own.size());
+  const std::vector<NeighbourRow> expected{{first_row + 1, -1, -1, first_row + 2},
+                                           {-1, first_row, std::int64_t{5} << 31, -1},
+                                           {first_row, 7, -1, -1}};
+  EXPECT_EQ(rows, expected);
+  const std::vector<NeighbourRow> tail = neighbour_rows(own, first_row, across, 1, 2);  // a writer's later chunk
+  EXPECT_EQ(tail, std::vector<NeighbourRow>(expected.begin() + 1, expected.end()));
+  const RowsToFormat run{rows.data(), rows.size(), first_row, 0};
+  const std::string text = text_of(RowLines::tetgen_neigh, run);
+  EXPECT_EQ(text,
+            "3221225472 3221225473 -1 -1 3221225474\n"
+            "3221225473 -1 3221225472 10737418240 -1\n"
+            "3221225474 3221225472 7 -1 -1\n");
+  const std::string path = test::temp_dir("row_lines_wide") + "/neigh";
+  {
+    BufferedFile out(path);
+    write_row_lines(out, RowLines::tetgen_neigh, run);
+    out.close();
+  }
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), text);
+}
+
+// A sink takes the rows a chunk (2^16 rows) at a time: the 64-bit .neigh rows are cut where they
+// begin, as the others are.
+TEST(RowLines, ASinkGetsTheSameBytesInChunks) {
+  struct Collected : ByteSink {
+    std::string text;
+    void bytes(const void* data, std::size_t size) override { text.append(static_cast<const char*>(data), size); }
+  };
+  const Rows rows = random_rows(70000);
+  for (RowLines lines : kAllKinds) {
+    Collected sink;
+    write_row_lines(sink, lines, run(lines, rows, 0, rows.tets.size(), 3));
+    EXPECT_EQ(sink.text, text_of(lines, run(lines, rows, 0, rows.tets.size(), 3))) << static_cast<int>(lines);
+  }
 }
 
 }  // namespace

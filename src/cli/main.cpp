@@ -1,5 +1,6 @@
-// partet command line: mesh (MPI-aware), check, generate, refine-surface. A thin layer: it parses options,
-// sets the log level, calls the library and turns errors into messages and exit codes.
+// partet command line: mesh (MPI-aware), check, info, generate, refine-surface. A thin layer: it
+// parses options, sets the log level, calls the library and turns errors into messages and exit
+// codes. The check and info commands, and how MPI is started, have files of their own beside it.
 #include <mpi.h>
 #include <unistd.h>
 
@@ -7,326 +8,39 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
-#include "stages/check.hpp"
-#include "partet/errors.hpp"
-#include "stages/generate.hpp"
-#include "stages/info.hpp"
-#include "job/job.hpp"
-#include "io/mesh_formats.hpp"
+#include "cli/check_command.hpp"
+#include "cli/info_command.hpp"
+#include "cli/launch.hpp"
+#include "cli/published_sets.hpp"
 #include "common/log.hpp"
-#include "mpi/driver.hpp"
-#include "stages/quality.hpp"
-#include "stages/refine_surface.hpp"
+#include "common/memory.hpp"
+#include "common/version.hpp"
+#include "io/mesh_formats.hpp"
+#include "io/output_set.hpp"
 #include "io/read_surface.hpp"
 #include "io/write_surface.hpp"
-#include "io/tetgen_files.hpp"
-#include "io/mesh_read.hpp"
+#include "job/compare_tetgen.hpp"
+#include "job/job.hpp"
 #include "mesher/tetgen_mesher.hpp"
-#include "common/version.hpp"
-#include "common/memory.hpp"
-#include "io/output_set.hpp"
+#include "mpi/driver.hpp"
 #include "runner/interrupts.hpp"
-#include "stages/quality_json.hpp"
-#include "mpi/distributed_check.hpp"
-#include "io/parallel_hdf5.hpp"
+#include "stages/generate.hpp"
+#include "stages/refine_surface.hpp"
 
 namespace {
 
-// The cut planes a run's --report names. Throws InputError naming the file and the field.
-std::vector<partet::CutPlane> report_cut_planes(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw partet::InputError("cannot read report '" + path + "': not a regular file");
-  std::ifstream in(path);
-  if (!in) throw partet::InputError("cannot open report '" + path + "'");
-  const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-  if (report.is_discarded()) throw partet::InputError("report '" + path + "' is not valid JSON (a partet --report file?)");
-  auto bad = [&](const std::string& field, const char* want) {
-    return partet::InputError("report '" + path + "': " + field + " must be " + want);
-  };
-  if (!report.is_object()) throw bad("the document", "an object");
-  if (!report.contains("cut_planes")) throw bad("cut_planes", "present (is this a partet --report file?)");
-  const nlohmann::json& list = report["cut_planes"];
-  if (!list.is_array()) throw bad("cut_planes", "a list");
-  std::vector<partet::CutPlane> planes;
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string at = "cut_planes[" + std::to_string(i) + "]";
-    const nlohmann::json& p = list[i];
-    if (!p.is_object()) throw bad(at, "an object with normal and offset");
-    const nlohmann::json normal = p.value("normal", nlohmann::json());
-    if (!normal.is_array() || normal.size() != 3 || !normal[0].is_number() || !normal[1].is_number() ||
-        !normal[2].is_number())
-      throw bad(at + ".normal", "a list of 3 numbers");
-    const nlohmann::json offset = p.value("offset", nlohmann::json());
-    if (!offset.is_number()) throw bad(at + ".offset", "a number");
-    planes.push_back({{normal[0].get<double>(), normal[1].get<double>(), normal[2].get<double>()}, offset.get<double>()});
-  }
-  return planes;
-}
-
-// The quality of the seam zone and of the rest, when the run's report names the planes.
-using KnownZones = std::optional<partet::ZoneQuality>;
-KnownZones zone_quality(const partet::TetMesh& mesh, const std::optional<std::vector<partet::CutPlane>>& planes) {
-  return planes ? KnownZones(partet::zone_quality(mesh, *planes)) : std::nullopt;
-}
-
-// The quality line and the dihedral angles' histogram.
-void print_quality(const partet::MeshQuality& quality) {
-  std::printf("quality: %s\n", partet::quality_line(quality).c_str());
-  std::printf("dihedral angles:");
-  double from = 0;
-  for (std::size_t i = 0; i < partet::kDihedralBins.size(); ++i) {
-    std::printf(" %g-%g: %lld%s", from, partet::kDihedralBins[i],
-                static_cast<long long>(quality.dihedral_histogram[i]), i + 1 < partet::kDihedralBins.size() ? "," : "\n");
-    from = partet::kDihedralBins[i];
-  }
-}
-
-void print_check(const partet::CheckReport& report, const KnownZones& zones) {
-  std::printf("vertices %lld, tets %lld, boundary faces %lld\n", static_cast<long long>(report.vertices),
-              static_cast<long long>(report.tets), static_cast<long long>(report.boundary_faces));
-  if (report.split_input_faces > 0)
-    std::printf("split input triangles: %lld (tiled by boundary faces that are parts of them)\n",
-                static_cast<long long>(report.split_input_faces));
-  std::printf("volume: tets %.17g, surface %.17g\n", report.tet_volume, report.surface_volume);
-  std::printf("euler: mesh %ld, expected %ld\n", report.euler_mesh, report.euler_expected);
-  print_quality(report.quality);
-  if (zones) {
-    std::printf("seam zone (%lld tets): %s\n", static_cast<long long>(zones->seam.tets),
-                partet::quality_line(zones->seam).c_str());
-    std::printf("elsewhere (%lld tets): %s\n", static_cast<long long>(zones->elsewhere.tets),
-                partet::quality_line(zones->elsewhere).c_str());
-  }
-  for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
-  std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
-}
-
-void print_check_json(const partet::CheckReport& report, const KnownZones& zones) {
-  nlohmann::json json = {{"ok", report.ok()},
-                         {"violations", report.violations},
-                         {"vertices", report.vertices},
-                         {"tets", report.tets},
-                         {"boundary_faces", report.boundary_faces},
-                         {"split_input_faces", report.split_input_faces},
-                         {"tet_volume", report.tet_volume},
-                         {"surface_volume", report.surface_volume},
-                         {"euler_mesh", report.euler_mesh},
-                         {"euler_expected", report.euler_expected},
-                         {"quality", partet::quality_json(report.quality)}};
-  if (zones) {
-    json["seam_zone_quality"] = partet::quality_json(zones->seam);
-    json["elsewhere_quality"] = partet::quality_json(zones->elsewhere);
-  }
-  std::printf("%s\n", json.dump(2).c_str());
-}
-
-// Exit code 0 when the check passes, 1 when it fails (2 is kept for usage errors).
-// A publish a killed run left half done at this prefix is completed before the files are read.
-void settle(const std::string& prefix) {
-  if (const std::string done = partet::settle_publish(prefix); !done.empty()) partet::log::warning(done);
-}
-
-// Whether PATH's extension names `format`; `run` (if given) is then PATH without it.
-bool names_format(const std::string& path, partet::MeshFormat format, std::string* run = nullptr) {
-  partet::MeshFormat named;
-  std::string without;
-  if (!partet::split_format_extension(path, named, without) || named != format) return false;
-  if (run) *run = without;
-  return true;
-}
-
-// An MSH file PATH's run (PATH without .msh) may have been published at RUN or, for a partition
-// file PREFIX_i.msh, at PREFIX.
-void settle_msh(const std::string& path, const std::string& run) {
-  settle(run);
-  if (std::string parts; partet::partition_file_prefix(path, parts)) settle(parts);
-}
-
-// A set named by one of its files (an MSH, VTK or MEDIT file): its run may have been published
-// at PATH without its extension, or (an MSH partition file) at the set's prefix.
-void settle_named(const std::string& path) {
-  partet::MeshFormat format;
-  std::string run;
-  partet::split_format_extension(path, format, run);
-  format == partet::MeshFormat::msh ? settle_msh(path, run) : settle(run);
-}
-
-// The set to check: TetGen files at a prefix, or a set named by one of its files (mesh_read.hpp).
-partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
-  if (!partet::reads_mesh_file(prefix)) {
-    settle(prefix);
-    return partet::read_tetgen_set(prefix);
-  }
-  settle_named(prefix);
-  return partet::read_mesh_set(prefix);
-}
-
-int run_check(const std::string& input_path, const std::string& prefix, const std::string& report_path, bool json,
-              partet::BoundaryRule rule) {
-  std::optional<std::vector<partet::CutPlane>> planes;  // read first: a bad report fails before the work
-  if (!report_path.empty()) planes = report_cut_planes(report_path);
-  const partet::TetgenFileSet files = read_set_to_check(prefix);
-  const partet::CheckReport report = partet::check_mesh_files(partet::read_surface(input_path), files, rule);
-  const KnownZones zones = zone_quality(files.mesh, planes);
-  json ? print_check_json(report, zones) : print_check(report, zones);
-  return report.ok() ? 0 : 1;
-}
-
-// The check on every rank of the job, each its part: an XDMF set (alone: on one rank), or under a
-// launcher TetGen files or a set named by one of its files (MSH, VTK, MEDIT). Rank 0 prints.
-partet::DistributedCheckReport check_on_ranks(const std::string& input_path, const std::string& path) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  std::string run;
-  if (names_format(path, partet::MeshFormat::xdmf, &run)) {
-    if (rank == 0) settle(run);
-    MPI_Barrier(MPI_COMM_WORLD);
-    return partet::check_xdmf_set(MPI_COMM_WORLD, input_path, run);
-  }
-  const bool named = partet::reads_mesh_file(path);
-  if (rank == 0) named ? settle_named(path) : settle(path);
-  MPI_Barrier(MPI_COMM_WORLD);
-  return named ? partet::check_mesh_file_set(MPI_COMM_WORLD, input_path, path)
-               : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
-}
-
-int run_check_distributed(const std::string& input_path, const std::string& path, bool json) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const partet::DistributedCheckReport report = check_on_ranks(input_path, path);
-  if (rank != 0) return report.ok() ? 0 : 1;
-  if (json) {
-    std::printf("%s\n", nlohmann::json{{"ok", report.ok()},
-                                       {"violations", report.violations},
-                                       {"vertices", report.vertices},
-                                       {"tets", report.tets},
-                                       {"boundary_faces", report.boundary_faces},
-                                       {"tet_volume", report.tet_volume},
-                                       {"surface_volume", report.surface_volume},
-                                       {"euler_mesh", report.euler_mesh},
-                                       {"euler_expected", report.euler_expected},
-                                       {"quality", partet::quality_json(report.quality)}}
-                                .dump(2)
-                                .c_str());
-  } else {
-    int ranks = 1;
-    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    std::printf("%lld vertices, %lld tets, %lld boundary faces (checked on %d rank%s)\n",
-                static_cast<long long>(report.vertices), static_cast<long long>(report.tets),
-                static_cast<long long>(report.boundary_faces), ranks, ranks == 1 ? "" : "s");
-    std::printf("volume %.17g (input encloses %.17g), V-E+F-T %ld (expected %ld)\n", report.tet_volume,
-                report.surface_volume, report.euler_mesh, report.euler_expected);
-    print_quality(report.quality);
-    for (const auto& v : report.violations) std::printf("VIOLATION: %s\n", v.c_str());
-    std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
-  }
-  return report.ok() ? 0 : 1;
-}
-
-// This process's rank when an MPI launcher started it (before MPI_Init: from its environment).
-int launched_rank() {
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
-    if (const char* value = std::getenv(name)) return std::atoi(value);
-  return 0;
-}
-
-// How many ranks an MPI launcher started (before MPI_Init: from its environment); 1 without one.
-int launched_size() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
-    if (const char* value = std::getenv(name)) return std::atoi(value);
-  if (std::getenv("SLURM_PROCID"))  // started by srun
-    if (const char* value = std::getenv("SLURM_STEP_NUM_TASKS")) return std::atoi(value);
-  return 1;
-}
-
-// MPI_Init. Run alone (no launcher), the process talks only to itself: Open MPI is asked not to
-// start its helper daemon (partet never spawns or connects to other jobs) and to load no network
-// transport (probing for Omni-Path hardware alone sleeps about 0.1 s). Together they cost every
-// one-process run about 0.35 s. A user's own settings of these parameters are kept.
-void start_mpi(int& argc, char**& argv) {
-  bool launched = false;  // srun sets SLURM_PROCID in a batch script too: such runs keep the defaults
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
-    launched = launched || std::getenv(name);
-  if (!launched) {
-    ::setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
-    ::setenv("OMPI_MCA_pml", "ob1", 0);
-    ::setenv("OMPI_MCA_btl", "self", 0);
-  }
-  MPI_Init(&argc, &argv);
-}
-
-// A usage error: one line from the first rank, exit code 2. Under a launcher the other ranks
-// wait until it has said it (a barrier): one that exited first could make the launcher end the
-// job before the first rank has even started, and the user would see no reason.
-int usage_error(int argc, char** argv, const std::string& message) {
-  if (launched_rank() == 0) partet::log::error(message);
-  if (launched_size() > 1) {
-    start_mpi(argc, argv);
-    MPI_Barrier(MPI_COMM_WORLD);
-    MPI_Finalize();
-  }
-  return 2;
-}
-
-// Whether MPI can make its session directory under dir: the nearest existing ancestor (it makes
-// the missing ones) must be a directory this process may write.
-bool session_directory_possible(std::filesystem::path dir) {
-  std::error_code error;
-  while (!std::filesystem::exists(dir, error) && dir.has_relative_path()) dir = dir.parent_path();
-  return std::filesystem::is_directory(dir, error) && ::access(dir.c_str(), W_OK | X_OK) == 0;
-}
-
-// Without a launcher, MPI_Init keeps Open MPI's session files under TMPDIR (or TEMP, TMP, /tmp):
-// where that cannot be written it prints a page of errors and fails. Said here in one line
-// instead. Under mpirun or srun the launcher has already made that directory.
-std::string unwritable_session_directory() {
-  if (std::getenv("OMPI_COMM_WORLD_RANK") || std::getenv("PMIX_RANK") || std::getenv("OMPI_MCA_orte_tmpdir_base"))
-    return "";
-  for (const char* name : {"TMPDIR", "TEMP", "TMP"})
-    if (const char* dir = std::getenv(name); dir && *dir)
-      return session_directory_possible(std::filesystem::absolute(dir))
-                 ? ""
-                 : std::string(name) + "=" + dir + " is not a writable directory, and MPI keeps its session files " +
-                       "there: set " + name + " to one that is (e.g. " + name + "=/tmp)";
-  return session_directory_possible("/tmp")
-             ? ""
-             : "/tmp is not writable, and MPI keeps its session files there: set TMPDIR to a writable directory";
-}
-
-// partet check INPUT PREFIX.xdmf (or any set under a launcher): under MPI, each rank checking its
-// part (see check_on_ranks).
-int run_check_on_ranks(int argc, char** argv, const std::string& input, const std::string& path, bool json) {
-  if (const std::string problem = unwritable_session_directory(); !problem.empty()) {
-    partet::log::error(problem);
-    return 2;
-  }
-  start_mpi(argc, argv);
-  int code = 1;
-  try {
-    code = run_check_distributed(input, path, json);
-  } catch (const partet::InputError& e) {
-    // Every rank throws it (the ranks agree on a file that cannot be read): the first says why.
-    if (launched_rank() == 0) partet::log::error(e.what());
-  } catch (const std::exception& e) {
-    // This rank alone (out of memory in a check step, say): the others wait for it in the
-    // check's exchanges, so the job must end here, or it would wait forever.
-    int rank = 0;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    partet::log::error(dynamic_cast<const std::bad_alloc*>(&e)
-                           ? "out of memory on rank " + std::to_string(rank) +
-                                 ": run the check on more ranks (mpirun -n N partet check ...)"
-                           : std::string(e.what()) + " (on rank " + std::to_string(rank) + ")");
-    MPI_Abort(MPI_COMM_WORLD, 1);
-  }
-  MPI_Finalize();
-  return code;
-}
+using partet::cli::launched_rank;
+using partet::cli::launched_size;
+using partet::cli::names_format;
+using partet::cli::start_mpi;
+using partet::cli::unwritable_session_directory;
+using partet::cli::usage_error;
+using partet::cli::run_check;
+using partet::cli::run_check_on_ranks;
+using partet::cli::run_info;
 
 int run_mesh(int argc, char** argv, const partet::MeshJob& job) {
   if (const std::string problem = unwritable_session_directory(); !problem.empty()) {
@@ -562,140 +276,6 @@ CLI::App* add_info_command(CLI::App& app, CommandLine& c) {
   return info;
 }
 
-std::string bounds_text(const partet::Bounds& b) {
-  char text[200];
-  std::snprintf(text, sizeof text, "[%.6g, %.6g] x [%.6g, %.6g] x [%.6g, %.6g]", b.min[0], b.max[0], b.min[1],
-                b.max[1], b.min[2], b.max[2]);
-  return text;
-}
-
-nlohmann::json bounds_json(const partet::Bounds& b) { return {{"min", b.min}, {"max", b.max}}; }
-
-int print_surface_info(const std::string& path, bool json) {
-  const partet::SurfaceInfo i = partet::surface_info(partet::read_surface(path));
-  const char* yes[] = {"no", "yes"};
-  if (json) {
-    std::printf("%s\n", nlohmann::json{{"kind", "surface"}, {"vertices", i.vertices}, {"unused_vertices", i.unused_vertices},
-                                       {"faces", i.faces}, {"edges", i.edges}, {"bounds", bounds_json(i.bounds)},
-                                       {"shells", i.shells}, {"euler", i.euler}, {"genus", i.genus},
-                                       {"border_edges", i.border_edges}, {"non_manifold_edges", i.non_manifold_edges},
-                                       {"misoriented_edges", i.misoriented_edges},
-                                       {"volume", static_cast<double>(i.volume)},
-                                       {"self_intersection", i.self_intersection},
-                                       {"meshable", i.meshable()}}.dump(2).c_str());
-    return 0;
-  }
-  std::printf("surface %s: %lld vertices (%lld unused), %lld faces, %lld edges\n", path.c_str(),
-              static_cast<long long>(i.vertices), static_cast<long long>(i.unused_vertices),
-              static_cast<long long>(i.faces), static_cast<long long>(i.edges));
-  std::printf("bounds: %s\n", bounds_text(i.bounds).c_str());
-  std::printf("shells %lld, Euler characteristic %lld, genus %s\n", static_cast<long long>(i.shells),
-              static_cast<long long>(i.euler), i.genus < 0 ? "unknown (not closed, manifold and oriented)"
-                                                            : std::to_string(i.genus).c_str());
-  std::printf("closed %s (%lld border edges), manifold %s (%lld edges in 3+ faces), oriented %s (%lld edges)\n",
-              yes[i.closed()], static_cast<long long>(i.border_edges), yes[i.manifold()],
-              static_cast<long long>(i.non_manifold_edges), yes[i.oriented()],
-              static_cast<long long>(i.misoriented_edges));
-  if (i.closed() && i.oriented())
-    std::printf("enclosed volume %.9Lg (%s)\n", i.volume, i.volume > 0 ? "outward" : "inside out");
-  std::printf("self-intersections: %s\n", !i.self_intersection_checked ? "not checked (needs a closed, oriented surface)"
-                                           : i.self_intersection.empty() ? "none"
-                                                                         : i.self_intersection.c_str());
-  std::printf("meshable by partet: %s\n", yes[i.meshable()]);
-  return 0;
-}
-
-// A TetGen file set when FILE is PREFIX.node, PREFIX.ele or a PREFIX with PREFIX.node beside it.
-bool tet_mesh_prefix(const std::string& file, std::string& prefix) {
-  for (const char* ext : {".node", ".ele"}) {
-    const std::string e = ext;
-    if (file.size() > e.size() && file.compare(file.size() - e.size(), e.size(), e) == 0) {
-      prefix = file.substr(0, file.size() - e.size());
-      return true;
-    }
-  }
-  prefix = file;
-  std::error_code ec;
-  return std::filesystem::exists(file + ".node", ec);  // not opened here: a FIFO would block
-}
-
-// An XDMF set's tets, read in this process (parallel HDF5 needs MPI, on one rank here).
-partet::TetMesh read_xdmf_here(int argc, char** argv, const std::string& run) {
-  if (const std::string problem = unwritable_session_directory(); !problem.empty()) throw partet::Error(problem);
-  start_mpi(argc, argv);
-  partet::MeshTotals totals;
-  partet::MeshBlock block;
-  try {
-    block = partet::read_mesh_hdf5(MPI_COMM_SELF, run + ".h5", run + "_boundary.h5", totals);
-  } catch (...) {
-    MPI_Finalize();
-    throw;
-  }
-  MPI_Finalize();
-  if (block.points.size() > static_cast<std::size_t>(INT32_MAX) || block.tets.size() > static_cast<std::size_t>(INT32_MAX))
-    throw partet::InputError("'" + run + ".h5' holds more than 2^31 points or tets, more than one process can "
-                             "describe: check it on several ranks instead (mpirun -n N partet check INPUT " +
-                             run + ".xdmf)");
-  partet::TetMesh mesh;
-  mesh.points = std::move(block.points);
-  mesh.tets.reserve(block.tets.size());
-  for (const auto& t : block.tets) {
-    partet::Tet tet;
-    for (int j = 0; j < 4; ++j) {
-      if (t[j] < 0 || t[j] >= static_cast<std::int64_t>(mesh.points.size()))
-        throw partet::InputError("'" + run + ".h5' has a tet with point " + std::to_string(t[j]) + " of " +
-                                 std::to_string(mesh.points.size()));
-      tet[j] = static_cast<std::int32_t>(t[j]);
-    }
-    mesh.tets.push_back(tet);
-  }
-  return mesh;
-}
-
-// The tets FILE names, its publish settled first: TetGen files at PREFIX, a file of another format
-// partet writes (its set: a .pvtu index, MSH partitions), or an XDMF set.
-partet::TetMesh read_tet_mesh_to_describe(int argc, char** argv, const std::string& file, const std::string& prefix) {
-  std::string run;
-  if (names_format(file, partet::MeshFormat::xdmf, &run)) {
-    settle(run);
-    return read_xdmf_here(argc, argv, run);
-  }
-  if (partet::reads_mesh_file(file)) {
-    settle_named(file);
-    return std::move(partet::read_mesh_set(file).mesh);
-  }
-  settle(prefix);
-  return partet::read_tetgen_files(prefix);
-}
-
-int print_tet_mesh_info(const partet::TetMesh& mesh, const std::string& prefix, bool json) {
-  const partet::TetMeshInfo i = partet::tet_mesh_info(mesh);
-  if (json) {
-    std::printf("%s\n", nlohmann::json{{"kind", "tet mesh"}, {"vertices", i.vertices}, {"tets", i.tets},
-                                       {"boundary_faces", i.boundary_faces}, {"solids", i.solids},
-                                       {"bounds", bounds_json(i.bounds)}, {"volume", static_cast<double>(i.volume)},
-                                       {"inverted_tets", i.inverted_tets},
-                                       {"quality", partet::quality_json(i.quality)}}.dump(2).c_str());
-    return 0;
-  }
-  std::printf("tet mesh %s: %lld vertices, %lld tets, %lld boundary faces, %lld solid%s\n", prefix.c_str(),
-              static_cast<long long>(i.vertices), static_cast<long long>(i.tets),
-              static_cast<long long>(i.boundary_faces), static_cast<long long>(i.solids), i.solids == 1 ? "" : "s");
-  std::printf("bounds: %s\n", bounds_text(i.bounds).c_str());
-  std::printf("volume %.9Lg (%lld inverted or flat tets)\n", i.volume, static_cast<long long>(i.inverted_tets));
-  std::printf("quality: %s\n", partet::quality_line(i.quality).c_str());
-  return 0;
-}
-
-int run_info(int argc, char** argv, const CommandLine& c) {
-  std::string prefix;
-  const bool tetgen = tet_mesh_prefix(c.info_file, prefix);
-  if (!tetgen && !partet::reads_mesh_file(c.info_file) && !names_format(c.info_file, partet::MeshFormat::xdmf))
-    return print_surface_info(c.info_file, c.info_json);
-  const std::string shown = tetgen ? prefix : c.info_file;
-  return print_tet_mesh_info(read_tet_mesh_to_describe(argc, argv, c.info_file, prefix), shown, c.info_json);
-}
-
 CLI::App* add_refine_command(CLI::App& app, CommandLine& c) {
   auto* refine = app.add_subcommand("refine-surface",
                                     "Loop-subdivide a closed surface (each step: 4x the faces), e.g. to make a large "
@@ -804,7 +384,7 @@ int main(int argc, char** argv) {
                        c.check_split ? partet::BoundaryRule::split_allowed : partet::BoundaryRule::exact);
     if (*generate) return run_generate(c);
     if (*refine) return run_refine(c);
-    if (*info) return run_info(argc, argv, c);
+    if (*info) return run_info(argc, argv, c.info_file, c.info_json);
   } catch (const partet::OptionError& e) {
     partet::log::error(e.what());
     return 2;  // what the command line asks for cannot be done

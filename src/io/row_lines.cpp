@@ -64,9 +64,21 @@ void vtu_values(Sink& out, RowLines lines, const RowsToFormat& rows) {
   }
 }
 
+// TetGen's .neigh lines, as tetgen_files.hpp formats them, from 64-bit rows.
+template <class Sink>
+void neighbour_lines(Sink& out, const RowsToFormat& rows) {
+  for (std::size_t i = 0; i < rows.count; ++i) {
+    out.integer(rows.first + static_cast<std::int64_t>(i));
+    for (std::int64_t n : row_at<std::array<std::int64_t, 4>>(rows, i)) out.space(), out.integer(n);
+    out.newline();
+  }
+}
+
 template <class Sink>
 void format_rows(Sink& out, RowLines lines, const RowsToFormat& rows) {
   switch (lines) {
+    case RowLines::tetgen_neigh:
+      return neighbour_lines(out, rows);
     case RowLines::vtu_points:
     case RowLines::vtu_connectivity:
     case RowLines::vtu_piece:
@@ -89,20 +101,21 @@ void format_rows(Sink& out, RowLines lines, const RowsToFormat& rows) {
 }
 
 TetgenFile tetgen_file(RowLines lines) {
-  return lines == RowLines::tetgen_node  ? TetgenFile::node
-         : lines == RowLines::tetgen_ele ? TetgenFile::ele
-                                         : TetgenFile::neigh;
+  return lines == RowLines::tetgen_node ? TetgenFile::node : TetgenFile::ele;
 }
 
-bool is_tetgen(RowLines lines) {
-  return lines == RowLines::tetgen_node || lines == RowLines::tetgen_ele || lines == RowLines::tetgen_neigh;
-}
+// The rows TetGen's own formatter writes (the .neigh rows are wider than its int32 ones).
+bool is_tetgen(RowLines lines) { return lines == RowLines::tetgen_node || lines == RowLines::tetgen_ele; }
 
 }  // namespace
 
 bool formats_points(RowLines lines) {
   return lines == RowLines::tetgen_node || lines == RowLines::medit_vertex || lines == RowLines::msh_node ||
          lines == RowLines::msh_node_binary || lines == RowLines::vtu_points;
+}
+
+std::size_t row_bytes(RowLines lines) {
+  return formats_points(lines) ? sizeof(Point3) : lines == RowLines::tetgen_neigh ? 4 * sizeof(std::int64_t) : sizeof(Tet);
 }
 
 void append_row_lines(std::string& text, RowLines lines, const RowsToFormat& rows) {
@@ -129,8 +142,7 @@ void write_row_lines(ByteSink& out, RowLines lines, const RowsToFormat& rows) {
     RowsToFormat part = rows;
     part.count = std::min(kRows, rows.count - from);
     part.first += static_cast<std::int64_t>(from);
-    const std::size_t row = formats_points(lines) ? sizeof(Point3) : sizeof(Tet);
-    part.data = static_cast<const char*>(rows.data) + from * row;
+    part.data = static_cast<const char*>(rows.data) + from * row_bytes(lines);
     if (rows.region) part.region = rows.region + from;
     if (rows.piece) part.piece = rows.piece + from;
     text.clear();

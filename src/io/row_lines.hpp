@@ -16,7 +16,7 @@ class BufferedFile;
 enum class RowLines : std::uint8_t {
   tetgen_node,      // "i x y z"
   tetgen_ele,       // "i a b c d" (from 0)
-  tetgen_neigh,     // "i a b c d" (tets, -1: none)
+  tetgen_neigh,     // "i a b c d" (tets, -1: none; rows of 4 int64: a mesh may have 2^31 tets or more)
   medit_vertex,     // "x y z 0"
   medit_tet,        // "a b c d region" (from 1)
   msh_node,         // "x y z " (the node tags are written apart)
@@ -30,8 +30,11 @@ enum class RowLines : std::uint8_t {
 };
 inline constexpr int kRowLinesKinds = 13;
 
-// Whether the rows are points (Point3) or tets (Tet).
+// Whether the rows are points (Point3) or tets (Tet; tetgen_neigh: 4 int64).
 bool formats_points(RowLines lines);
+
+// The bytes of one row as RowsToFormat packs it.
+std::size_t row_bytes(RowLines lines);
 
 // A run of rows, packed where they are kept: `count` points or tets from row `first` of the file.
 struct RowsToFormat {

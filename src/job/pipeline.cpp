@@ -459,16 +459,22 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   return result;
 }
 
+bool assembles_to_check(double available_bytes, double needed_bytes, std::size_t tets) {
+  // Half of int32's range: healing still adds tets to the count known here.
+  constexpr std::size_t kMostTets = std::size_t{1} << 30;
+  return needed_bytes > 0 && available_bytes >= needed_bytes && tets <= kMostTets;
+}
+
 namespace {
 
 // Whether the mesh is left where its parts are (when it can be: heal_band), decided once the
-// pieces are meshed, when this process's memory is known.
-bool leaves_spread(const MeshOptions& options) {
+// pieces are meshed (about `tets` of them), when this process's memory is known.
+bool leaves_spread(const MeshOptions& options, std::size_t tets) {
   if (!options.spread_output) return false;
   const double needed = options.assemble_if_available_bytes;
   if (needed <= 0) return true;
   const double available = test_hooks::available_mb_for_check(available_memory_mb()) * 1048576.0;
-  if (available < needed) return true;
+  if (!assembles_to_check(available, needed, tets)) return true;
   log::debug("assembling the mesh to check it in memory: " + std::to_string(static_cast<long>(available / 1048576)) +
              " MB available, " + std::to_string(static_cast<long>(needed / 1048576)) + " MB needed");
   return false;
@@ -481,8 +487,9 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   StageTimer timer(times);
   MeshResult result;
   RegionMeshers meshers(options, scheduler);
+  const bool spread = leaves_spread(options, band.tets.size() + welder.bulk_tet_count());
   result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(),
-                          result.seam, leaves_spread(options) ? &result.spread : nullptr, options.spread_neighbours);
+                          result.seam, spread ? &result.spread : nullptr, options.spread_neighbours);
   timer.lap("seam_healing");
   finish_healed(input, prepared, options, meshers, timer, result);
   return result;

@@ -207,6 +207,13 @@ TetMesh weld_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& 
 // 5. Heal the seams on the band alone, then join it to the bulks the welder kept.
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, Welder& welder, TetMesh&& band,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
+
+// Whether a mesh that may stay on its ranks is assembled after all, to be checked in memory
+// (MeshOptions::assemble_if_available_bytes): when this process has the bytes it needs, and the
+// mesh, about `tets` tets, has at most 2^30 (an assembled mesh numbers its tets in int32; a larger
+// one is checked in its files by the ranks, whatever the memory).
+bool assembles_to_check(double available_bytes, double needed_bytes, std::size_t tets);
+
 // 4-5. Weld the pieces' meshes (consumed: each is freed once welded; ordered by piece index) and
 // heal the seams, the regions meshed in this process, one after another.
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,

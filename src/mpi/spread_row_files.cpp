@@ -278,7 +278,7 @@ class SpreadRowsWrite {
       return write_row_lines(out, lines, {own_points(run).data() + run.from, count, run.first, number_from});
     if (lines == RowLines::tetgen_neigh) {
       return in_chunks(count, [&](std::size_t from, std::size_t n) {
-        const std::vector<Tet> rows =
+        const std::vector<NeighbourRow> rows =
             run.bulk ? neighbour_rows(run.bulk->block.neighbours, run.bulk->first_tet, run.bulk->across, from, n)
                      : neighbour_rows(mesh_.band_neighbours, mesh_.first_band_tet, mesh_.band_across, from, n);
         write_row_lines(out, lines, {rows.data(), n, run.first + static_cast<std::int64_t>(from), number_from});

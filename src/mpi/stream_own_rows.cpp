@@ -162,7 +162,7 @@ class RunChunks {
       return append_row_lines(chunk, order_.lines,
                               {block.steiner_points.data() + from_, n, place.first_point + from, order_.number_from});
     RowsToFormat rows{block.tets.data() + from_, n, place.first_tet + from, order_.number_from};
-    std::vector<Tet> neighbours;
+    std::vector<NeighbourRow> neighbours;
     if (order_.lines == RowLines::tetgen_neigh) {
       if (!across_[run_] || test_hooks::block_lost(my_rank()))
         throw OutputError("rank " + std::to_string(my_rank()) + " did not receive the faces its bulk of piece " +

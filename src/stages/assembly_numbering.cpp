@@ -18,9 +18,12 @@ std::vector<std::int64_t> before_each(const std::vector<std::int64_t>& counts) {
 }  // namespace
 
 void check_int32_sizes(std::size_t tets, std::size_t points) {
-  if (tets > static_cast<std::size_t>(INT32_MAX) || points > static_cast<std::size_t>(INT32_MAX))
+  if (points > static_cast<std::size_t>(INT32_MAX))
+    throw MeshingError(FailureKind::other, -1, "the mesh has more than 2^31 points; this version numbers points with int32");
+  if (tets > static_cast<std::size_t>(INT32_MAX))
     throw MeshingError(FailureKind::other, -1,
-                       "the merged mesh has more than 2^31 tetrahedra or points; this version numbers them with int32");
+                       "the mesh has more than 2^31 tetrahedra, more than one process can hold as one mesh (it numbers "
+                       "them with int32); a run on several ranks that needs no assembled mesh writes it from its parts");
 }
 
 AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused)

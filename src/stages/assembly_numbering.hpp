@@ -10,8 +10,9 @@
 
 namespace partet {
 
-// Throws MeshingError when the merged mesh would have more than 2^31 tets or points (its ids are
-// int32).
+// Throws MeshingError when a mesh would have more than 2^31 points, or a mesh held in one process
+// (or a block of one) more than 2^31 tets: their ids are int32. A mesh left on its ranks may have
+// more tets (check with tets 0): its rows and neighbours are 64-bit.
 void check_int32_sizes(std::size_t tets, std::size_t points);
 
 // Welded ids: the split surface's points [0, S), then piece p's Steiner points from

@@ -598,7 +598,7 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   SpreadMesh mesh;
   mesh.points = numbering.point_count();
   mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count());
-  check_int32_sizes(static_cast<std::size_t>(mesh.tets), static_cast<std::size_t>(mesh.points));
+  check_int32_sizes(0, static_cast<std::size_t>(mesh.points));  // 2^31 tets or more: 64-bit rows
   // 1. Rank 0's points.
   spread_points(numbering, first_steiner_, healed_band, mesh);
   // 2. The bulks, numbered where they are, in piece order, and their links.

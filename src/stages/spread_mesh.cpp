@@ -104,16 +104,16 @@ std::vector<std::vector<FaceAcross>> faces_across_blocks(const std::vector<Block
   return across;
 }
 
-std::vector<Tet> neighbour_rows(const std::vector<Tet>& neighbours, std::int64_t first_row,
-                                const std::vector<FaceAcross>& across, std::size_t from, std::size_t count) {
-  std::vector<Tet> rows(neighbours.begin() + static_cast<std::ptrdiff_t>(from),
-                        neighbours.begin() + static_cast<std::ptrdiff_t>(from + count));
-  for (Tet& row : rows)
-    for (auto& n : row)
-      if (n >= 0) n = static_cast<std::int32_t>(n + first_row);
+std::vector<NeighbourRow> neighbour_rows(const std::vector<Tet>& neighbours, std::int64_t first_row,
+                                         const std::vector<FaceAcross>& across, std::size_t from, std::size_t count) {
+  std::vector<NeighbourRow> rows(count);
+  for (std::size_t i = 0; i < count; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const std::int32_t n = neighbours[from + i][j];
+      rows[i][j] = n >= 0 ? first_row + n : -1;
+    }
   auto at = std::lower_bound(across.begin(), across.end(), FaceAcross{4 * from, 0});
-  for (; at != across.end() && at->face < 4 * (from + count); ++at)
-    rows[at->face / 4 - from][at->face % 4] = static_cast<std::int32_t>(at->tet);
+  for (; at != across.end() && at->face < 4 * (from + count); ++at) rows[at->face / 4 - from][at->face % 4] = at->tet;
   return rows;
 }
 

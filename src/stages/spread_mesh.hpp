@@ -52,10 +52,14 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
 std::vector<std::vector<FaceAcross>> faces_across_blocks(const std::vector<BlockLinks>& blocks,
                                                          const std::vector<std::int64_t>& first_row);
 
+// A tet's four neighbours as rows of the whole mesh (-1: none). In 64 bits: a spread mesh may have
+// more than 2^31 tets, though each block numbers its own in 32.
+using NeighbourRow = std::array<std::int64_t, 4>;
+
 // Rows [from, from + count) of a block's neighbours in output ids: its own (local) neighbours
 // moved to its first row, and the tets across its faces shared with other blocks; -1 elsewhere.
-std::vector<Tet> neighbour_rows(const std::vector<Tet>& neighbours, std::int64_t first_row,
-                                const std::vector<FaceAcross>& across, std::size_t from, std::size_t count);
+std::vector<NeighbourRow> neighbour_rows(const std::vector<Tet>& neighbours, std::int64_t first_row,
+                                         const std::vector<FaceAcross>& across, std::size_t from, std::size_t count);
 
 // One bulk of a spread mesh: its rows, and the bulk itself when rank 0 keeps it.
 struct SpreadBulk {
