@@ -13,10 +13,10 @@
 #include "cli/published_sets.hpp"
 #include "common/log.hpp"
 #include "io/mesh_read.hpp"
+#include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
 #include "mpi/distributed_check.hpp"
 #include "partet/errors.hpp"
-#include "io/read_surface.hpp"
 #include "stages/quality.hpp"
 #include "stages/quality_json.hpp"
 
@@ -91,18 +91,24 @@ void print_check(const partet::CheckReport& report, const KnownZones& zones) {
   std::printf("%s\n", report.ok() ? "check passed" : "check FAILED");
 }
 
+// What --json prints of either check's report (a check in one process adds its own fields).
+template <class Report>
+nlohmann::json check_json(const Report& report) {
+  return {{"ok", report.ok()},
+          {"violations", report.violations},
+          {"vertices", report.vertices},
+          {"tets", report.tets},
+          {"boundary_faces", report.boundary_faces},
+          {"tet_volume", report.tet_volume},
+          {"surface_volume", report.surface_volume},
+          {"euler_mesh", report.euler_mesh},
+          {"euler_expected", report.euler_expected},
+          {"quality", partet::quality_json(report.quality)}};
+}
+
 void print_check_json(const partet::CheckReport& report, const KnownZones& zones) {
-  nlohmann::json json = {{"ok", report.ok()},
-                         {"violations", report.violations},
-                         {"vertices", report.vertices},
-                         {"tets", report.tets},
-                         {"boundary_faces", report.boundary_faces},
-                         {"split_input_faces", report.split_input_faces},
-                         {"tet_volume", report.tet_volume},
-                         {"surface_volume", report.surface_volume},
-                         {"euler_mesh", report.euler_mesh},
-                         {"euler_expected", report.euler_expected},
-                         {"quality", partet::quality_json(report.quality)}};
+  nlohmann::json json = check_json(report);
+  json["split_input_faces"] = report.split_input_faces;
   if (zones) {
     json["seam_zone_quality"] = partet::quality_json(zones->seam);
     json["elsewhere_quality"] = partet::quality_json(zones->elsewhere);
@@ -144,18 +150,7 @@ int run_check_distributed(const std::string& input_path, const std::string& path
   const partet::DistributedCheckReport report = check_on_ranks(input_path, path);
   if (rank != 0) return report.ok() ? 0 : 1;
   if (json) {
-    std::printf("%s\n", nlohmann::json{{"ok", report.ok()},
-                                       {"violations", report.violations},
-                                       {"vertices", report.vertices},
-                                       {"tets", report.tets},
-                                       {"boundary_faces", report.boundary_faces},
-                                       {"tet_volume", report.tet_volume},
-                                       {"surface_volume", report.surface_volume},
-                                       {"euler_mesh", report.euler_mesh},
-                                       {"euler_expected", report.euler_expected},
-                                       {"quality", partet::quality_json(report.quality)}}
-                                .dump(2)
-                                .c_str());
+    std::printf("%s\n", check_json(report).dump(2).c_str());
   } else {
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
