@@ -102,8 +102,38 @@ TEST(Weld, SizesPastInt32AreRefusedWithTheirReason) {
     return std::string("no error");
   };
   EXPECT_NE(message(0, past).find("more than 2^31 points"), std::string::npos) << message(0, past);
+  EXPECT_NE(message(0, past).find("several ranks"), std::string::npos) << message(0, past);
   EXPECT_NE(message(past, most).find("more than 2^31 tetrahedra"), std::string::npos) << message(past, most);
   EXPECT_NE(message(past, most).find("several ranks"), std::string::npos) << message(past, most);
+}
+
+// A bulk keeps 32-bit ids however many points the mesh has: numbered, the split surface's points
+// that stay keep theirs (fewer below a point that goes), its own Steiner points that stay follow
+// them, and its ids name the mesh's points, here past 2^31.
+TEST(Weld, ABulkNumberedPastTwoToThe31PointsKeepsCompactIds) {
+  BulkNumbering share;
+  share.split_points = 10, share.dropped_split = {3};
+  share.first_steiner = std::int64_t{3} << 31, share.dropped_steiner = {1};
+  EXPECT_EQ(share.kept_split(), 9);
+  // As the rank that split the piece numbered it: its Steiner point i is 20 + i.
+  TetBlock bulk;
+  bulk.steiner_points = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
+  bulk.tets = {{0, 2, 20, 22}, {4, 9, 22, 5}};
+  number_bulk(bulk, share, 20);
+  EXPECT_TRUE(bulk.numbered);
+  EXPECT_EQ(bulk.tets, (std::vector<Tet>{{0, 2, 9, 10}, {3, 8, 10, 4}}));
+  EXPECT_EQ(bulk.steiner_points, (std::vector<Point3>{{0, 0, 0}, {2, 2, 2}}));
+  const std::int64_t first = std::int64_t{3} << 31;  // 6442450944
+  EXPECT_EQ(bulk.ids(bulk.tets[0]), (GlobalTet{0, 2, first, first + 1}));
+  EXPECT_EQ(bulk.ids(bulk.tets[1]), (GlobalTet{3, 8, first + 1, 4}));
+  // Numbered once: a second call changes nothing.
+  number_bulk(bulk, share, 20);
+  EXPECT_EQ(bulk.tets, (std::vector<Tet>{{0, 2, 9, 10}, {3, 8, 10, 4}}));
+  // A tet using a point that goes.
+  TetBlock wrong;
+  wrong.steiner_points = bulk.steiner_points;
+  wrong.tets = {{0, 3, 20, 21}};
+  EXPECT_THROW(number_bulk(wrong, share, 20), InternalError);
 }
 
 TEST(Weld, PiecesOfGeneratedShapes) {

@@ -106,7 +106,7 @@ TEST(MshBoundaryParts, BlocksAndFacesByVertexSetsGiveTheAssembledPartitions) {
   for (int partition : {0, 1}) {
     head.partition = static_cast<std::uint64_t>(partition) + 1;
     const std::vector<Tet> none;
-    const MshPartTets tets{1, [&](std::size_t) -> const Tet& { return partition == 0 ? first[0] : second[0]; },
+    const MshPartTets tets{1, [&](std::size_t) { return PointIds{}(partition == 0 ? first[0] : second[0]); },
                            [&](std::size_t) { return rows[0] - (partition == 0); }};
     const MshPartArrays part = msh_part_arrays(head, tets, boundary.rows(partition), point);
     const MshPartView expected = assembled.of(partition == 0 ? 0 : -1);

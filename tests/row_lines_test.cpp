@@ -2,6 +2,7 @@
 // join to the whole, the numbers are those of the file's rows, and tets past 2^31 are named in full.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -127,6 +128,65 @@ TEST(RowLines, NeighboursPastTwoToThe31AreWrittenInFull) {
     out.close();
   }
   std::ifstream in(path, std::ios::binary);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), text);
+}
+
+// A spread mesh may have 2^31 points or more (each block fewer): a bulk's tets in compact ids
+// (its own Steiner points from 9 on, the mesh's from 3 * 2^31) and the band's (through a table)
+// are written in the mesh's ids, in every tet format, as a string, a file and a sink.
+TEST(RowLines, TetsOfPointsPastTwoToThe31AreWrittenInFull) {
+  const std::int64_t first_point = std::int64_t{3} << 31;  // 6442450944
+  Rows rows;
+  rows.tets = {{0, 2, 9, 10}, {3, 8, 10, 4}};
+  rows.region = {1, 2};
+  RowsToFormat bulk = run(RowLines::tetgen_ele, rows, 0, 2, 100);
+  bulk.ids = {9, first_point - 9, nullptr};
+  EXPECT_EQ(text_of(RowLines::tetgen_ele, bulk), "0 0 2 6442450944 6442450945\n1 3 8 6442450945 4\n");
+  EXPECT_EQ(text_of(RowLines::medit_tet, bulk), "1 3 6442450945 6442450946 1\n4 9 6442450946 5 2\n");
+  EXPECT_EQ(text_of(RowLines::msh_tet, bulk), "100 1 3 6442450945 6442450946 \n101 4 9 6442450946 5 \n");
+  const auto words = [](const std::string& bytes) {
+    std::vector<std::int64_t> values(bytes.size() / 8);
+    std::memcpy(values.data(), bytes.data(), 8 * values.size());
+    return values;
+  };
+  EXPECT_EQ(words(text_of(RowLines::msh_tet_binary, bulk)),
+            (std::vector<std::int64_t>{100, 1, 3, first_point + 1, first_point + 2, 101, 4, 9, first_point + 2, 5}));
+  EXPECT_EQ(words(text_of(RowLines::vtu_connectivity, bulk)),
+            (std::vector<std::int64_t>{0, 2, first_point, first_point + 1, 3, 8, first_point + 1, 4}));
+  // The band: ids from 2 through its table.
+  const std::vector<std::int64_t> table{std::int64_t{5} << 32, (std::int64_t{5} << 32) + 3};
+  Rows band;
+  band.tets = {{0, 1, 2, 3}};
+  RowsToFormat through_table = run(RowLines::tetgen_ele, band, 0, 1);
+  through_table.ids = {2, 0, table.data()};
+  EXPECT_EQ(text_of(RowLines::tetgen_ele, through_table), "0 0 1 21474836480 21474836483\n");
+  // Ids that fit 32 bits give the text of the same tets in the mesh's ids (TetGen's own formatter).
+  Rows near = rows;
+  for (Tet& t : near.tets)
+    for (std::int32_t& v : t) v = v < 9 ? v : v + 91;
+  RowsToFormat shifted = run(RowLines::tetgen_ele, rows, 0, 2);
+  shifted.ids = {9, 91, nullptr};
+  for (RowLines lines : {RowLines::tetgen_ele, RowLines::medit_tet, RowLines::msh_tet, RowLines::vtu_connectivity})
+    EXPECT_EQ(text_of(lines, shifted), text_of(lines, run(lines, near, 0, 2))) << static_cast<int>(lines);
+  // A file and a sink (a chunk of 2^16 rows at a time) get the string's bytes.
+  Rows many;
+  for (std::int32_t i = 0; i < 70000; ++i) many.tets.push_back({i % 9, (i + 1) % 9, 9 + i % 50, 9 + (i + 7) % 50});
+  RowsToFormat all = run(RowLines::tetgen_ele, many, 0, many.tets.size());
+  all.ids = {9, first_point - 9, nullptr};
+  struct Collected : ByteSink {
+    std::string text;
+    void bytes(const void* data, std::size_t size) override { text.append(static_cast<const char*>(data), size); }
+  } sink;
+  write_row_lines(sink, RowLines::tetgen_ele, all);
+  const std::string path = test::temp_dir("row_lines_points") + "/ele";
+  {
+    BufferedFile out(path);
+    write_row_lines(out, RowLines::tetgen_ele, all);
+    out.close();
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::string text = text_of(RowLines::tetgen_ele, all);
+  EXPECT_EQ(sink.text, text);
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), text);
 }
 

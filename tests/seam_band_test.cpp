@@ -189,16 +189,17 @@ void expect_piece_files_as_assembled(const SpreadMesh& spread, const TetMesh& wh
   EXPECT_EQ(piece_values(spread), values);
   for (int piece : piece_values(spread)) {
     SCOPED_TRACE("piece " + std::to_string(piece));
-    std::vector<Tet> band;
+    std::vector<GlobalTet> band;
     std::vector<std::int32_t> band_solid, bulk_solid, bulk_piece;
     band_tets_of(spread, piece, band, band_solid);
+    const CompactTets compact = compact_tets(band);
     std::vector<TetsWithRegion> blocks;
     for (const SpreadBulk& bulk : spread.bulks)
       if (bulk.piece == piece) {
         bulk_columns(bulk.block, bulk, bulk_solid, bulk_piece);
-        blocks.push_back({&bulk.block.tets, &bulk_solid});
+        blocks.push_back({&bulk.block.tets, &bulk_solid, bulk.block.ids});
       }
-    blocks.push_back({&band, &band_solid});
+    blocks.push_back({&compact.tets, &band_solid, compact.ids()});
     const VtuCells cells = piece_file_cells(piece, blocks);
     std::vector<Tet> expected, made;
     std::vector<std::int32_t> expected_region;
@@ -220,7 +221,7 @@ void expect_piece_files_as_assembled(const SpreadMesh& spread, const TetMesh& wh
   SpreadMesh rank0 = spread;  // as if every bulk were kept elsewhere
   for (SpreadBulk& bulk : rank0.bulks) bulk.here = false, bulk.block = TetBlock();
   for (const Tet& t : spread.band_tets)
-    for (std::int32_t v : t) ASSERT_EQ(point_of(rank0, v), whole.points[v]);
+    for (std::int64_t v : spread.band_ids()(t)) ASSERT_EQ(point_of(rank0, v), whole.points[v]);
 }
 }  // namespace
 
@@ -263,7 +264,14 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
           ASSERT_TRUE(bulk.here);  // no store: every bulk stayed in the welder
           ASSERT_EQ(static_cast<std::int64_t>(bulk.block.steiner_points.size()), bulk.points);
           std::copy(bulk.block.steiner_points.begin(), bulk.block.steiner_points.end(), points.begin() + bulk.first_point);
-          std::copy(bulk.block.tets.begin(), bulk.block.tets.end(), tets.begin() + bulk.first_tet);
+          // Compact ids: the split surface's points that stay, then the bulk's own from there.
+          ASSERT_EQ(bulk.block.ids.from, static_cast<std::int32_t>(spread.split_points.size()));
+          ASSERT_EQ(bulk.block.ids(bulk.block.ids.from), bulk.first_point);
+          for (std::size_t t = 0; t < bulk.block.tets.size(); ++t)
+            for (int j = 0; j < 4; ++j) {
+              ASSERT_LT(bulk.block.tets[t][j], bulk.block.ids.from + bulk.points);
+              tets[bulk.first_tet + t][j] = static_cast<std::int32_t>(bulk.block.ids(bulk.block.tets[t][j]));
+            }
           std::vector<std::int32_t> bulk_solid, bulk_piece;
           bulk_columns(bulk.block, bulk, bulk_solid, bulk_piece);
           std::copy(bulk_solid.begin(), bulk_solid.end(), solid.begin() + bulk.first_tet);
@@ -271,7 +279,12 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
           add_neighbours(bulk.block.neighbours, bulk.first_tet, bulk.across);
         }
         add_neighbours(spread.band_neighbours, spread.first_band_tet, spread.band_across);
-        std::copy(spread.band_tets.begin(), spread.band_tets.end(), tets.begin() + spread.first_band_tet);
+        ASSERT_EQ(spread.band_point_ids.size(),
+                  spread.band_steiner_ids.size() + spread.healing_points.size());  // healing's are all used
+        for (std::size_t t = 0; t < spread.band_tets.size(); ++t) {
+          const GlobalTet g = spread.band_ids()(spread.band_tets[t]);
+          for (int j = 0; j < 4; ++j) tets[spread.first_band_tet + t][j] = static_cast<std::int32_t>(g[j]);
+        }
         std::copy(spread.band_solid.begin(), spread.band_solid.end(), solid.begin() + spread.first_band_tet);
         std::copy(spread.band_piece.begin(), spread.band_piece.end(), piece.begin() + spread.first_band_tet);
         EXPECT_EQ(points, whole.points);
@@ -432,17 +445,17 @@ TEST(SeamBand, EachBulkNumberedWithItsShareIsItsPartOfTheAssembledMesh) {
       for (std::size_t p = 0; p < shares.size(); ++p) {
         const TetBlock& bulk = store.at(static_cast<int>(p));
         for (std::size_t t = 0; t < bulk.tets.size(); ++t) {
-          Tet numbered = bulk.tets[t];
-          for (auto& v : numbered) v = shares[p](v);
+          Tet numbered = bulk.tets[t];  // compact ids, then the mesh's
+          for (auto& v : numbered) v = static_cast<std::int32_t>(shares[p].ids()(shares[p](v)));
           ASSERT_EQ(numbered, mesh.tets[first + t]) << "piece " << p << " tet " << t;
         }
         first += bulk.tets.size();
         for (std::size_t i = 0; i < bulk.steiner_points.size(); ++i) {
-          const std::int32_t to = shares[p](static_cast<std::int32_t>(split.points.size() + i));
-          if (to < 0)
+          const std::int32_t compact = shares[p](static_cast<std::int32_t>(split.points.size() + i));
+          if (compact < 0)
             ++dropped;
           else
-            EXPECT_EQ(mesh.points[to], bulk.steiner_points[i]);
+            EXPECT_EQ(mesh.points[shares[p].ids()(compact)], bulk.steiner_points[i]);
         }
       }
       EXPECT_LT(first, mesh.tets.size());  // the band follows

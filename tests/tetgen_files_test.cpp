@@ -318,6 +318,27 @@ TEST(TetgenFiles, FingerprintsOfRunsJoinedInOrderGiveTheWholeSetsId) {
   EXPECT_NE(mesh_id(mesh, faces), mesh_id(points, tets, triangles));
 }
 
+// A block's tets in compact ids have the fingerprint of their rows in the mesh's ids: the same as
+// the packed rows below 2^31 (so a spread mesh's ID is the assembled mesh's), and past 2^32 the
+// high bits count.
+TEST(TetgenFiles, TetsInCompactIdsHaveTheFingerprintOfTheirRows) {
+  std::vector<Tet> compact, mapped;
+  for (std::int32_t i = 0; i < 3000; ++i) {  // past one block of the fingerprint's words
+    compact.push_back({i % 9, (i * 7) % 9, 9 + i % 40, 9 + (i * 3) % 40});
+    Tet& t = mapped.emplace_back(compact.back());
+    for (std::int32_t& v : t) v = v < 9 ? v : v + 1000;
+  }
+  const RowsFingerprint through = fingerprint_tets(compact, {9, 1000, nullptr});
+  const RowsFingerprint packed = fingerprint_rows(TetgenFile::ele, mapped);
+  EXPECT_EQ(through.hash, packed.hash);
+  EXPECT_EQ(through.words, packed.words);
+  EXPECT_EQ(fingerprint_tets(mapped, {}).hash, packed.hash);
+  // Past 2^32 the ids are not those of 2^32 less.
+  const RowsFingerprint far = fingerprint_tets(compact, {9, (std::int64_t{1} << 32) + 1000, nullptr});
+  EXPECT_NE(far.hash, through.hash);
+  EXPECT_EQ(far.words, through.words);
+}
+
 TEST(TetgenFiles, LargeMeshRoundTrip) {
   // Enough rows to cross the write buffer's flush boundary many times.
   std::string dir = test::temp_dir("tetgen_large");

@@ -109,21 +109,25 @@ class FirstUseIds {
     std::size_t refs = 0;
     for (const TetsWithRegion& block : blocks)
       for (const Tet& t : *block.tets)
-        for (std::int32_t v : t) low_ = std::min(low_, v), high_ = std::max(high_, v), ++refs;
+        for (std::int32_t v : t) {
+          const std::int64_t id = block.ids(v);
+          low_ = std::min(low_, id), high_ = std::max(high_, id), ++refs;
+        }
     if (refs == 0) return;
-    const auto span = static_cast<std::size_t>(high_ - low_) + 1;
-    if (span <= 8 * refs) {
-      by_offset_.assign(span, -1);
+    const auto span = static_cast<std::uint64_t>(high_ - low_) + 1;
+    if (span <= 8 * static_cast<std::uint64_t>(refs)) {
+      by_offset_.assign(static_cast<std::size_t>(span), -1);
       return;
     }
     for (const TetsWithRegion& block : blocks)
-      for (const Tet& t : *block.tets) sorted_.insert(sorted_.end(), t.begin(), t.end());
+      for (const Tet& t : *block.tets)
+        for (std::int32_t v : t) sorted_.push_back(block.ids(v));
     std::sort(sorted_.begin(), sorted_.end());
     sorted_.erase(std::unique(sorted_.begin(), sorted_.end()), sorted_.end());
     by_place_.assign(sorted_.size(), -1);
   }
-  // Point v's new id, given it now when it has none.
-  std::int64_t operator()(std::int32_t v, std::vector<std::int64_t>& global_ids) {
+  // The new id of the mesh's point v, given it now when it has none.
+  std::int64_t operator()(std::int64_t v, std::vector<std::int64_t>& global_ids) {
     std::int64_t& id =
         by_offset_.empty()
             ? by_place_[static_cast<std::size_t>(std::lower_bound(sorted_.begin(), sorted_.end(), v) - sorted_.begin())]
@@ -133,9 +137,9 @@ class FirstUseIds {
   }
 
  private:
-  std::int32_t low_ = INT32_MAX, high_ = INT32_MIN;
+  std::int64_t low_ = INT64_MAX, high_ = INT64_MIN;
   std::vector<std::int64_t> by_offset_;
-  std::vector<std::int32_t> sorted_;
+  std::vector<std::int64_t> sorted_;
   std::vector<std::int64_t> by_place_;
 };
 
@@ -147,7 +151,7 @@ VtuCells piece_file_cells(int piece, const std::vector<TetsWithRegion>& blocks) 
   for (const TetsWithRegion& block : blocks) {
     if (block.region->size() != block.tets->size()) throw InternalError("a block's regions do not match its tets");
     for (std::size_t t = 0; t < block.tets->size(); ++t) {
-      for (std::int32_t v : (*block.tets)[t]) cells.connectivity.push_back(new_id(v, cells.global_ids));
+      for (std::int32_t v : (*block.tets)[t]) cells.connectivity.push_back(new_id(block.ids(v), cells.global_ids));
       cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));  // where the cell ends
       cells.types.push_back(10);                                                      // VTK_TETRA
       cells.piece.push_back(piece);

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "io/output_set.hpp"
 #include "io/row_lines.hpp"
 #include "io/tetgen_files.hpp"
@@ -114,10 +115,12 @@ struct VtuCells {
             run_of(piece), run_of(region),       run_of(global_ids)};
   }
 };
-// Tets in global ids and a region (solid) per tet, viewed where they are.
+// Tets and a region (solid) per tet, viewed where they are; ids gives the whole mesh's id of each
+// of their ids.
 struct TetsWithRegion {
   const std::vector<Tet>* tets;
   const std::vector<std::int32_t>* region;
+  PointIds ids = {};
 };
 // A .pvtu piece file's cells from blocks of one piece value's tets in row order (a mesh left
 // spread: a piece's bulk, then the band's tets of that piece): the points renumbered from 0 in

@@ -276,10 +276,10 @@ MshPartArrays msh_part_arrays(const MshPartHead& head, const MshPartTets& tets, 
                               const std::function<Point3(std::int64_t)>& point) {
   MshPartArrays part;
   // The nodes: every point the tets use, ascending.
-  IdBits used;
-  for (std::size_t i = 0; i < tets.count; ++i)
-    for (std::int32_t v : tets.tet(i)) used.insert(static_cast<std::uint64_t>(v));
-  part.node_tags = used.ascending<std::uint64_t>();
+  part.node_tags = distinct_ascending<std::uint64_t>([&](const auto& use) {
+    for (std::size_t i = 0; i < tets.count; ++i)
+      for (std::int64_t v : tets.tet(i)) use(static_cast<std::uint64_t>(v));
+  });
   part.xyz.reserve(3 * part.node_tags.size());
   for (std::uint64_t& tag : part.node_tags) {
     const Point3 p = point(static_cast<std::int64_t>(tag));
@@ -303,7 +303,7 @@ MshPartArrays msh_part_arrays(const MshPartHead& head, const MshPartTets& tets, 
   part.tets.reserve(5 * tets.count);
   for (std::size_t i = 0; i < tets.count; ++i) {
     part.tets.push_back(head.boundary + static_cast<std::uint64_t>(tets.row(i)) + 1);
-    for (std::int32_t v : tets.tet(i)) part.tets.push_back(static_cast<std::uint64_t>(v) + 1);
+    for (std::int64_t v : tets.tet(i)) part.tets.push_back(static_cast<std::uint64_t>(v) + 1);
   }
   part.about = {head.partition, head.partitions, whole, head.split_from < head.boundary ? 1u : 0u,
                 head.binary ? 1u : 0u};
@@ -403,7 +403,7 @@ MshPartView MshPartitions::of(int piece) {
   const std::uint32_t* order = tet_order_.data() + tet_start_[partition];
   const TetMesh& mesh = output_.mesh;
   const MshPartTets tets{tet_start_[partition + 1] - tet_start_[partition],
-                         [&](std::size_t i) -> const Tet& { return mesh.tets[order[i]]; },
+                         [&](std::size_t i) { return PointIds{}(mesh.tets[order[i]]); },
                          [&](std::size_t i) { return static_cast<std::int64_t>(order[i]); }};
   current_ = msh_part_arrays(head, tets, triangles_.rows(partition), [&](std::int64_t id) { return mesh.points[id]; });
   return current_.view();

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "io/mesh_formats.hpp"
 #include "stages/info.hpp"
 #include "stages/topology.hpp"
@@ -71,7 +72,7 @@ struct MshPartHead {
 // A partition's tets in row order, wherever they are: tet(i) in whole-mesh point ids, at row(i).
 struct MshPartTets {
   std::size_t count = 0;
-  std::function<const Tet&(std::size_t)> tet;
+  std::function<GlobalTet(std::size_t)> tet;  // in the whole mesh's ids
   std::function<std::int64_t(std::size_t)> row;
 };
 

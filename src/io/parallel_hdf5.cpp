@@ -67,6 +67,7 @@ struct Rows {
   struct Run {
     const void* data;
     std::uint64_t count, first;
+    PointIds ids = {};  // tets whose ids are not all the mesh's: written through these
   };
   const char* dataset;
   hid_t file_type;       // the dataset's values
@@ -158,6 +159,11 @@ class Hdf5File {
     }
     static const char kNothing[16] = {};
     const void* data = n == 0 ? kNothing : static_cast<const char*>(run->data) + begin * rows.row_bytes;
+    if (n > 0 && !run->ids.as_is()) {  // this call's rows in the mesh's ids (bounded: kMaxBytesPerWrite)
+      std::vector<GlobalTet> wide(n);
+      for (std::uint64_t i = 0; i < n; ++i) wide[i] = run->ids(static_cast<const Tet*>(run->data)[begin + i]);
+      return H5Dwrite(dataset, H5T_NATIVE_INT64, memory_space.get(), file_space, transfer, wide.data()) >= 0;
+    }
     return H5Dwrite(dataset, rows.memory_type, memory_space.get(), file_space, transfer, data) >= 0;
   }
 
@@ -198,6 +204,7 @@ Rows rows_of_runs(const char* dataset, hid_t file_type, std::size_t columns, con
   for (const auto& run : runs) {
     const ArrayRun<T> view = values(run);
     rows.runs.push_back({view.data, view.size, run.first});
+    if constexpr (std::is_same_v<T, Tet>) rows.runs.back().ids = run.ids;
   }
   return rows;
 }

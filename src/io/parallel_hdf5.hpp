@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "io/xdmf.hpp"
 
 namespace partet {
@@ -33,8 +34,9 @@ struct MeshRowRuns {
   };
   struct Tets {
     std::uint64_t first = 0;
-    ArrayRun<Tet> tets;  // in the whole mesh's point ids
+    ArrayRun<Tet> tets;
     ArrayRun<std::int32_t> region, piece;
+    PointIds ids;  // the whole mesh's id of each of the tets' ids
   };
   std::vector<Points> points;
   std::vector<Tets> tets;

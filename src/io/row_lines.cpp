@@ -19,6 +19,9 @@ Row row_at(const RowsToFormat& rows, std::size_t i) {
   return row;
 }
 
+// A tet row in the mesh's ids.
+GlobalTet tet_at(const RowsToFormat& rows, std::size_t i) { return rows.ids(row_at<Tet>(rows, i)); }
+
 template <class Sink>
 void medit_lines(Sink& out, RowLines lines, const RowsToFormat& rows) {
   for (std::size_t i = 0; i < rows.count; ++i) {
@@ -27,7 +30,7 @@ void medit_lines(Sink& out, RowLines lines, const RowsToFormat& rows) {
       out.text("0\n");
       continue;
     }
-    for (std::int32_t v : row_at<Tet>(rows, i)) out.integer(std::int64_t{v} + 1), out.space();
+    for (std::int64_t v : tet_at(rows, i)) out.integer(v + 1), out.space();
     out.integer(rows.region[i]);
     out.newline();
   }
@@ -41,7 +44,7 @@ void msh_lines(Sink& sink, bool binary, bool points, const RowsToFormat& rows) {
       for (double c : row_at<Point3>(rows, i)) out.real(c);
     } else {
       out.size(static_cast<std::uint64_t>(rows.number_from + rows.first) + i);
-      for (std::int32_t v : row_at<Tet>(rows, i)) out.size(static_cast<std::uint64_t>(v) + 1);
+      for (std::int64_t v : tet_at(rows, i)) out.size(static_cast<std::uint64_t>(v) + 1);
     }
     out.end_line();
   }
@@ -55,21 +58,22 @@ void vtu_values(Sink& out, RowLines lines, const RowsToFormat& rows) {
       const Point3 point = row_at<Point3>(rows, i);
       out.bytes(point.data(), sizeof point);
     } else if (lines == RowLines::vtu_connectivity) {
-      const Tet tet = row_at<Tet>(rows, i);
-      const std::int64_t ids[4] = {tet[0], tet[1], tet[2], tet[3]};
-      out.bytes(ids, sizeof ids);
+      const GlobalTet ids = tet_at(rows, i);
+      out.bytes(ids.data(), sizeof ids);
     } else {
       out.bytes((lines == RowLines::vtu_piece ? rows.piece : rows.region) + i, sizeof(std::int32_t));
     }
   }
 }
 
-// TetGen's .neigh lines, as tetgen_files.hpp formats them, from 64-bit rows.
+// TetGen's .ele lines of tets whose ids are not all as they are, and its .neigh lines (64-bit
+// rows), as tetgen_files.hpp formats them.
 template <class Sink>
-void neighbour_lines(Sink& out, const RowsToFormat& rows) {
+void wide_tetgen_lines(Sink& out, RowLines lines, const RowsToFormat& rows) {
   for (std::size_t i = 0; i < rows.count; ++i) {
     out.integer(rows.first + static_cast<std::int64_t>(i));
-    for (std::int64_t n : row_at<std::array<std::int64_t, 4>>(rows, i)) out.space(), out.integer(n);
+    const GlobalTet row = lines == RowLines::tetgen_ele ? tet_at(rows, i) : row_at<GlobalTet>(rows, i);
+    for (std::int64_t n : row) out.space(), out.integer(n);
     out.newline();
   }
 }
@@ -77,8 +81,9 @@ void neighbour_lines(Sink& out, const RowsToFormat& rows) {
 template <class Sink>
 void format_rows(Sink& out, RowLines lines, const RowsToFormat& rows) {
   switch (lines) {
+    case RowLines::tetgen_ele:
     case RowLines::tetgen_neigh:
-      return neighbour_lines(out, rows);
+      return wide_tetgen_lines(out, lines, rows);
     case RowLines::vtu_points:
     case RowLines::vtu_connectivity:
     case RowLines::vtu_piece:
@@ -104,8 +109,11 @@ TetgenFile tetgen_file(RowLines lines) {
   return lines == RowLines::tetgen_node ? TetgenFile::node : TetgenFile::ele;
 }
 
-// The rows TetGen's own formatter writes (the .neigh rows are wider than its int32 ones).
-bool is_tetgen(RowLines lines) { return lines == RowLines::tetgen_node || lines == RowLines::tetgen_ele; }
+// The rows TetGen's own formatter writes (the .neigh rows are wider than its int32 ones, as are
+// the ids of tets not all in the mesh's ids).
+bool is_tetgen(RowLines lines, const RowsToFormat& rows) {
+  return lines == RowLines::tetgen_node || (lines == RowLines::tetgen_ele && rows.ids.as_is());
+}
 
 }  // namespace
 
@@ -121,7 +129,7 @@ std::size_t row_bytes(RowLines lines) {
 void append_row_lines(std::string& text, RowLines lines, const RowsToFormat& rows) {
   const auto* data = static_cast<const char*>(rows.data);
   const auto first = static_cast<std::size_t>(rows.first);
-  if (is_tetgen(lines)) return append_tetgen_lines(text, tetgen_file(lines), data, first, rows.count, SIZE_MAX);
+  if (is_tetgen(lines, rows)) return append_tetgen_lines(text, tetgen_file(lines), data, first, rows.count, SIZE_MAX);
   text.reserve(text.size() + rows.count * (formats_points(lines) ? 64 : 48));  // about a line's length
   TextSink sink(text);
   format_rows(sink, lines, rows);
@@ -131,7 +139,7 @@ void append_row_lines(std::string& text, RowLines lines, const RowsToFormat& row
 void write_row_lines(BufferedFile& out, RowLines lines, const RowsToFormat& rows) {
   const auto* data = static_cast<const char*>(rows.data);
   const auto first = static_cast<std::size_t>(rows.first);
-  if (is_tetgen(lines)) return write_tetgen_lines(out, tetgen_file(lines), data, first, rows.count);
+  if (is_tetgen(lines, rows)) return write_tetgen_lines(out, tetgen_file(lines), data, first, rows.count);
   format_rows(out, lines, rows);
 }
 

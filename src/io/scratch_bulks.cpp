@@ -127,6 +127,7 @@ void ScratchBulks::release(const Slot& slot) {
 }
 
 bool ScratchBulks::put(int piece, const TetBlock& bulk) {
+  if (bulk.numbered) throw InternalError("a numbered bulk was put in the scratch file (its ids would be lost)");
   if (failed_ || !open_file()) return false;
   drop(piece);
   Header header{{}, bulk.steiner_points.size(), bulk.tets.size(), bulk.neighbours.size(), bulk.rim.size()};

@@ -270,6 +270,10 @@ void check_fits(const LineReader& in, std::int64_t count, std::size_t min_row_by
   if (static_cast<std::uint64_t>(count) * min_row_bytes > in.size())
     in.error(std::string("the header declares ") + std::to_string(count) + " " + what +
              ", more than the file can hold (truncated or corrupt?)");
+  // One process reads a mesh with 32-bit ids; a larger one is read by several ranks, each a part.
+  if (count > INT32_MAX)
+    in.error(std::string("the header declares ") + std::to_string(count) + " " + what +
+             ", more than one process reads (2^31); check the mesh on several ranks: mpirun -np N partet check ...");
 }
 
 // Reads a row's leading index: the first row fixes the numbering base (0 or 1, as TetGen
@@ -408,6 +412,25 @@ RowsFingerprint fingerprint_rows(TetgenFile file, const char* data, std::size_t 
   const std::size_t bytes = row_bytes(file), words = (bytes + 7) / 8;
   const std::uint64_t h = words == 3 ? fingerprint_words<3>(data, bytes, count) : fingerprint_words<2>(data, bytes, count);
   return {h, count * words};
+}
+
+RowsFingerprint fingerprint_tets(const std::vector<Tet>& tets, const PointIds& ids) {
+  if (ids.as_is()) return fingerprint_rows(TetgenFile::ele, tets);
+  // A row's two words as fingerprint_words reads a packed int32 row (ids below 2^31).
+  const auto word = [](std::int64_t a, std::int64_t b) {
+    return static_cast<std::uint64_t>(a) ^ (static_cast<std::uint64_t>(b) << 32);
+  };
+  std::uint64_t words[2 * 1024];
+  RowsFingerprint all;
+  for (std::size_t from = 0; from < tets.size(); from += 1024) {
+    const std::size_t n = std::min<std::size_t>(1024, tets.size() - from);
+    for (std::size_t i = 0; i < n; ++i) {
+      const GlobalTet t = ids(tets[from + i]);
+      words[2 * i] = word(t[0], t[1]), words[2 * i + 1] = word(t[2], t[3]);
+    }
+    all = combine(all, {fingerprint_words<2>(reinterpret_cast<const char*>(words), 16, n), 2 * n});
+  }
+  return all;
 }
 
 RowsFingerprint combine(const RowsFingerprint& first, const RowsFingerprint& then) {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "io/output_set.hpp"
 #include "partet/mesh_types.hpp"
 
@@ -31,6 +32,9 @@ template <class Row>
 RowsFingerprint fingerprint_rows(TetgenFile file, const std::vector<Row>& rows) {
   return fingerprint_rows(file, reinterpret_cast<const char*>(rows.data()), rows.size());
 }
+// Tets whose ids go through `ids`: the fingerprint of their rows in the mesh's ids. An id past
+// 2^32 folds its high bits into the next id's place; below 2^31 this is fingerprint_rows's.
+RowsFingerprint fingerprint_tets(const std::vector<Tet>& tets, const PointIds& ids);
 RowsFingerprint combine(const RowsFingerprint& first, const RowsFingerprint& then);
 std::string mesh_id(const RowsFingerprint& points, const RowsFingerprint& tets, const RowsFingerprint& faces);
 

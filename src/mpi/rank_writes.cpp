@@ -130,7 +130,7 @@ void add_bulk_runs(std::vector<std::pair<const SpreadBulk*, const TetBlock*>> bu
     bulk_columns(*bulk, *place, solid, piece);
     runs.points.push_back({static_cast<std::uint64_t>(place->first_point), run_of(bulk->steiner_points)});
     runs.tets.push_back(
-        {static_cast<std::uint64_t>(place->first_tet), run_of(bulk->tets), run_of(solid), run_of(piece)});
+        {static_cast<std::uint64_t>(place->first_tet), run_of(bulk->tets), run_of(solid), run_of(piece), bulk->ids});
   }
 }
 
@@ -161,7 +161,7 @@ MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const Mesh
       if (bulk.here) own.push_back({&bulk, &bulk.block});
     add_bulk_runs(own, columns, runs);
     runs.tets.push_back({static_cast<std::uint64_t>(mesh.first_band_tet), run_of(mesh.band_tets),
-                         run_of(mesh.band_solid), run_of(mesh.band_piece)});
+                         run_of(mesh.band_solid), run_of(mesh.band_piece), mesh.band_ids()});
     markers.resize(output.boundary.size());
     for (std::size_t f = 0; f < markers.size(); ++f) markers[f] = f < output.split_from ? 1 : 2;
     runs.faces = run_of(output.boundary);

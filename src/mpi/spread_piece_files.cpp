@@ -37,27 +37,29 @@ struct SetOrder {
 
 // A .pvtu file's cells from its piece's bulk (if any) and the band's tets of that piece, in row order.
 VtuCells cells_of(int piece, const TetBlock* bulk, const std::vector<std::int32_t>& bulk_solid,
-                  const std::vector<Tet>& band, const std::vector<std::int32_t>& band_solid) {
+                  const std::vector<GlobalTet>& band, const std::vector<std::int32_t>& band_solid) {
+  const CompactTets compact = compact_tets(band);
   std::vector<TetsWithRegion> blocks;
-  if (bulk) blocks.push_back({&bulk->tets, &bulk_solid});
-  blocks.push_back({&band, &band_solid});
+  if (bulk) blocks.push_back({&bulk->tets, &bulk_solid, bulk->ids});
+  blocks.push_back({&compact.tets, &band_solid, compact.ids()});
   return piece_file_cells(piece, blocks);
 }
 
 // An MSH partition's tets: its piece's bulk (if any, rows from first_row), then the band's tets
 // of that piece (at band_rows).
-MshPartTets part_tets(const TetBlock* bulk, std::int64_t first_row, const std::vector<Tet>& band,
+MshPartTets part_tets(const TetBlock* bulk, std::int64_t first_row, const std::vector<GlobalTet>& band,
                       const std::vector<std::int64_t>& band_rows) {
   const std::size_t own = bulk ? bulk->tets.size() : 0;
   return {own + band.size(),
-          [bulk, own, &band](std::size_t i) -> const Tet& { return i < own ? bulk->tets[i] : band[i - own]; },
+          [bulk, own, &band](std::size_t i) { return i < own ? bulk->ids(bulk->tets[i]) : band[i - own]; },
           [first_row, own, &band_rows](std::size_t i) {
             return i < own ? first_row + static_cast<std::int64_t>(i) : band_rows[i - own];
           }};
 }
 
-// A bulk's open faces (every face when it kept no neighbours), vertices ascending: rank 0 finds
-// its boundary triangles among them.
+// A bulk's open faces (every face when it kept no neighbours) of the split surface's points,
+// vertices ascending: rank 0 finds its boundary triangles among them (a face with a Steiner point
+// is none; in a bulk's compact ids, the split surface's are the mesh's own).
 std::vector<std::array<std::int32_t, 3>> open_faces(const TetBlock& bulk) {
   std::vector<std::array<std::int32_t, 3>> faces;
   const bool known = bulk.neighbours.size() == bulk.tets.size();
@@ -65,7 +67,7 @@ std::vector<std::array<std::int32_t, 3>> open_faces(const TetBlock& bulk) {
     for (int j = 0; j < 4; ++j)
       if (!known || bulk.neighbours[t][j] < 0) {
         const FaceKey key(outward_face(bulk.tets[t], j));
-        faces.push_back({key.v[0], key.v[1], key.v[2]});
+        if (key.v[2] < bulk.ids.from) faces.push_back({key.v[0], key.v[1], key.v[2]});
       }
   return faces;
 }
@@ -227,7 +229,7 @@ class SpreadPieceFileWrite {
   }
 
   void send_band_part(int rank, const Claim& claim) {
-    std::vector<Tet> tets;
+    std::vector<GlobalTet> tets;
     std::vector<std::int32_t> solid;
     std::vector<std::int64_t> rows;
     std::vector<std::uint64_t> triangles;
@@ -278,7 +280,7 @@ class SpreadPieceFileWrite {
       if (bulk && !bulk->here && bulk->tets > 0)
         throw InternalError("no rank wrote the piece file of piece " + std::to_string(file.piece));
       const TetBlock* tets = bulk && bulk->here ? &bulk->block : nullptr;
-      std::vector<Tet> band;
+      std::vector<GlobalTet> band;
       std::vector<std::int32_t> band_solid;
       std::vector<std::int64_t> band_rows;
       band_tets_of(mesh_, file.piece, band, band_solid, &band_rows);
@@ -346,7 +348,7 @@ struct OwnFile {
   TetBlock* bulk = nullptr;
   const SpreadBulk* place = nullptr;
   std::size_t index = 0;  // in the order's files
-  std::vector<Tet> band;
+  std::vector<GlobalTet> band;
   std::vector<std::int32_t> band_solid;
   // MSH partitions: the band tets' rows, the partition's boundary triangles as rows, the whole mesh's bounds.
   std::vector<std::int64_t> band_rows;
@@ -359,7 +361,7 @@ struct OwnFile {
 // triangles and the bounds; or "N").
 void receive_band_part(const SetOrder& set, OwnFile& own) {
   if (receive_from(0, kRootSeconds) != "B") return;
-  const std::optional<std::vector<Tet>> tets = values_of<Tet>(receive_from(0, kRootSeconds));
+  const std::optional<std::vector<GlobalTet>> tets = values_of<GlobalTet>(receive_from(0, kRootSeconds));
   const std::optional<std::vector<std::int32_t>> solid = values_of<std::int32_t>(receive_from(0, kRootSeconds));
   bool whole = tets && solid && tets->size() == solid->size();
   if (set.msh()) {  // every message taken, so the exchange stays in step
@@ -376,14 +378,17 @@ void receive_band_part(const SetOrder& set, OwnFile& own) {
 
 // The points the files use that this rank does not keep (outside its bulks' Steiner rows), ascending.
 std::vector<std::int64_t> points_asked(const std::vector<OwnFile>& files) {
-  IdBits asked;  // not every use listed: a surface point is in about 20 tets
-  const auto add = [&](const std::vector<Tet>& tets, const SpreadBulk& place) {
-    for (const Tet& t : tets)
-      for (std::int32_t v : t)
-        if (v < place.first_point || v >= place.first_point + place.points) asked.insert(static_cast<std::uint64_t>(v));
-  };
-  for (const OwnFile& own : files) add(own.bulk->tets, *own.place), add(own.band, *own.place);
-  return asked.ascending<std::int64_t>();
+  return distinct_ascending<std::int64_t>([&](const auto& use) {
+    const auto add = [&](std::int64_t v, const SpreadBulk& place) {
+      if (v < place.first_point || v >= place.first_point + place.points) use(static_cast<std::uint64_t>(v));
+    };
+    for (const OwnFile& own : files) {
+      for (const Tet& t : own.bulk->tets)
+        for (std::int32_t v : t) add(own.bulk->ids(v), *own.place);
+      for (const GlobalTet& t : own.band)
+        for (std::int64_t v : t) add(v, *own.place);
+    }
+  });
 }
 
 // A point's coordinates on this rank: its bulk's Steiner points, else those asked of rank 0.

@@ -206,6 +206,8 @@ class SpreadRowsWrite {
   const std::vector<Tet>& own_tets(const RowRun& run) const {
     return run.bulk ? run.bulk->block.tets : mesh_.band_tets;
   }
+  // The mesh's id of each of their ids.
+  PointIds own_ids(const RowRun& run) const { return run.bulk ? run.bulk->block.ids : mesh_.band_ids(); }
 
   // The fingerprint of all point (or tet) rows, from every run in row order.
   RowsFingerprint fingerprint(bool points) const {
@@ -216,7 +218,7 @@ class SpreadRowsWrite {
         all = combine(all, points ? claim.points : claim.tets);
       } else {
         all = combine(all, points ? fingerprint_rows(TetgenFile::node, own_points(run))
-                                  : fingerprint_rows(TetgenFile::ele, own_tets(run)));
+                                  : fingerprint_tets(own_tets(run), own_ids(run)));
       }
     }
     return all;
@@ -289,7 +291,7 @@ class SpreadRowsWrite {
     if (columns && run.bulk) bulk_columns(run.bulk->block, *run.bulk, solid, piece);
     const std::int32_t* region = run.bulk ? solid.data() : mesh_.band_solid.data();
     const std::int32_t* pieces = run.bulk ? piece.data() : mesh_.band_piece.data();
-    write_row_lines(out, lines, {own_tets(run).data(), count, run.first, number_from, region, pieces});
+    write_row_lines(out, lines, {own_tets(run).data(), count, run.first, number_from, region, pieces, own_ids(run)});
   }
 
   MeshFormat format_;

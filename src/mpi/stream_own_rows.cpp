@@ -41,7 +41,7 @@ void add_claim(MeshFormat format, const OwnBulk& bulk, std::vector<std::uint64_t
   RowsFingerprint points, tets;
   if (format == MeshFormat::tetgen)
     points = fingerprint_rows(TetgenFile::node, block.steiner_points),
-    tets = fingerprint_rows(TetgenFile::ele, block.tets);
+    tets = fingerprint_tets(block.tets, block.ids);
   Bounds box;
   if (format == MeshFormat::msh || format == MeshFormat::msh_binary) box = bounds_of(block.steiner_points);
   std::uint64_t words[kClaimWords] = {static_cast<std::uint64_t>(bulk.place.piece), points.hash, points.words,
@@ -162,6 +162,7 @@ class RunChunks {
       return append_row_lines(chunk, order_.lines,
                               {block.steiner_points.data() + from_, n, place.first_point + from, order_.number_from});
     RowsToFormat rows{block.tets.data() + from_, n, place.first_tet + from, order_.number_from};
+    rows.ids = block.ids;
     std::vector<NeighbourRow> neighbours;
     if (order_.lines == RowLines::tetgen_neigh) {
       if (!across_[run_] || test_hooks::block_lost(my_rank()))

@@ -182,7 +182,7 @@ void send_bulk_links(KeptBulks& kept, RankStats& stats) {
     for (int piece : kept.pieces()) {
       std::optional<TetBlock> bulk = kept.take(piece);
       std::vector<std::int32_t> label;
-      links.emplace_back(piece, block_links(bulk->tets, bulk->neighbours, false, input_vertices, bulk->rim, label));
+      links.emplace_back(piece, block_links(bulk->tets, bulk->ids, bulk->neighbours, false, input_vertices, bulk->rim, label));
       kept.keep_numbered(piece, std::move(*bulk));
     }
   } catch (const std::exception& e) {  // rank 0 misses this rank's links and says so

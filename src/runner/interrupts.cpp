@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -27,6 +28,7 @@ struct State {
   bool output_complete = false;
   bool installed = false;
   std::atomic<int> deferring{0};  // Deferred sections open
+  std::atomic<bool> ending{false};  // an interrupt has begun (it may wait for a Deferred section)
   std::string while_deferred;     // said when an interrupt has to wait for one
 };
 State& state() {
@@ -44,6 +46,7 @@ sigset_t taken_set() {
 [[noreturn]] void end_run(int signal_number) {
   test_hooks::interrupt_cleanup();
   State& s = state();
+  s.ending = true;
   if (s.deferring > 0 && !s.while_deferred.empty()) {
     std::string text = "partet: " + signal_name(signal_number) + " " + s.while_deferred + "\n";
     (void)!::write(STDERR_FILENO, text.data(), text.size());
@@ -131,8 +134,10 @@ Deferred::Deferred(const std::string& note) {
 }
 Deferred::~Deferred() {
   State& s = state();
-  --s.deferring;
+  const bool last = --s.deferring == 0;
   s.mutex.unlock();
+  if (!last || !s.ending) return;
+  for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));  // the interrupt ends the run now
 }
 
 std::string signal_name(int signal_number) {

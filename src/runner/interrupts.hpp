@@ -38,7 +38,9 @@ void set_messages(const std::string& before, const std::string& after);
 void mark_output_complete();
 
 // While one exists, an interrupt waits: the files it protects move into place as a whole. An
-// interrupt that has to wait says so at once, with `note` ("arrived while ...").
+// interrupt that has to wait says so at once, with `note` ("arrived while ..."), and ends the run
+// as soon as the last one goes: this thread then waits for it (the run does not end on its own
+// first, without the interrupt's message).
 class Deferred {
  public:
   explicit Deferred(const std::string& note);

@@ -225,6 +225,10 @@ template <class Archive>
 void save_tet_block(Archive& ar, const TetBlock& block) {
   const std::uint8_t numbered = block.numbered;
   ar << numbered;
+  if (numbered) {  // its compact ids (a bulk's: no table)
+    if (block.ids.table) throw InternalError("a block of tets with a table of its ids cannot be sent");
+    ar << block.ids.from << block.ids.shift;
+  }
   save_block(ar, block.steiner_points);
   save_block(ar, block.tets);
   save_block(ar, block.neighbours);
@@ -236,6 +240,7 @@ void load_tet_block(Archive& ar, TetBlock& block) {
   std::uint8_t numbered = 0;
   ar >> numbered;
   block.numbered = numbered != 0;
+  if (block.numbered) ar >> block.ids.from >> block.ids.shift;
   load_block(ar, block.steiner_points);
   load_block(ar, block.tets);
   load_block(ar, block.neighbours);
@@ -360,7 +365,7 @@ std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes) {
 
 std::string serialize_bulk_links(const std::vector<std::pair<int, BlockLinks>>& links) {
   std::size_t expected = 64;
-  for (const auto& [piece, l] : links) expected += 32 + 4 * (l.first_tet.size() + 6 * l.keys.size());
+  for (const auto& [piece, l] : links) expected += 32 + 4 * l.first_tet.size() + 40 * l.keys.size();
   return encode(expected, [&](auto& ar) {
     const std::uint64_t count = links.size();
     ar << count;

@@ -19,7 +19,9 @@ std::vector<std::int64_t> before_each(const std::vector<std::int64_t>& counts) {
 
 void check_int32_sizes(std::size_t tets, std::size_t points) {
   if (points > static_cast<std::size_t>(INT32_MAX))
-    throw MeshingError(FailureKind::other, -1, "the mesh has more than 2^31 points; this version numbers points with int32");
+    throw MeshingError(FailureKind::other, -1,
+                       "the mesh has more than 2^31 points, more than one process can hold as one mesh (it numbers "
+                       "them with int32); a run on several ranks that needs no assembled mesh writes it from its parts");
   if (tets > static_cast<std::size_t>(INT32_MAX))
     throw MeshingError(FailureKind::other, -1,
                        "the mesh has more than 2^31 tetrahedra, more than one process can hold as one mesh (it numbers "
@@ -39,9 +41,7 @@ AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& heale
       points.band_used_before.size() != static_cast<std::size_t>(healing_first_band_) ||
       points.referenced.size() != static_cast<std::size_t>(split_points_))
     throw InternalError("the healed band does not match the welded pieces");
-  const std::int64_t welded = healing_first_welded() + (band_points - healing_first_band_);
-  check_int32_sizes(0, static_cast<std::size_t>(welded));
-  welded_ = welded;
+  welded_ = healing_first_welded() + (band_points - healing_first_band_);
   // Only the ids that go are kept (a few per cut vertex): no array over every point.
   if (drop_unused) {
     const std::vector<char> used = used_vertices(healed_band.points.size(), healed_band.tets);
@@ -58,13 +58,13 @@ AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& heale
   }
   if (!std::is_sorted(dropped_.begin(), dropped_.end()))
     throw InternalError("a band's Steiner points are not in their piece's order");
-  kept_ = static_cast<std::int32_t>(welded_ - static_cast<std::int64_t>(dropped_.size()));
+  kept_ = welded_ - static_cast<std::int64_t>(dropped_.size());
 }
 
-std::int32_t AssemblyNumbering::of_welded(std::int64_t w) const {
+std::int64_t AssemblyNumbering::of_welded(std::int64_t w) const {
   const auto gone = std::lower_bound(dropped_.begin(), dropped_.end(), w);
   if (gone != dropped_.end() && *gone == w) return -1;
-  return static_cast<std::int32_t>(w - (gone - dropped_.begin()));
+  return w - (gone - dropped_.begin());
 }
 
 BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
@@ -78,7 +78,7 @@ BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
   for (auto it = from; it != to; ++it) bulk.dropped_steiner.push_back(static_cast<std::int32_t>(*it - first));
   // Every Steiner point of the piece before its first that stays goes: that one lands where the
   // piece's first would.
-  bulk.first_steiner = static_cast<std::int32_t>(first - (from - dropped_.begin()));
+  bulk.first_steiner = first - (from - dropped_.begin());
   return bulk;
 }
 
@@ -94,6 +94,7 @@ void number_bulk(TetBlock& bulk, const BulkNumbering& share, std::int32_t first_
     for (auto& v : t)
       if ((v = share(v < first_steiner ? v : v + to_welded)) < 0)
         throw InternalError("a point the assembly drops is used by a tet of a bulk");
+  bulk.ids = share.ids();
   if (!share.dropped_steiner.empty()) {
     std::size_t kept = 0;
     auto gone = share.dropped_steiner.begin();
@@ -117,7 +118,7 @@ std::int32_t BulkNumbering::searched(std::int32_t v) const {
   };
   if (v < split_points) return shifted(dropped_split, v);
   const std::int32_t i = shifted(dropped_steiner, v - split_points);
-  return i < 0 ? -1 : first_steiner + i;
+  return i < 0 ? -1 : kept_split() + i;
 }
 
 std::int64_t AssemblyNumbering::welded_of_band(std::int32_t v) const {

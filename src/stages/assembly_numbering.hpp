@@ -5,14 +5,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "partet/mesh_types.hpp"
 #include "stages/seam_band.hpp"
 
 namespace partet {
 
-// Throws MeshingError when a mesh would have more than 2^31 points, or a mesh held in one process
-// (or a block of one) more than 2^31 tets: their ids are int32. A mesh left on its ranks may have
-// more tets (check with tets 0): its rows and neighbours are 64-bit.
+// Throws MeshingError when a mesh held in one process would have more than 2^31 points or tets:
+// its ids are int32. A mesh left on its ranks may have more of both: its ids, rows and neighbours
+// are 64-bit (each block of it numbers its own tets and points in 32).
 void check_int32_sizes(std::size_t tets, std::size_t points);
 
 // Welded ids: the split surface's points [0, S), then piece p's Steiner points from
@@ -28,22 +29,28 @@ struct AssemblyPoints {
 };
 
 // One bulk's share of the numbering: all its keeper needs to number the bulk's points (split
-// surface's as welded, its piece's Steiner point i as S + i) as in the assembled mesh.
+// surface's as welded, its piece's Steiner point i as S + i) as in the assembled mesh. A bulk
+// keeps 32-bit ids, compact: the split surface's points that stay as in the mesh [0, S'), its
+// own Steiner points that stay from S' on; ids() gives the mesh's (64-bit) id of each.
 struct BulkNumbering {
   std::int32_t split_points = 0;              // S
   std::vector<std::int32_t> dropped_split;    // the split surface's points that go, ascending
-  std::int32_t first_steiner = 0;             // where the piece's first Steiner point that stays goes
+  std::int64_t first_steiner = 0;             // the mesh's id of the piece's first Steiner point that stays
   std::vector<std::int32_t> dropped_steiner;  // the piece's Steiner points that go (as i), ascending
-  // The assembled id of a bulk point; -1 when it goes. Most points are input vertices, below
-  // every point that goes, and most pieces lose no Steiner point: those need no search.
+  // The split surface's points that stay: S'.
+  std::int32_t kept_split() const { return split_points - static_cast<std::int32_t>(dropped_split.size()); }
+  // The compact id of a bulk point; -1 when it goes. Most points are input vertices, below every
+  // point that goes, and most pieces lose no Steiner point: those need no search.
   std::int32_t operator()(std::int32_t v) const {
     if (v < split_points) {
       if (dropped_split.empty() || v < dropped_split.front()) return v;
     } else if (dropped_steiner.empty()) {
-      return first_steiner + (v - split_points);
+      return kept_split() + (v - split_points);
     }
     return searched(v);
   }
+  // The mesh's id of each compact id.
+  PointIds ids() const { return {kept_split(), first_steiner - kept_split(), nullptr}; }
   // How many of the split surface's first n points stay (the assembled ids below that of point n).
   std::int32_t split_kept_below(std::int32_t n) const;
 
@@ -60,9 +67,10 @@ struct BulkShare {
 };
 
 // Numbers a bulk in place, where it is kept, as in the assembled mesh: its tets' points through
-// its share (its Steiner point i given as first_steiner + i), and only its Steiner points that stay,
-// in order (the first goes to share.first_steiner). Then bulk.numbered. Throws InternalError when
-// a tet uses a point that goes (the numbering was not made for this bulk).
+// its share (its Steiner point i given as first_steiner + i) in compact ids, bulk.ids the mesh's
+// id of each, and only its Steiner points that stay, in order (the first is the mesh's point
+// share.first_steiner). Then bulk.numbered. Throws InternalError when a tet uses a point that
+// goes (the numbering was not made for this bulk).
 void number_bulk(TetBlock& bulk, const BulkNumbering& share, std::int32_t first_steiner);
 
 // Where each welded point goes in the assembled mesh. Healing re-meshes band tets only and keeps
@@ -76,7 +84,7 @@ class AssemblyNumbering {
   // every point stays (healing goes on over the assembled mesh, which then drops them).
   AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused);
 
-  std::int32_t point_count() const { return kept_; }
+  std::int64_t point_count() const { return kept_; }
   // The welded id of piece p's Steiner point i, and of a band point.
   std::int64_t welded_steiner(std::size_t p, std::int64_t i) const { return split_points_ + steiner_before_[p] + i; }
   std::int64_t welded_of_band(std::int32_t v) const;
@@ -84,7 +92,7 @@ class AssemblyNumbering {
   std::int64_t healing_first_welded() const { return split_points_ + steiner_before_.back(); }
   std::int64_t healing_first_band() const { return healing_first_band_; }
   // The id in the assembled mesh of a welded point (-1: it goes), and of a band point.
-  std::int32_t of_welded(std::int64_t w) const;
+  std::int64_t of_welded(std::int64_t w) const;
   // Calls f(welded id, assembled id) for each point in [from, to) that stays, in order.
   template <class F>
   void for_each_kept(std::int64_t from, std::int64_t to, F f) const {
@@ -95,10 +103,10 @@ class AssemblyNumbering {
         ++gone, ++shift;
         continue;
       }
-      f(w, static_cast<std::int32_t>(w - shift));
+      f(w, w - shift);
     }
   }
-  std::int32_t of_band(std::int32_t v) const { return of_welded(welded_of_band(v)); }
+  std::int64_t of_band(std::int32_t v) const { return of_welded(welded_of_band(v)); }
   // What piece p's bulk needs to be numbered where it is kept.
   BulkNumbering for_bulk(std::size_t p) const;
 
@@ -110,7 +118,7 @@ class AssemblyNumbering {
   std::int64_t healing_first_band_ = 0;
   std::int64_t welded_ = 0;            // welded points
   std::vector<std::int64_t> dropped_;  // the welded ids that go, ascending
-  std::int32_t kept_ = 0;
+  std::int64_t kept_ = 0;
 };
 
 }  // namespace partet

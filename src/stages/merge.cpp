@@ -416,18 +416,18 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
   const std::int64_t healing_band = numbering.healing_first_band();
   const std::int64_t healing_welded = numbering.healing_first_welded();
   std::vector<Point3> healing_points;
-  numbering.for_each_kept(healing_welded, numbering.welded_count(), [&](std::int64_t w, std::int32_t) {
+  numbering.for_each_kept(healing_welded, numbering.welded_count(), [&](std::int64_t w, std::int64_t) {
     healing_points.push_back(mesh.points[static_cast<std::size_t>(healing_band + (w - healing_welded))]);
   });
   numbering.for_each_kept(0, first_steiner_,
-                          [&](std::int64_t v, std::int32_t to) { mesh.points[to] = mesh.points[v]; });
+                          [&](std::int64_t v, std::int64_t to) { mesh.points[to] = mesh.points[v]; });
   mesh.points.resize(static_cast<std::size_t>(numbering.point_count()));
   std::copy(healing_points.begin(), healing_points.end(),
             mesh.points.end() - static_cast<std::ptrdiff_t>(healing_points.size()));
   reserve_with_room(mesh.points, mesh.points.size());
-  auto renumbered = [](Tet t, const auto& to) {
+  auto renumbered = [](Tet t, const auto& to) {  // ids fit: checked above
     for (auto& v : t)
-      if ((v = to(v)) < 0) throw InternalError("a point the assembly dropped is still used");
+      if ((v = static_cast<std::int32_t>(to(v))) < 0) throw InternalError("a point the assembly dropped is still used");
     return t;
   };
   // 2. Tets: the bulks in piece order, then the band; the faces of the bulks' rims, and the tets
@@ -452,7 +452,8 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
     // Numbered, the input's vertices are still the first ids (fewer when some go).
     const std::int32_t input_vertices = number.split_kept_below(split_.input_vertex_count);
     const auto base = static_cast<std::int32_t>(mesh.tets.size());
-    for (const Tet& t : bulk.tets) {
+    for (const Tet& compact : bulk.tets) {
+      const Tet t = renumbered(compact, bulk.ids);
       if (may_touch_cap(t, input_vertices)) on_caps.push_back(static_cast<std::int32_t>(mesh.tets.size()));
       mesh.tets.push_back(t);
     }
@@ -502,42 +503,52 @@ namespace {
 void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points, const TetMesh& healed_band,
                    SpreadMesh& mesh) {
   numbering.for_each_kept(0, split_points,
-                          [&](std::int64_t v, std::int32_t) { mesh.split_points.push_back(healed_band.points[v]); });
+                          [&](std::int64_t v, std::int64_t) { mesh.split_points.push_back(healed_band.points[v]); });
   const std::int64_t healing_band = numbering.healing_first_band(), healing_welded = numbering.healing_first_welded();
   mesh.first_healing_point = mesh.points;
-  numbering.for_each_kept(healing_welded, numbering.welded_count(), [&](std::int64_t w, std::int32_t to) {
-    mesh.first_healing_point = std::min<std::int64_t>(mesh.first_healing_point, to);
+  numbering.for_each_kept(healing_welded, numbering.welded_count(), [&](std::int64_t w, std::int64_t to) {
+    mesh.first_healing_point = std::min(mesh.first_healing_point, to);
     mesh.healing_points.push_back(healed_band.points[static_cast<std::size_t>(healing_band + (w - healing_welded))]);
   });
 }
 
-// The healed band in output ids, its rows after every bulk's, with the pieces' Steiner points it
-// uses; its links (all its open faces).
+// The healed band, its rows after every bulk's, in compact ids (SpreadMesh::band_ids), with the
+// pieces' Steiner points it uses; its links (all its open faces).
 BlockLinks spread_band(const AssemblyNumbering& numbering, TetMesh&& healed_band, SpreadMesh& mesh,
                        std::vector<std::int32_t>& label) {
-  std::vector<std::pair<std::int64_t, std::int32_t>> steiner;  // (output id, band id) of a piece's Steiner point
-  const auto rank0_keeps = [&mesh](std::int64_t v) {
-    return v < static_cast<std::int64_t>(mesh.split_points.size()) ||
-           (v >= mesh.first_healing_point &&
-            v < mesh.first_healing_point + static_cast<std::int64_t>(mesh.healing_points.size()));
-  };
+  const auto split_kept = static_cast<std::int64_t>(mesh.split_points.size());
+  // 1. The mesh's ids of the points past the split surface's: the table of the compact ids.
+  std::vector<std::pair<std::int64_t, std::int32_t>> beyond;  // (the mesh's id, band id)
+  for (const Tet& t : healed_band.tets)
+    for (std::int32_t v : t) {
+      const std::int64_t id = numbering.of_band(v);
+      if (id < 0) throw InternalError("a point the assembly dropped is still used");
+      if (id >= split_kept) beyond.emplace_back(id, v);
+    }
+  std::sort(beyond.begin(), beyond.end());
+  beyond.erase(std::unique(beyond.begin(), beyond.end()), beyond.end());
+  for (const auto& [id, band_id] : beyond) {
+    mesh.band_point_ids.push_back(id);
+    if (id < mesh.first_healing_point) {  // a piece's Steiner point: its row is its bulk's
+      mesh.band_steiner_ids.push_back(id);
+      mesh.band_steiner_points.push_back(healed_band.points[band_id]);
+    }
+  }
+  // 2. The tets in compact ids.
+  mesh.band_tets.reserve(healed_band.tets.size());
   for (Tet t : healed_band.tets) {
     for (auto& v : t) {
-      const std::int32_t band_id = v;
-      if ((v = numbering.of_band(v)) < 0) throw InternalError("a point the assembly dropped is still used");
-      if (!rank0_keeps(v)) steiner.emplace_back(v, band_id);
+      const std::int64_t id = numbering.of_band(v);
+      v = id < split_kept ? static_cast<std::int32_t>(id)
+                          : static_cast<std::int32_t>(split_kept + (std::lower_bound(mesh.band_point_ids.begin(),
+                                                                                     mesh.band_point_ids.end(), id) -
+                                                                    mesh.band_point_ids.begin()));
     }
     mesh.band_tets.push_back(t);
   }
-  std::sort(steiner.begin(), steiner.end());
-  steiner.erase(std::unique(steiner.begin(), steiner.end()), steiner.end());
-  for (const auto& [id, band_id] : steiner) {
-    mesh.band_steiner_ids.push_back(id);
-    mesh.band_steiner_points.push_back(healed_band.points[band_id]);
-  }
   mesh.band_piece =
       healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);
-  BlockLinks links = block_links(mesh.band_tets, healed_band.neighbours, true, 0, {}, label);
+  BlockLinks links = block_links(mesh.band_tets, mesh.band_ids(), healed_band.neighbours, true, 0, {}, label);
   mesh.band_neighbours = std::move(healed_band.neighbours);
   healed_band = TetMesh();
   return links;
@@ -575,7 +586,8 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
     bulk.here = true;
     bulk.block = std::move(bulks_[p]);
     std::vector<std::int32_t> label;
-    links[p] = block_links(bulk.block.tets, bulk.block.neighbours, false, input_vertices, bulk.block.rim, label);
+    links[p] = block_links(bulk.block.tets, bulk.block.ids, bulk.block.neighbours, false, input_vertices,
+                           bulk.block.rim, label);
     linked[p] = 1;
   }
   for (BulkStore* store : stores)
@@ -598,7 +610,6 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   SpreadMesh mesh;
   mesh.points = numbering.point_count();
   mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count());
-  check_int32_sizes(0, static_cast<std::size_t>(mesh.points));  // 2^31 tets or more: 64-bit rows
   // 1. Rank 0's points.
   spread_points(numbering, first_steiner_, healed_band, mesh);
   // 2. The bulks, numbered where they are, in piece order, and their links.

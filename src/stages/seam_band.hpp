@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "partet/mesh_types.hpp"
 #include "stages/topology.hpp"
 
@@ -66,6 +67,7 @@ struct TetBlock {
   bool numbered = false;  // a bulk numbered as in the assembled mesh (number_bulk), where it was kept
   std::vector<Point3> steiner_points;
   std::vector<Tet> tets;           // global ids; Steiner point s of the piece is the first Steiner id + s
+  PointIds ids;                    // numbered: the mesh's id of each id in tets (its Steiner points from `from` on)
   std::vector<Tet> neighbours;     // local tet ids
   std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
 };

@@ -8,8 +8,8 @@
 
 namespace partet {
 
-BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& neighbours, bool every_open_face,
-                       std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
+BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const std::vector<Tet>& neighbours,
+                       bool every_open_face, std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
                        std::vector<std::int32_t>& label) {
   if (neighbours.size() != tets.size()) throw InternalError("a block's neighbours do not match its tets");
   BlockLinks links;
@@ -30,7 +30,7 @@ BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& nei
       // Ascending ids: the last is the largest, so a face has a point other than an input vertex
       // exactly when it is at least input_vertices.
       if (!every_open_face && !on_rim[4 * t + j] && key.v[2] < input_vertices) continue;
-      links.keys.push_back({key.v[0], key.v[1], key.v[2]});
+      links.keys.push_back({ids(key.v[0]), ids(key.v[1]), ids(key.v[2])});  // ids keep the order
       links.component.push_back(label[t]);
       links.face.push_back(4 * t + static_cast<std::uint64_t>(j));
     }
@@ -44,7 +44,7 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
   for (std::size_t b = 0; b < blocks.size(); ++b) node_base[b + 1] = node_base[b] + blocks[b].first_tet.size();
   DisjointSets sets(0, node_base.back());
   struct Link {
-    std::array<std::int32_t, 3> key;
+    std::array<std::int64_t, 3> key;
     std::int32_t node;
     bool operator<(const Link& o) const { return key < o.key; }
   };
@@ -78,7 +78,7 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
 std::vector<std::vector<FaceAcross>> faces_across_blocks(const std::vector<BlockLinks>& blocks,
                                                          const std::vector<std::int64_t>& first_row) {
   struct Side {
-    std::array<std::int32_t, 3> key;
+    std::array<std::int64_t, 3> key;
     std::uint32_t block;
     std::uint64_t face;
     bool operator<(const Side& o) const { return key < o.key; }
@@ -156,13 +156,14 @@ std::vector<int> piece_values(const SpreadMesh& mesh) {
   return values;
 }
 
-void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid,
+void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<GlobalTet>& tets, std::vector<std::int32_t>& solid,
                   std::vector<std::int64_t>* rows) {
   tets.clear(), solid.clear();
   if (rows) rows->clear();
+  const PointIds ids = mesh.band_ids();
   for (std::size_t t = 0; t < mesh.band_tets.size(); ++t) {
     if (mesh.band_piece[t] != piece) continue;
-    tets.push_back(mesh.band_tets[t]), solid.push_back(mesh.band_solid[t]);
+    tets.push_back(ids(mesh.band_tets[t])), solid.push_back(mesh.band_solid[t]);
     if (rows) rows->push_back(mesh.first_band_tet + static_cast<std::int64_t>(t));
   }
 }

@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "common/point_ids.hpp"
 #include "partet/mesh_types.hpp"
 #include "stages/info.hpp"
 #include "stages/seam_band.hpp"
@@ -20,7 +21,7 @@ namespace partet {
 // A block's connected components and the open faces it may share with another block.
 struct BlockLinks {
   std::vector<std::int32_t> first_tet;            // per component, its first tet (ascending)
-  std::vector<std::array<std::int32_t, 3>> keys;  // open faces, their vertices ascending
+  std::vector<std::array<std::int64_t, 3>> keys;  // open faces, in the mesh's ids ascending
   std::vector<std::int32_t> component;            // per key: its tet's component
   std::vector<std::uint64_t> face;                // per key: the face, as 4 * tet + j
 };
@@ -35,11 +36,11 @@ struct FaceAcross {
 };
 
 // The components of a block's tets across its own neighbours, numbered by first tet (label per
-// tet), and its open faces: all of them when every_open_face, else those another block can
-// share, the faces with a point that is no input vertex (ids from input_vertices on: cap faces)
-// and the rim's faces (4 * tet + j).
-BlockLinks block_links(const std::vector<Tet>& tets, const std::vector<Tet>& neighbours, bool every_open_face,
-                       std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
+// tet), and its open faces (keyed by the mesh's ids of their points, through ids): all of them
+// when every_open_face, else those another block can share, the faces with a point that is no
+// input vertex (ids from input_vertices on: cap faces) and the rim's faces (4 * tet + j).
+BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const std::vector<Tet>& neighbours,
+                       bool every_open_face, std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
                        std::vector<std::int32_t>& label);
 
 // The connected solids of a mesh made of blocks in row order (blocks[b] starts at row first_row[b]):
@@ -65,7 +66,7 @@ std::vector<NeighbourRow> neighbour_rows(const std::vector<Tet>& neighbours, std
 struct SpreadBulk {
   int piece = 0;
   bool here = false;                         // kept by rank 0 (in `block`), else by the rank that meshed it
-  TetBlock block;                            // numbered as in the assembled mesh (its Steiner points: the rows below)
+  TetBlock block;                            // numbered as in the assembled mesh (block.ids; its Steiner points: the rows below)
   std::int64_t first_point = 0, points = 0;  // rows of its Steiner points
   std::int64_t first_tet = 0, tets = 0;      // rows of its tets
   std::vector<std::int32_t> solid;           // per component of its tets (block_links' order)
@@ -79,8 +80,9 @@ struct SpreadMesh {
   std::int64_t first_healing_point = 0;  // rows of the points healing added
   std::vector<Point3> healing_points;
   std::vector<SpreadBulk> bulks;    // by piece
-  std::int64_t first_band_tet = 0;  // the healed band's tets, in output ids, from this row
+  std::int64_t first_band_tet = 0;  // the healed band's tets from this row, in compact ids (band_ids)
   std::vector<Tet> band_tets;
+  std::vector<std::int64_t> band_point_ids;  // the mesh's ids of the band's compact ids from split_points.size() on
   std::vector<std::int32_t> band_piece, band_solid;
   std::vector<Tet> band_neighbours;  // local, as healing left them
   std::vector<FaceAcross> band_across;
@@ -89,6 +91,11 @@ struct SpreadMesh {
   // ids ascending, and their coordinates. For a .pvtu set's seam file.
   std::vector<std::int64_t> band_steiner_ids;
   std::vector<Point3> band_steiner_points;
+
+  // The mesh's id of each of band_tets' ids (valid while band_point_ids is not changed).
+  PointIds band_ids() const {
+    return {static_cast<std::int32_t>(split_points.size()), 0, band_point_ids.data()};
+  }
 };
 
 // The coordinates of point `id` as rank 0 keeps them: the split surface's points, those healing
@@ -100,8 +107,9 @@ Point3 point_of(const SpreadMesh& mesh, std::int64_t id);
 // first (when healing re-meshed any), then the pieces ascending.
 std::vector<int> piece_values(const SpreadMesh& mesh);
 
-// The band's tets of one piece value, in row order, with their solids (and rows, when asked).
-void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<Tet>& tets, std::vector<std::int32_t>& solid,
+// The band's tets of one piece value, in row order and the mesh's ids, with their solids (and
+// rows, when asked).
+void band_tets_of(const SpreadMesh& mesh, int piece, std::vector<GlobalTet>& tets, std::vector<std::int32_t>& solid,
                   std::vector<std::int64_t>* rows = nullptr);
 
 // The bounds of every point row of the mesh (all zero when there is none, as bounds_of gives
