@@ -513,36 +513,37 @@ void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points
 }
 
 // The healed band, its rows after every bulk's, in compact ids (SpreadMesh::band_ids), with the
-// pieces' Steiner points it uses; its links (all its open faces).
-BlockLinks spread_band(const AssemblyNumbering& numbering, TetMesh&& healed_band, SpreadMesh& mesh,
-                       std::vector<std::int32_t>& label) {
+// pieces' Steiner points it uses; its links (all its open faces). Band ids from split_points on
+// (the pieces' band Steiner points in piece order, then healing's) go to the mesh's ids in order.
+BlockLinks spread_band(const AssemblyNumbering& numbering, std::int32_t split_points, TetMesh&& healed_band,
+                       SpreadMesh& mesh, std::vector<std::int32_t>& label) {
   const auto split_kept = static_cast<std::int64_t>(mesh.split_points.size());
-  // 1. The mesh's ids of the points past the split surface's: the table of the compact ids.
-  std::vector<std::pair<std::int64_t, std::int32_t>> beyond;  // (the mesh's id, band id)
+  // 1. The points past the split surface's that the tets use: the table of the compact ids.
+  std::vector<std::int32_t> compact(healed_band.points.size() - static_cast<std::size_t>(split_points), -1);
   for (const Tet& t : healed_band.tets)
-    for (std::int32_t v : t) {
-      const std::int64_t id = numbering.of_band(v);
-      if (id < 0) throw InternalError("a point the assembly dropped is still used");
-      if (id >= split_kept) beyond.emplace_back(id, v);
-    }
-  std::sort(beyond.begin(), beyond.end());
-  beyond.erase(std::unique(beyond.begin(), beyond.end()), beyond.end());
-  for (const auto& [id, band_id] : beyond) {
+    for (std::int32_t v : t)
+      if (v >= split_points) compact[v - split_points] = 0;
+  for (std::size_t b = 0; b < compact.size(); ++b) {
+    if (compact[b] < 0) continue;
+    const std::int64_t id = numbering.of_band(split_points + static_cast<std::int32_t>(b));
+    if (id < 0 || (!mesh.band_point_ids.empty() && id <= mesh.band_point_ids.back()))
+      throw InternalError("a band point past the split surface's is dropped or out of order");
+    compact[b] = static_cast<std::int32_t>(split_kept + static_cast<std::int64_t>(mesh.band_point_ids.size()));
     mesh.band_point_ids.push_back(id);
     if (id < mesh.first_healing_point) {  // a piece's Steiner point: its row is its bulk's
       mesh.band_steiner_ids.push_back(id);
-      mesh.band_steiner_points.push_back(healed_band.points[band_id]);
+      mesh.band_steiner_points.push_back(healed_band.points[split_points + b]);
     }
   }
   // 2. The tets in compact ids.
   mesh.band_tets.reserve(healed_band.tets.size());
   for (Tet t : healed_band.tets) {
     for (auto& v : t) {
-      const std::int64_t id = numbering.of_band(v);
-      v = id < split_kept ? static_cast<std::int32_t>(id)
-                          : static_cast<std::int32_t>(split_kept + (std::lower_bound(mesh.band_point_ids.begin(),
-                                                                                     mesh.band_point_ids.end(), id) -
-                                                                    mesh.band_point_ids.begin()));
+      if (v >= split_points) {
+        v = compact[v - split_points];
+      } else if ((v = static_cast<std::int32_t>(numbering.of_band(v))) < 0) {
+        throw InternalError("a point the assembly dropped is still used");
+      }
     }
     mesh.band_tets.push_back(t);
   }
@@ -616,7 +617,7 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   std::vector<BlockLinks> links = spread_bulks(numbering, mesh);
   // 3. The healed band, last.
   std::vector<std::int32_t> band_label;
-  links.push_back(spread_band(numbering, std::move(healed_band), mesh, band_label));
+  links.push_back(spread_band(numbering, first_steiner_, std::move(healed_band), mesh, band_label));
   // 4. The connected solids, across the blocks' shared faces.
   std::vector<std::int64_t> first_row;
   for (const SpreadBulk& bulk : mesh.bulks) first_row.push_back(bulk.first_tet);
