@@ -280,7 +280,7 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
         }
         add_neighbours(spread.band_neighbours, spread.first_band_tet, spread.band_across);
         ASSERT_EQ(spread.band_point_ids.size(),
-                  spread.band_steiner_ids.size() + spread.healing_points.size());  // healing's are all used
+                  spread.band_steiner_points.size() + spread.healing_points.size());  // healing's are all used
         for (std::size_t t = 0; t < spread.band_tets.size(); ++t) {
           const GlobalTet g = spread.band_ids()(spread.band_tets[t]);
           for (int j = 0; j < 4; ++j) tets[spread.first_band_tet + t][j] = static_cast<std::int32_t>(g[j]);

@@ -530,10 +530,8 @@ BlockLinks spread_band(const AssemblyNumbering& numbering, std::int32_t split_po
       throw InternalError("a band point past the split surface's is dropped or out of order");
     compact[b] = static_cast<std::int32_t>(split_kept + static_cast<std::int64_t>(mesh.band_point_ids.size()));
     mesh.band_point_ids.push_back(id);
-    if (id < mesh.first_healing_point) {  // a piece's Steiner point: its row is its bulk's
-      mesh.band_steiner_ids.push_back(id);
+    if (id < mesh.first_healing_point)  // a piece's Steiner point: its row is its bulk's
       mesh.band_steiner_points.push_back(healed_band.points[split_points + b]);
-    }
   }
   // 2. The tets in compact ids.
   mesh.band_tets.reserve(healed_band.tets.size());

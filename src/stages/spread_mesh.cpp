@@ -140,10 +140,11 @@ Point3 point_of(const SpreadMesh& mesh, std::int64_t id) {
   for (const SpreadBulk& bulk : mesh.bulks)
     if (bulk.here && id >= bulk.first_point && id < bulk.first_point + bulk.points)
       return bulk.block.steiner_points.at(id - bulk.first_point);
-  const auto at = std::lower_bound(mesh.band_steiner_ids.begin(), mesh.band_steiner_ids.end(), id);
-  if (at == mesh.band_steiner_ids.end() || *at != id)
-    throw InternalError("point " + std::to_string(id) + " is not kept on rank 0");
-  return mesh.band_steiner_points[at - mesh.band_steiner_ids.begin()];
+  // The pieces' Steiner points the band uses: the first ids of its table.
+  const auto steiner_end = mesh.band_point_ids.begin() + static_cast<std::ptrdiff_t>(mesh.band_steiner_points.size());
+  const auto at = std::lower_bound(mesh.band_point_ids.begin(), steiner_end, id);
+  if (at == steiner_end || *at != id) throw InternalError("point " + std::to_string(id) + " is not kept on rank 0");
+  return mesh.band_steiner_points[at - mesh.band_point_ids.begin()];
 }
 
 std::vector<int> piece_values(const SpreadMesh& mesh) {

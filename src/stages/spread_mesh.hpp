@@ -87,9 +87,8 @@ struct SpreadMesh {
   std::vector<Tet> band_neighbours;  // local, as healing left them
   std::vector<FaceAcross> band_across;
   bool has_across = false;  // whether the blocks' faces across (band_across, SpreadBulk::across) were kept
-  // The pieces' Steiner points the band's tets use (their rows are the bulks', kept elsewhere):
-  // ids ascending, and their coordinates. For a .pvtu set's seam file.
-  std::vector<std::int64_t> band_steiner_ids;
+  // The coordinates of the pieces' Steiner points the band's tets use (their rows are the
+  // bulks', kept elsewhere; their ids: the first band_point_ids). For a .pvtu set's seam file.
   std::vector<Point3> band_steiner_points;
 
   // The mesh's id of each of band_tets' ids (valid while band_point_ids is not changed).
