@@ -47,17 +47,19 @@ ls "$work" | grep -q '^one' && bad "SIGTERM: files left: $(ls "$work")" || ok "S
 # 2. SIGKILL of rank 1 under the launcher, while its TetGen child runs.
 "$mpiexec" -n 2 "$partet" mesh "$work/big.off" -o "$work/two" --pieces 4 > "$work/log2" 2>&1 &
 launcher=$!
-victim=""
+# Rank 1 and its child are taken in one look: a second look could fall between two pieces.
+victim="" victim_child=""
 for i in $(seq 600); do
   for pid in $(pgrep -f "mesh $work/big.off"); do
-    if tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" &&
-       pgrep -P "$pid" > /dev/null; then victim=$pid; fi
+    if tr '\0' '\n' < "/proc/$pid/environ" 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1"; then
+      child=$(pgrep -P "$pid" | head -1)
+      [ -n "$child" ] && victim=$pid victim_child=$child
+    fi
   done
   [ -n "$victim" ] && break
   sleep 0.05
 done
 [ -n "$victim" ] || bad "rank 1 with a TetGen child not found"
-victim_child=$(pgrep -P "$victim" | head -1)
 kill -KILL "$victim"
 sleep 1
 # Gone, or a zombie waiting for init to reap it: either way it no longer runs.
