@@ -1,6 +1,7 @@
 // Wall-clock seconds and memory per named stage, used by the pipeline and the MPI driver alike.
 #pragma once
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,20 @@ class StageTimer {
  private:
   StageTimes* times_;
   double start_;
+};
+
+// Seconds spent on the named steps of one stage, for --verbose ("plan 0.044 s, region 0.012 s"):
+// rank 0's bookkeeping between other ranks' work is serial, so it is worth watching.
+struct StepClock {
+  double last = now_seconds();
+  std::string steps;
+  void lap(const char* step) {
+    const double now = now_seconds();
+    char text[64];
+    std::snprintf(text, sizeof text, "%s%s %.3f s", steps.empty() ? "" : ", ", step, now - last);
+    steps += text;
+    last = now;
+  }
 };
 
 }  // namespace partet

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/memory.hpp"
 #include "common/test_hooks.hpp"
+#include "io/mesh_formats.hpp"
 #include "io/tetgen_files.hpp"
 #include "job/compare_tetgen.hpp"
 #include "job/report.hpp"
@@ -12,11 +14,6 @@
 namespace partet {
 
 RootRun::RootRun(const MeshJob& job) : job_(job), outputs_(journal_path(job.output_prefix)) {}
-
-void RootRun::prepare(InputChecks checks) {
-  check_outputs(job_);
-  input_ = read_valid_input(job_.input, times_, &scale_exponent_, checks);
-}
 
 namespace {
 
@@ -36,7 +33,43 @@ bool may_spread(const MeshJob& job) {
          !polishes(job.options) && !test_hooks::assemble_always();
 }
 
+// Why the job must check the mesh in rank 0's memory, and what the user can do instead.
+std::string why_checked_in_memory(const MeshJob& job) {
+  const char* instead =
+      "leave out --check and write TetGen's files or the XDMF set, which `mpirun partet check` checks "
+      "afterwards, each rank its part; or run where rank 0 has more memory";
+  if (job.options.allow_split_faces)
+    return std::string("with --allow-split-faces the mesh is checked in memory only: ") + instead;
+  if (job.compare_tetgen) return std::string("--compare-tetgen assembles the mesh on rank 0: ") + instead;
+  if (polishes(job.options)) return std::string("--quality assembles the mesh on rank 0 to polish it: ") + instead;
+  std::string formats;
+  for (MeshFormat format : job.formats) formats += (formats.empty() ? "" : ", ") + mesh_format_name(format);
+  return "the ranks read back only TetGen's files or the XDMF set, and this job writes " + formats +
+         ": add --format tetgen (or xdmf), whose files every rank then checks, each its part; or leave out --check";
+}
+
+// A --check that only rank 0's memory can do is refused before the meshing when that memory is
+// already short now: the run would mesh for hours, then run out of memory in the check and lose
+// its result. (When the memory runs short only later, the run checks the files on the ranks if
+// it writes TetGen's files or the XDMF set.)
+void refuse_check_beyond_memory(const MeshJob& job, std::size_t faces) {
+  if (!job.check_output || may_spread(job)) return;
+  const double needed_mb = kAssembledCheckBytesPerFace * static_cast<double>(faces) / 1048576.0;
+  const double available_mb = test_hooks::available_mb_for_check(available_memory_mb());
+  if (available_mb >= needed_mb) return;
+  throw OptionError("--check: checking the mesh of these " + std::to_string(faces) + " faces in rank 0's memory needs about " +
+                    std::to_string(static_cast<long>(needed_mb)) + " MB and " +
+                    std::to_string(static_cast<long>(available_mb)) + " MB are available; " +
+                    why_checked_in_memory(job) + ". Nothing was meshed.");
+}
+
 }  // namespace
+
+void RootRun::prepare(InputChecks checks) {
+  check_outputs(job_);
+  input_ = read_valid_input(job_.input, times_, &scale_exponent_, checks);
+  refuse_check_beyond_memory(job_, input_.triangles.size());
+}
 
 void RootRun::mesh(PieceScheduler& scheduler) {
   try {

@@ -4,6 +4,8 @@
 #include <map>
 #include <set>
 
+#include "common/log.hpp"
+#include "common/stage_timer.hpp"
 #include "partet/errors.hpp"
 #include "stages/tet_region.hpp"
 #include "stages/topology.hpp"
@@ -555,7 +557,7 @@ BlockLinks spread_band(const AssemblyNumbering& numbering, std::int32_t split_po
 
 }  // namespace
 
-std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh) {
+std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh, StepClock& clock) {
   const std::size_t k = bulks_.size();
   // This process's own store (scratch files) gives its bulks back: the writers take them here.
   for (std::size_t p = 0; p < k; ++p)
@@ -589,6 +591,7 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
                            bulk.block.rim, label);
     linked[p] = 1;
   }
+  clock.lap("own bulks");
   for (BulkStore* store : stores)
     for (auto& [piece, found] : store->links()) {
       if (piece < 0 || static_cast<std::size_t>(piece) >= k || !stored_[piece].stored)
@@ -605,17 +608,22 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
 SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   const std::size_t k = bulks_.size();
   if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
+  StepClock clock;
   const AssemblyNumbering numbering = this->numbering(healed_band);
+  clock.lap("numbering");
   SpreadMesh mesh;
   mesh.points = numbering.point_count();
   mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count());
   // 1. Rank 0's points.
   spread_points(numbering, first_steiner_, healed_band, mesh);
+  clock.lap("points");
   // 2. The bulks, numbered where they are, in piece order, and their links.
-  std::vector<BlockLinks> links = spread_bulks(numbering, mesh);
+  std::vector<BlockLinks> links = spread_bulks(numbering, mesh, clock);
+  clock.lap("other bulks");
   // 3. The healed band, last.
   std::vector<std::int32_t> band_label;
   links.push_back(spread_band(numbering, first_steiner_, std::move(healed_band), mesh, band_label));
+  clock.lap("band");
   // 4. The connected solids, across the blocks' shared faces.
   std::vector<std::int64_t> first_row;
   for (const SpreadBulk& bulk : mesh.bulks) first_row.push_back(bulk.first_tet);
@@ -624,13 +632,16 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].solid = solids[p];
   mesh.band_solid.reserve(band_label.size());
   for (std::int32_t label : band_label) mesh.band_solid.push_back(solids[k][label]);
+  clock.lap("solids");
   // 5. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
   if (faces_across) {
     std::vector<std::vector<FaceAcross>> across = faces_across_blocks(links, first_row);
     for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);
     mesh.band_across = std::move(across[k]);
     mesh.has_across = true;
+    clock.lap("across");
   }
+  log::debug("spreading the mesh: " + clock.steps);
   blocks_.assign(k, Block());
   bulks_.assign(k, Block());
   band_steiner_.assign(k, {});

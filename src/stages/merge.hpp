@@ -12,6 +12,8 @@
 
 namespace partet {
 
+struct StepClock;
+
 // Where a welder keeps the pieces' bulks between their split and the assembly when not in its
 // own memory: the paper's memory mode (scratch files, io/scratch_bulks.hpp), and the ranks that
 // meshed them (the MPI driver). Healing never touches a bulk, so it can wait outside the process.
@@ -123,7 +125,7 @@ class Welder {
   std::size_t bulk_steiner_points(std::size_t p) const;
   // Welder::spread's step 2: each bulk's rows, those kept here moved into the mesh, every bulk's
   // links (from its store for those kept elsewhere); sets mesh.first_band_tet.
-  std::vector<BlockLinks> spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh);
+  std::vector<BlockLinks> spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh, StepClock& clock);
   // What the assembled mesh's numbering is made of (stages/assembly_numbering.hpp); the bands'
   // Steiner maps move into it.
   AssemblyPoints assembly_points();

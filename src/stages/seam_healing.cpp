@@ -324,20 +324,6 @@ std::vector<std::int32_t> surviving_stars(const std::vector<std::int32_t>& star_
   return survivors;
 }
 
-// Seconds rank 0 spends on a round's steps, for --verbose: the bookkeeping around TetGen is
-// serial, so it is worth watching.
-struct RoundClock {
-  double last = now_seconds();
-  std::string steps;
-  void lap(const char* step) {
-    const double now = now_seconds();
-    char text[64];
-    std::snprintf(text, sizeof text, "%s%s %.3f s", steps.empty() ? "" : ", ", step, now - last);
-    steps += text;
-    last = now;
-  }
-};
-
 // Re-meshes the stars of the round's removed vertices (grown by options.layers). The region
 // falls into parts, each re-meshed on its own, in parallel: smaller TetGen runs, and a failure
 // names the cut planes involved so only those need to move. A part TetGen cannot re-mesh without
@@ -348,7 +334,7 @@ struct RoundClock {
 std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
                                      const FragmentParents& parent_of, const std::vector<std::int32_t>& star_tets,
                                      const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
-                                     RoundClock& clock) {
+                                     StepClock& clock) {
   std::vector<char> in_region;
   std::vector<std::int32_t> region = round_region(mesh, removed, star_tets, options.layers, in_region);
   if (region.empty()) return star_tets;
@@ -417,7 +403,7 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   // The first round looks at every tet; later ones only at the tets the previous one left.
   std::vector<std::int32_t> candidates;
   for (bool first_round = true;; first_round = false) {
-    RoundClock clock;
+    StepClock clock;
     const SeamRound round = plan_seam_round(mesh, all.first, group_left, first_round ? nullptr : &candidates);
     clock.lap("plan");
     if (std::find(round.heals.begin(), round.heals.end(), 1) == round.heals.end()) break;

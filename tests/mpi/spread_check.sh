@@ -6,7 +6,8 @@
 # run with PARTET_TEST_ASSEMBLE): the counts, volumes and the quality of the whole mesh, of the
 # seam zone and of the rest (sums to rounding, the rest exactly), and the files are the same
 # bytes. A check that fails, or a rank out of memory while checking, publishes nothing and
-# leaves the previous set in place. 2 ranks, and 4 oversubscribed.
+# leaves the previous set in place. A check only rank 0's memory can do, while it is short, is
+# refused before the meshing. 2 ranks, and 4 oversubscribed.
 # Usage: spread_check.sh PARTET MPIEXEC
 set -uo pipefail
 partet=$1 mpiexec=$2
@@ -91,4 +92,20 @@ if [ $code = 0 ] || [ $code = 124 ]; then bad "a rank out of memory while checki
 elif ! grep -q "out of memory on rank 1 while checking" o.log; then bad "a rank out of memory while checking: $(tail -n 5 o.log)"
 elif ls oom.* > /dev/null 2>&1; then bad "a rank out of memory while checking: left $(ls oom.*)"
 else ok "a rank out of memory while checking: exit $code, '$(grep -o 'out of memory on rank 1[^;]*' o.log | head -n 1)', nothing published or left"; fi
+# 5. A check only rank 0's memory can do (no TetGen files or XDMF set to read back; --quality,
+# which assembles the mesh to polish it) while that memory is already short: refused before any
+# piece is meshed, as a usage error that says what to do, and nothing is written.
+for case in "--format vtu,msh|add --format tetgen (or xdmf)" "--quality 1.5|--quality assembles the mesh on rank 0"; do
+  options=${case%%|*} advice=${case#*|}
+  # shellcheck disable=SC2086
+  PARTET_TEST_AVAILABLE_MB=1 timeout -k 10 120 "$mpiexec" -n 2 -x PARTET_TEST_AVAILABLE_MB "$partet" mesh g3.off -k 4 $options \
+    --check --verbose -o short > r.log 2>&1
+  code=$?
+  if [ $code != 2 ]; then bad "$options, too little memory to check: exit $code, not 2: $(tail -n 3 r.log)"
+  elif ! grep -q "in rank 0's memory needs about .* MB and 1 MB are available; .*$advice" r.log; then
+    bad "$options, too little memory to check: $(grep error r.log | head -n 1)"
+  elif grep -q "piece 0\|tetgen done" r.log; then bad "$options, too little memory to check: refused only after meshing"
+  elif ls -A | grep -q "short\|tmp-"; then bad "$options, too little memory to check: left $(ls -A | grep 'short\|tmp-')"
+  else ok "$options, too little memory to check: refused before meshing, exit 2, '...$advice...'"; fi
+done
 summary
