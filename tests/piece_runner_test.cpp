@@ -2,6 +2,8 @@
 // a run can end (error, crash, time limit) as a typed failure.
 #include <gtest/gtest.h>
 
+#include <csignal>
+
 #include <dirent.h>
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -172,6 +174,15 @@ TEST(PieceRunner, CrashAndHookFailuresInAChild) {
   EXPECT_EQ(crashed.failure->kind, FailureKind::crashed);
   EXPECT_EQ(crashed.failure->piece, 1);
   EXPECT_NE(crashed.failure->text().find("crashed (signal 6"), std::string::npos) << crashed.failure->text();
+  // Killed from outside (as the out-of-memory killer does): the message says what most often does
+  // that and what helps.
+  const PieceOutcome killed = deserialize_outcome(isolated.mesh_to_reply(pieces[1], [] { ::raise(SIGKILL); }));
+  ASSERT_TRUE(killed.failure);
+  EXPECT_EQ(killed.failure->kind, FailureKind::crashed);
+  EXPECT_NE(killed.failure->text().find("crashed (signal 9: killed from outside, most often by the out-of-memory killer"),
+            std::string::npos)
+      << killed.failure->text();
+  EXPECT_NE(killed.failure->text().find("more --pieces"), std::string::npos) << killed.failure->text();
 
   const PieceOutcome injected = deserialize_outcome(
       isolated.mesh_to_reply(pieces[2], [] { throw MeshingError(FailureKind::injected, 2, "injected"); }));

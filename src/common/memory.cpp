@@ -4,8 +4,13 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
 
 namespace partet {
 namespace {
@@ -39,7 +44,9 @@ double virtual_size_mb() {
 double own_peak_rss_mb() { return peak_rss_mb(RUSAGE_SELF); }
 double children_peak_rss_mb() { return peak_rss_mb(RUSAGE_CHILDREN); }
 
-double available_memory_mb() {
+namespace {
+
+double machine_available_mb() {
   std::FILE* f = std::fopen("/proc/meminfo", "r");
   if (!f) return 0;
   char name[64];
@@ -49,6 +56,84 @@ double available_memory_mb() {
     if (std::strcmp(name, "MemAvailable:") == 0) available = static_cast<double>(kb) / 1024.0;
   std::fclose(f);
   return available;
+}
+
+// The first number in a file, or nothing (missing, "max", empty).
+std::optional<double> number_in(const std::string& path) {
+  std::ifstream in(path);
+  double value = 0;
+  if (in >> value) return value;
+  return std::nullopt;
+}
+
+// A key's number in a memory.stat file; 0 when missing.
+double stat_value(const std::string& path, const std::string& key) {
+  std::ifstream in(path);
+  std::string name;
+  double value = 0;
+  while (in >> name >> value)
+    if (name == key) return value;
+  return 0;
+}
+
+// A cgroup's memory files: v2's, or v1's memory controller's.
+struct CgroupFiles {
+  const char* limit;
+  const char* usage;
+  const char* inactive_cache;  // the key in memory.stat
+};
+constexpr CgroupFiles kV2{"memory.max", "memory.current", "inactive_file"};
+constexpr CgroupFiles kV1{"memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file"};
+
+// The least any level from `path` up to the root allows (negative: none limits).
+double least_allowed_bytes(const std::string& mount, std::string path, const CgroupFiles& files) {
+  constexpr double kNoLimit = 1e18;  // v1 writes "no limit" as about 2^63
+  double least = -1;
+  for (;;) {
+    const std::string dir = mount + (path == "/" ? "" : path) + "/";
+    const std::optional<double> limit = number_in(dir + files.limit);
+    const std::optional<double> usage = number_in(dir + files.usage);
+    if (limit && *limit < kNoLimit && usage) {
+      const double used = std::max(0.0, *usage - stat_value(dir + "memory.stat", files.inactive_cache));
+      const double allowed = std::max(0.0, *limit - used);
+      if (least < 0 || allowed < least) least = allowed;
+    }
+    if (path.empty() || path == "/") return least;
+    path.erase(path.find_last_of('/'));
+    if (path.empty()) path = "/";
+  }
+}
+
+}  // namespace
+
+double cgroup_available_mb(const std::string& self_cgroup, const std::string& root) {
+  std::istringstream lines(self_cgroup);
+  std::string line;
+  double least = -1;
+  while (std::getline(lines, line)) {
+    // "hierarchy-ID:controller-list:path"; v2's line is "0::path".
+    const std::size_t first = line.find(':'), second = line.find(':', first + 1);
+    if (first == std::string::npos || second == std::string::npos) continue;
+    const std::string controllers = "," + line.substr(first + 1, second - first - 1) + ",";
+    const std::string path = line.substr(second + 1);
+    if (path.empty() || path[0] != '/') continue;
+    double allowed = -1;
+    if (controllers == ",,")
+      allowed = least_allowed_bytes(root, path, kV2);
+    else if (controllers.find(",memory,") != std::string::npos)
+      allowed = least_allowed_bytes(root + "/memory", path, kV1);
+    if (allowed >= 0 && (least < 0 || allowed < least)) least = allowed;
+  }
+  return least < 0 ? -1 : least / 1048576.0;
+}
+
+double available_memory_mb() {
+  const double machine = machine_available_mb();
+  std::ifstream in("/proc/self/cgroup");
+  const std::string self_cgroup((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const double cgroup = cgroup_available_mb(self_cgroup, "/sys/fs/cgroup");
+  if (cgroup < 0) return machine;
+  return machine > 0 ? std::min(machine, cgroup) : cgroup;
 }
 
 void return_large_frees_to_system() { mallopt(M_MMAP_THRESHOLD, 1 << 20); }

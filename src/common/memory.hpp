@@ -1,6 +1,7 @@
 // Memory figures of this process, its children and the machine, in MB (internal header): the
 // one place they are read from the kernel.
 #pragma once
+#include <string>
 
 namespace partet {
 
@@ -15,7 +16,16 @@ double children_peak_rss_mb();  // the largest waited-for child process's peak
 // The command calls this first; a program using the library keeps its own malloc settings.
 void return_large_frees_to_system();
 
-// What the machine can still give without swapping (MemAvailable); 0 when unknown.
+// What this process can still be given without swapping or being killed: the machine's
+// MemAvailable, or less where its cgroup (a Slurm job's memory limit, a container's) allows less;
+// 0 when unknown.
 double available_memory_mb();
+
+// What the cgroups of a process allow it still, in MB: over its cgroup and every ancestor with a
+// memory limit, the least of limit - (usage - inactive page cache), since the kernel reclaims
+// that cache before it kills. `self_cgroup` is /proc/self/cgroup's text; `root` the cgroup
+// filesystem (/sys/fs/cgroup: cgroup v2 there, or v1's memory controller in root/memory).
+// Negative when no cgroup limits the memory.
+double cgroup_available_mb(const std::string& self_cgroup, const std::string& root);
 
 }  // namespace partet

@@ -45,7 +45,7 @@ struct RowsToFormat {
   std::int64_t number_from = 0;          // msh_tet: the tag of row 0
   const std::int32_t* region = nullptr;  // medit_tet, vtu_region: per row of the run
   const std::int32_t* piece = nullptr;   // vtu_piece: per row of the run
-  PointIds ids;                          // tets: the mesh's id of each of their (32-bit) ids
+  PointIds ids{};                        // tets: the mesh's id of each of their (32-bit) ids
 };
 
 // Where bytes go that are not written as they are (a .vtu file's arrays, compressed first).

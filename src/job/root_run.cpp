@@ -56,7 +56,7 @@ void refuse_check_beyond_memory(const MeshJob& job, std::size_t faces) {
   if (!job.check_output || may_spread(job)) return;
   const double needed_mb = kAssembledCheckBytesPerFace * static_cast<double>(faces) / 1048576.0;
   const double available_mb = test_hooks::available_mb_for_check(available_memory_mb());
-  if (available_mb >= needed_mb) return;
+  if (available_mb <= 0 || available_mb >= needed_mb) return;  // (0: not known)
   throw OptionError("--check: checking the mesh of these " + std::to_string(faces) + " faces in rank 0's memory needs about " +
                     std::to_string(static_cast<long>(needed_mb)) + " MB and " +
                     std::to_string(static_cast<long>(available_mb)) + " MB are available; " +

@@ -93,8 +93,11 @@ Failure process_failure(const IsolatedRun& run, int piece, const std::string& wh
               piece,
               {},
               what + " crashed (signal " + std::to_string(sig) +
-                  (sig == SIGABRT ? ": an internal assertion failed" + assertion_place(run.output()) + ")"
-                                  : std::string(")"))};
+                  (sig == SIGABRT   ? ": an internal assertion failed" + assertion_place(run.output()) + ")"
+                   : sig == SIGKILL ? std::string(": killed from outside, most often by the out-of-memory killer when "
+                                                  "the node, or a job's memory limit, has too little for the piece; "
+                                                  "more --pieces make each smaller)")
+                                    : std::string(")"))};
     }
     case ProcessEnd::timed_out:
       return {FailureKind::timed_out, piece, {},
