@@ -178,7 +178,7 @@ TEST(PieceRunner, CrashAndHookFailuresInAChild) {
   // that and what helps.
   const PieceOutcome killed = deserialize_outcome(isolated.mesh_to_reply(pieces[1], [] { ::raise(SIGKILL); }));
   ASSERT_TRUE(killed.failure);
-  EXPECT_EQ(killed.failure->kind, FailureKind::crashed);
+  EXPECT_EQ(killed.failure->kind, FailureKind::killed);
   EXPECT_NE(killed.failure->text().find("crashed (signal 9: killed from outside, most often by the out-of-memory killer"),
             std::string::npos)
       << killed.failure->text();

@@ -244,6 +244,25 @@ TEST(RetryPlan, OnePieceOnlyWhenTetGenAloneFitsInMemory) {
   }
 }
 
+TEST(RetryPlan, PiecesKilledForMemoryDoubleAlongTheSameAxisUpToFourTimesThoseAskedThenStop) {
+  RetryPlan plan(large_input(), asked(4, CutAxis::x), 0);
+  plan.next(failure(FailureKind::killed, {1}));
+  EXPECT_EQ(step(plan), (Step{CutAxis::x, 8, 0.25, std::vector<int>(7, 0)}));
+  plan.next(failure(FailureKind::killed, {3}));
+  EXPECT_EQ(step(plan), (Step{CutAxis::x, 16, 0.25, std::vector<int>(15, 0)}));
+  try {
+    plan.next(failure(FailureKind::killed, {0}));
+    FAIL() << "no error";
+  } catch (const MeshingError& e) {
+    EXPECT_EQ(e.failure.kind, FailureKind::killed);
+    EXPECT_NE(std::string(e.what()).find("made-up failure (with 16 pieces)"), std::string::npos) << e.what();
+  }
+  // One piece asked for (TetGen alone): two halves next.
+  RetryPlan alone(large_input(), asked(1), 0);
+  alone.next(failure(FailureKind::killed));
+  EXPECT_EQ(alone.options().pieces, 2);
+}
+
 TEST(RetryPlan, InjectedFailuresAndTheAttemptLimitEndAtOnce) {
   RetryPlan injected(large_input(), asked(4), 0);
   EXPECT_THROW(injected.next(failure(FailureKind::injected, {0})), MeshingError);

@@ -45,6 +45,7 @@ enum class FailureKind : std::int32_t {
   other = 8,              // any other error inside the meshing process
   too_close = 9,          // TetGen took features closer than its tolerance for one (thin solids)
   runaway = 10,           // TetGen's refinement grew far past what the surface needs (a bound too tight)
+  killed = 11,            // the meshing process was killed from outside (SIGKILL), most often for memory
 };
 
 // A meshing failure as a value: it crosses process and rank boundaries serialized.

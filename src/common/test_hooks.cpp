@@ -56,6 +56,11 @@ void piece_failure(int piece, int rank) {
   throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
 }
 
+void piece_memory(std::size_t triangles) {
+  const char* spec = value("PARTET_TEST_PIECE_MEMORY_FACES");
+  if (spec && triangles > static_cast<std::size_t>(std::atoll(spec))) ::raise(SIGKILL);
+}
+
 void worker_cap_failure(int plane) {
   if (injected("worker:cap-error"))
     throw PartitionError(FailureKind::other, -1,

@@ -61,6 +61,8 @@ void RetryPlan::next(const AttemptFailure& failed) {
     // TetGen alone took a second or two: more partitions would cost more than they could save.
     use_one_piece_mesh_ = true;
     note = "; using the input meshed as one piece, as TetGen alone would";
+  } else if (f.kind == FailureKind::killed) {
+    if (!more_pieces(note)) give_up(f, " (with " + std::to_string(current_.pieces) + " pieces)");
   } else if (quality_unmet(f, current_)) {
     // Dense caps can keep TetGen refining where plain ones let it finish; beyond that, no cut helps.
     if (quality_retried_ || current_.density <= 0 || current_.pieces <= 1) {
@@ -231,6 +233,15 @@ bool RetryPlan::fewer_pieces(std::string& note) {
   start_fresh(axes_.front(), pieces);
   note = "; the cuts kept failing along every direction: using " + std::to_string(pieces) + " pieces instead of " +
          std::to_string(asked_.pieces);
+  return true;
+}
+
+bool RetryPlan::more_pieces(std::string& note) {
+  const int pieces = 2 * std::max(1, current_.pieces);
+  if (pieces > kMorePiecesFactor * std::max(1, asked_.pieces)) return false;
+  note = "; most likely out of memory: using " + std::to_string(pieces) + " pieces instead of " +
+         std::to_string(current_.pieces) + ", each about half as large";
+  start_fresh(current_.axis, pieces);
   return true;
 }
 

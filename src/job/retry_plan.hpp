@@ -9,6 +9,11 @@
 //   3. Fewer pieces along the axis asked for: half as many, then half again, down to two.
 //   4. One piece: TetGen alone on the whole input, when it fits in the memory available.
 //
+// A piece killed from outside (SIGKILL: most often the out-of-memory killer of the node or of
+// the job's cgroup) is not the cut's fault, and other cuts or fewer pieces would need as much
+// memory or more: the next partition has twice the pieces along the same axis, each about half
+// as large, up to kMorePiecesFactor times the pieces asked for; then the run stops saying so.
+//
 // Diagnosis: a small input (TetGen alone takes a second or two), after the first plane move, and
 // any input after a failure that names only whole input triangles (the trouble may be the input
 // rather than a cut), is meshed as one piece at once. When that fails too, the trouble is the
@@ -39,6 +44,9 @@ struct AttemptFailure {
 // Inputs up to this many faces go to one piece after the first plane move (TetGen alone meshes
 // 50k faces in about a second here).
 constexpr std::size_t kSmallInputFaces = 50000;
+
+// A run whose pieces are killed for memory tries up to this many times the pieces asked for.
+constexpr int kMorePiecesFactor = 4;
 
 class RetryPlan {
  public:
@@ -80,6 +88,7 @@ class RetryPlan {
   void move_planes(const AttemptFailure& failed, std::string& note);
   bool next_axis(std::string& note);
   bool fewer_pieces(std::string& note);
+  bool more_pieces(std::string& note);
   bool one_piece(std::string& note);
   bool fits_in_memory() const;
   void start_fresh(CutAxis axis, int pieces);

@@ -89,7 +89,7 @@ Failure process_failure(const IsolatedRun& run, int piece, const std::string& wh
   switch (run.end()) {
     case ProcessEnd::crashed: {
       const int sig = run.signal();
-      return {FailureKind::crashed,
+      return {sig == SIGKILL ? FailureKind::killed : FailureKind::crashed,
               piece,
               {},
               what + " crashed (signal " + std::to_string(sig) +
