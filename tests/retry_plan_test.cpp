@@ -257,6 +257,13 @@ TEST(RetryPlan, PiecesKilledForMemoryDoubleAlongTheSameAxisUpToFourTimesThoseAsk
     EXPECT_EQ(e.failure.kind, FailureKind::killed);
     EXPECT_NE(std::string(e.what()).find("made-up failure (with 16 pieces)"), std::string::npos) << e.what();
   }
+  // Killed while the input is meshed as one piece to diagnose a failure: the cuts go on, twice as many.
+  RetryPlan diagnosed(large_input(), asked(3, CutAxis::x), 0);
+  diagnosed.next(failure(FailureKind::changed_boundary, {1}, {17}));
+  ASSERT_TRUE(diagnosed.diagnosing());
+  diagnosed.next(failure(FailureKind::killed));
+  EXPECT_FALSE(diagnosed.diagnosing());
+  EXPECT_EQ(step(diagnosed), (Step{CutAxis::x, 6, 0.25, std::vector<int>(5, 0)}));
   // One piece asked for (TetGen alone): two halves next.
   RetryPlan alone(large_input(), asked(1), 0);
   alone.next(failure(FailureKind::killed));

@@ -62,6 +62,11 @@ void RetryPlan::next(const AttemptFailure& failed) {
     use_one_piece_mesh_ = true;
     note = "; using the input meshed as one piece, as TetGen alone would";
   } else if (f.kind == FailureKind::killed) {
+    if (diagnosing_) {  // the input as one piece does not fit: the cuts go on, in smaller pieces
+      diagnosing_ = false;
+      current_ = before_diagnosis_;
+      moves_on_axis_ = moves_before_diagnosis_;
+    }
     if (!more_pieces(note)) give_up(f, " (with " + std::to_string(current_.pieces) + " pieces)");
   } else if (quality_unmet(f, current_)) {
     // Dense caps can keep TetGen refining where plain ones let it finish; beyond that, no cut helps.
