@@ -191,6 +191,26 @@ TEST(PieceRunner, CrashAndHookFailuresInAChild) {
   EXPECT_EQ(injected.failure->piece, 2);
 }
 
+// The out-of-memory killer takes a meshing child first (its rank survives and retries smaller
+// pieces), never a rank before it.
+TEST(IsolatedRun, TheChildIsTheOutOfMemoryKillersFirstChoice) {
+  IsolatedRun run(
+      [] {
+        std::ifstream in("/proc/self/oom_score_adj");
+        std::string adj;
+        in >> adj;
+        return adj;
+      },
+      10);
+  run.wait();
+  ASSERT_EQ(run.end(), ProcessEnd::finished);
+  EXPECT_EQ(run.take_bytes(), "1000");
+  std::ifstream own("/proc/self/oom_score_adj");
+  int adj = 0;
+  own >> adj;
+  EXPECT_LT(adj, 1000);  // this process (a rank) is left as it was
+}
+
 TEST(PieceRunner, BackgroundJobsCanBePolled) {
   const auto pieces = torus_pieces();
   auto job = runner(true).start(pieces[0]);

@@ -37,6 +37,17 @@ std::chrono::steady_clock::duration steady_seconds(double seconds) {
   return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
 }
 
+// Where memory runs out, the kernel's out-of-memory killer (the node's, or a Slurm job's cgroup's)
+// should take this child, which its rank survives (the piece is retried in smaller pieces), not
+// a rank, whose death ends the job. Raising one's own score needs no privilege; best effort.
+void prefer_for_out_of_memory_kill() {
+  const int fd = ::open("/proc/self/oom_score_adj", O_WRONLY | O_CLOEXEC);
+  if (fd < 0) return;
+  const char first[] = "1000";
+  [[maybe_unused]] const ssize_t n = ::write(fd, first, sizeof first - 1);
+  ::close(fd);
+}
+
 double seconds_of(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
 
 }  // namespace
@@ -60,6 +71,7 @@ IsolatedRun::IsolatedRun(const std::function<std::string()>& work, double cpu_se
     // The child dies with its parent: a killed rank must not leave TetGen running.
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(4);
+    prefer_for_out_of_memory_kill();
     // TetGen's assertion text and MPI's crash handlers would only clutter the parent's output.
     ::close(fds[0]);
     interrupts::reset_in_child();  // the parent's interrupt thread is not here; its files are not ours
