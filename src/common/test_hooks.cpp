@@ -35,7 +35,9 @@ void sleep_ms(const char* name) {
 
 }  // namespace
 
-void piece_failure(int piece, int rank) {
+void piece_failure(int piece, std::size_t triangles, int rank) {
+  const char* most_faces = value("PARTET_TEST_PIECE_MEMORY_FACES");
+  if (most_faces && triangles > static_cast<std::size_t>(std::atoll(most_faces))) ::raise(SIGKILL);
   const char* spec = value("PARTET_INJECT_FAILURE");
   if (!spec) return;
   const std::string s(spec);
@@ -54,11 +56,6 @@ void piece_failure(int piece, int rank) {
     std::abort();
   }
   throw MeshingError(FailureKind::injected, piece, "injected failure (PARTET_INJECT_FAILURE)");
-}
-
-void piece_memory(std::size_t triangles) {
-  const char* spec = value("PARTET_TEST_PIECE_MEMORY_FACES");
-  if (spec && triangles > static_cast<std::size_t>(std::atoll(spec))) ::raise(SIGKILL);
 }
 
 void worker_cap_failure(int plane) {

@@ -11,10 +11,9 @@ namespace partet::test_hooks {
 // PARTET_INJECT_FAILURE="P:error" makes piece P fail with an error, "P:abort" makes the process
 // meshing piece P abort (on a worker that kills the rank, as a real crash would), "P:stall"
 // makes it sleep PARTET_TEST_STALL_S seconds (5 s) first, as a process starved of its core.
-void piece_failure(int piece, int rank);
 // PARTET_TEST_PIECE_MEMORY_FACES=N: the process meshing a piece of more than N triangles kills
 // itself with SIGKILL, as the out-of-memory killer kills one that needs more than the node has.
-void piece_memory(std::size_t triangles);
+void piece_failure(int piece, std::size_t triangles, int rank);
 // PARTET_INJECT_FAILURE="cuts": every partition into more than one piece fails, as if TetGen could
 // not recover a cap (so only the one-piece fallback can mesh the input). True then.
 bool every_cut_fails(std::size_t pieces);

@@ -62,11 +62,7 @@ void RetryPlan::next(const AttemptFailure& failed) {
     use_one_piece_mesh_ = true;
     note = "; using the input meshed as one piece, as TetGen alone would";
   } else if (f.kind == FailureKind::killed) {
-    if (diagnosing_) {  // the input as one piece does not fit: the cuts go on, in smaller pieces
-      diagnosing_ = false;
-      current_ = before_diagnosis_;
-      moves_on_axis_ = moves_before_diagnosis_;
-    }
+    if (diagnosing_) end_diagnosis();  // the input as one piece does not fit: the cuts go on, in smaller pieces
     if (!more_pieces(note)) give_up(f, " (with " + std::to_string(current_.pieces) + " pieces)");
   } else if (quality_unmet(f, current_)) {
     // Dense caps can keep TetGen refining where plain ones let it finish; beyond that, no cut helps.
@@ -131,12 +127,16 @@ void RetryPlan::skip_repeat(const AttemptFailure& failed) {
   log::debug("the planes cannot move further" + note);
 }
 
-void RetryPlan::diagnosis_passed() {
+void RetryPlan::end_diagnosis() {
   diagnosing_ = false;
-  one_piece_works_ = true;
   current_ = before_diagnosis_;
   moves_on_axis_ = moves_before_diagnosis_;
   fractions_known_ = false;
+}
+
+void RetryPlan::diagnosis_passed() {
+  end_diagnosis();
+  one_piece_works_ = true;
   std::string note;
   advance(diagnosed_failure_, note);
   log::warning("the input meshes as one piece (that mesh is kept in case the cuts keep failing)" + note);

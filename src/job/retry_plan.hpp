@@ -89,6 +89,7 @@ class RetryPlan {
   bool next_axis(std::string& note);
   bool fewer_pieces(std::string& note);
   bool more_pieces(std::string& note);
+  void end_diagnosis();  // back to the partition the diagnosis interrupted
   bool one_piece(std::string& note);
   bool fits_in_memory() const;
   void start_fresh(CutAxis axis, int pieces);

@@ -21,6 +21,7 @@ namespace {
 // by 131 bytes per input face doing so at 22.1M faces on 2 ranks (1,375 -> 4,279 MB), with half
 // as much again to spare. With less, the ranks check the files (slower, spread over the ranks).
 constexpr double kAssembledCheckBytesPerFace = 200;
+double assembled_check_bytes(std::size_t faces) { return kAssembledCheckBytesPerFace * static_cast<double>(faces); }
 
 // Whether the mesh may stay where its parts are: every format is written from its parts (the
 // XDMF set, a .pvtu set and the MSH partitions by their owners; TetGen's files, a .vtu, MEDIT and
@@ -54,7 +55,7 @@ std::string why_checked_in_memory(const MeshJob& job) {
 // it writes TetGen's files or the XDMF set.)
 void refuse_check_beyond_memory(const MeshJob& job, std::size_t faces) {
   if (!job.check_output || may_spread(job)) return;
-  const double needed_mb = kAssembledCheckBytesPerFace * static_cast<double>(faces) / 1048576.0;
+  const double needed_mb = assembled_check_bytes(faces) / 1048576.0;
   const double available_mb = test_hooks::available_mb_for_check(available_memory_mb());
   if (available_mb <= 0 || available_mb >= needed_mb) return;  // (0: not known)
   throw OptionError("--check: checking the mesh of these " + std::to_string(faces) + " faces in rank 0's memory needs about " +
@@ -75,9 +76,7 @@ void RootRun::mesh(PieceScheduler& scheduler) {
   try {
     MeshOptions options = job_.options;
     options.spread_output = may_spread(job_);
-    if (job_.check_output)
-      options.assemble_if_available_bytes =
-          kAssembledCheckBytesPerFace * static_cast<double>(input_.triangles.size());
+    if (job_.check_output) options.assemble_if_available_bytes = assembled_check_bytes(input_.triangles.size());
     options.spread_neighbours = std::count(job_.formats.begin(), job_.formats.end(), MeshFormat::tetgen) > 0;
     result_ = mesh_with_retries(input_, options, scheduler, &times_);
     scheduler.confirm_input();  // heard already, unless no piece was meshed

@@ -380,7 +380,7 @@ class RootScheduler : public PieceScheduler {
     own_start_ = now_seconds();
     if (!piece.seam_region) dump_piece(job_, piece);
     own_ = runner_.start(piece, [&piece] {
-      if (!piece.seam_region) test_hooks::piece_failure(piece.index, 0), test_hooks::piece_memory(piece.triangles.size());
+      if (!piece.seam_region) test_hooks::piece_failure(piece.index, piece.triangles.size(), 0);
     });
     account_meshing();
   }

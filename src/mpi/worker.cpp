@@ -289,7 +289,7 @@ void Worker::mesh_rounds() {
       {
         AddSeconds timer{region ? stats.region_seconds : stats.tetgen_seconds};
         const std::unique_ptr<PieceJob> job = runner.start(piece, [&piece, rank, region] {
-          if (!region) test_hooks::piece_failure(piece.index, rank), test_hooks::piece_memory(piece.triangles.size());
+          if (!region) test_hooks::piece_failure(piece.index, piece.triangles.size(), rank);
         });
         reply = reply_with_heartbeats(*job, tasks, rank);
         stats.pieces_from_checkpoint += job->from_checkpoint();
