@@ -180,6 +180,13 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
                    "the pieces found there instead of meshing them again, so a run stopped by a time limit, a "
                    "preemption, a crash or Ctrl-C loses none of the pieces it had meshed; same output")
       ->type_name("DIR");
+  mesh->add_option("--wait-for-space", job.wait_for_space_minutes,
+                   "minutes to wait, once the mesh is made, for room on the output's filesystem when it has less "
+                   "than the files need at least (a neighbouring job filled it), instead of losing the mesh; a "
+                   "filesystem already that full is refused before the meshing")
+      ->check(kFinite)
+      ->check(CLI::Range(0.0, 40.0))
+      ->capture_default_str();
   mesh->add_option("--scratch", job.options.scratch,
                    "the paper's memory mode: each piece's mesh, but for the tets around the cuts, waits in a file "
                    "in DIR (on the node of the rank holding it) until the output is assembled, instead of in memory")

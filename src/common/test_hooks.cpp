@@ -151,6 +151,23 @@ bool assemble_always() { return value("PARTET_TEST_ASSEMBLE") != nullptr; }
 
 double available_mb_for_check(double measured) { return seconds_or("PARTET_TEST_AVAILABLE_MB", measured); }
 
+double free_disk_mb(double measured) {
+  const char* list = value("PARTET_TEST_FREE_DISK_MB");
+  if (!list) return measured;
+  static int looks = 0;  // (rank 0's main thread alone looks)
+  std::string values = list, item;
+  for (int i = 0; i <= looks; ++i) {
+    const std::size_t comma = values.find(',');
+    item = values.substr(0, comma);
+    if (comma == std::string::npos) break;
+    values.erase(0, comma + 1);
+  }
+  ++looks;
+  return std::atof(item.c_str());
+}
+
+double disk_poll_seconds(double fallback) { return value("PARTET_TEST_FREE_DISK_MB") ? 0.1 : fallback; }
+
 bool nameless_files_refused() { return value("PARTET_TEST_NO_NAMELESS_FILES") != nullptr; }
 
 void interrupt_cleanup() {

@@ -105,6 +105,12 @@ bool assemble_always();
 // assemble the mesh for `mesh --check` (else `measured`): a small value has the ranks check the
 // files, as when rank 0 lacks the memory.
 double available_mb_for_check(double measured);
+// PARTET_TEST_FREE_DISK_MB="A,B,...": the room rank 0 finds on the output's filesystem, A the
+// first time it looks (before the meshing), B the next (before the writing), and so on, the last
+// again ever after (else `measured`); while it is set, rank 0 looks again every 0.1 s instead of
+// disk_poll_seconds. tests/cli/disk_space.sh.
+double free_disk_mb(double measured);
+double disk_poll_seconds(double fallback);
 
 // PARTET_TEST_NO_NAMELESS_FILES: the filesystems refuse nameless files (O_TMPFILE), as NFS does.
 bool nameless_files_refused();

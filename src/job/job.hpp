@@ -28,6 +28,9 @@ struct MeshJob {
   bool check_output = false;    // run check_mesh on the result before writing
   std::string dump_pieces_dir;  // non-empty: write each piece's surface there before meshing it
   bool compare_tetgen = false;  // afterwards, mesh the whole input with TetGen alone and compare
+  // How long a mesh waits for room on the output's filesystem when it has less than the files
+  // need at least (other ranks wait for rank 0 an hour at most: kRootSeconds).
+  double wait_for_space_minutes = 20;
 };
 
 // What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.

@@ -7,6 +7,7 @@
 
 #include "common/stage_timer.hpp"
 #include "io/output_set.hpp"
+#include "io/output_size.hpp"
 #include "job/compare_tetgen.hpp"
 #include "job/job.hpp"
 #include "job/pipeline.hpp"
@@ -20,7 +21,9 @@ class RootRun {
 
   // 1. Where the output goes: usage errors (OptionError) before any work; a publish a killed run
   //    left half done is completed, stale temporaries removed.
-  // 2. The input: read, validated (closed, manifold, oriented) and scaled to unit size. With
+  // 2. The input: read, validated (closed, manifold, oriented) and scaled to unit size; refused
+  //    when rank 0 has too little memory for a --check only it can do, or the output's
+  //    filesystem too little room for the smallest files its mesh can have. With
   //    InputChecks::elsewhere, the driver has another rank check it (check_input) and reports
   //    the verdict through the scheduler's confirm_input.
   void prepare(InputChecks checks = InputChecks::here);
@@ -28,7 +31,8 @@ class RootRun {
   // 3-8. Partition, closure, meshing (on the scheduler's ranks), merge, seam healing and polish,
   //      with the retries of mesh_with_retries.
   void mesh(PieceScheduler& scheduler);
-  // 9. Back to the input's own scale (exactly); the result checked (--check) and written under
+  // 9. Back to the input's own scale (exactly); the result checked (--check), room for its files
+  //    waited for when the filesystem filled up meanwhile (--wait-for-space), and written under
   //    temporary names (an XDMF set's HDF5 file and TetGen files' lines through `writers`, which
   //    the driver has every rank take part in). A mesh left spread is checked after the write,
   //    in its files, through `check_files` (every rank reads its part).
@@ -44,6 +48,8 @@ class RootRun {
   RunFigures figures() const { return figures_; }
 
  private:
+  MeshCounts written_counts() const;  // the mesh's, for the room its files need
+
   const MeshJob& job_;
   StageTimes times_;
   SurfaceMesh input_;  // its points only until the files are written (check_and_write)

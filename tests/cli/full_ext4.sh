@@ -5,12 +5,15 @@
 # process and on 2 ranks (rank 1 formats half of the lines rank 0 writes). The disk is an ext4
 # image on a loop device; without loop mounts (not root, or a container that forbids them) the
 # test exits 77 (skipped). Then --scratch on the full disk: a warning, and the same mesh as in memory;
-# and --checkpoint on it: a warning, the same mesh, nothing left in the checkpoint.
+# and --checkpoint on it: a warning, the same mesh, nothing left in the checkpoint. Last, on a
+# second disk: one too full for the smallest files of a mesh is refused before the meshing; one
+# with room for those but not for this mesh's makes the mesh wait until room is made, then the
+# files are written and check (disk_space.sh has the rest, with the room set by a test hook).
 # Usage: full_ext4.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
 work=$(mktemp -d)
-trap 'umount "$work/disk" 2> /dev/null || true; rm -rf "$work"' EXIT
+trap 'kill $(jobs -p) 2> /dev/null || true; umount "$work/disk" "$work/room" 2> /dev/null || true; rm -rf "$work"' EXIT
 cd "$work"
 command -v mkfs.ext4 > /dev/null || { echo "SKIP: no mkfs.ext4 (e2fsprogs)"; exit 77; }
 truncate -s 16M disk.img
@@ -71,4 +74,40 @@ for n in 1 2; do
   left=$(ls -A disk/ck)
   [ -z "$left" ] || { echo "FAIL: $n rank(s): files left in the checkpoint: $left"; exit 1; }
   echo "ok: $n rank(s): --checkpoint on a full disk: $(grep -c "cannot keep meshed pieces" log) warning(s), the same mesh, nothing left"
+done
+
+# Room for the files: a fresh disk, filled by a neighbour up to ROOM MB of free space.
+truncate -s 48M room.img
+mkfs.ext4 -q -F room.img
+mkdir room
+mount -o loop room.img room
+free_mb() { stat -f -c '%f %S' room | awk '{printf "%d", $1 * $2 / 1048576}'; }  # root may use every free block
+leave_free() { rm -f room/neighbour; fallocate -l $(( ($(free_mb) - $1) * 1048576 )) room/neighbour; }
+at_least() { sed -n 's/.*take at least \([0-9]*\) MB.*/\1/p' log | head -n 1; }
+leave_free 1
+if "$partet" mesh big.off -o room/m --pieces 4 --verbose > log 2>&1; then echo "FAIL: a disk without room exited 0"; exit 1; fi
+code=$?
+grep -q "no room for the output: .*, and $work/room has [01] MB free: make room there, or write elsewhere (-o)\. Nothing was meshed\." log \
+  && ! grep -q "pieces 1/" log && [ -z "$(ls room | grep -v -x -e lost+found -e neighbour)" ] \
+  || { echo "FAIL: a disk without room (exit $code):"; cat log; exit 1; }
+least_input=$(at_least)
+echo "ok: 1 rank: a disk with 1 MB free refused before the meshing: the input's mesh takes at least $least_input MB"
+# This mesh's own least room (its counts known once meshed), then a disk with room between the two.
+PARTET_TEST_FREE_DISK_MB=1e9,0 "$partet" mesh big.off -o mine --pieces 4 --wait-for-space 0 > log 2>&1 || true
+least_mesh=$(at_least)
+[ -n "$least_input" ] && [ -n "$least_mesh" ] && [ "$least_mesh" -ge $((least_input + 2)) ] \
+  || { echo "FAIL: no room between the input's least files ($least_input MB) and the mesh's ($least_mesh MB)"; cat log; exit 1; }
+for n in 1 2; do
+  leave_free $(( (least_input + least_mesh) / 2 ))
+  "$mpiexec" -n $n "$partet" mesh big.off -o room/m --pieces 4 --check > log 2>&1 &
+  pid=$!
+  for _ in $(seq 1200); do grep -q "for room (--wait-for-space)" log && break; kill -0 $pid 2> /dev/null || break; sleep 0.1; done
+  grep -q "warning: $work/room has [0-9]* MB free, and the files of this mesh ([0-9]* points, [0-9]* tets) take at least $least_mesh MB as tetgen: waiting up to 20 min for room" log \
+    || { echo "FAIL: $n rank(s): no wait for room:"; cat log; exit 1; }
+  rm room/neighbour  # room is made
+  wait $pid || { echo "FAIL: $n rank(s): no mesh once room was made:"; cat log; exit 1; }
+  grep -q "room at $work/room after [0-9]* s: writing" log && grep -q "check passed" log \
+    || { echo "FAIL: $n rank(s): not written and checked:"; cat log; exit 1; }
+  echo "ok: $n rank(s): a disk filled during the meshing: the mesh waited $(grep -o 'after [0-9]* s' log | cut -c7-) for room, then was written and checked"
+  rm room/m.*
 done
