@@ -18,6 +18,12 @@
 
 namespace partet {
 
+std::string format_names(const MeshJob& job) {
+  std::string names;
+  for (MeshFormat format : job.formats) names += (names.empty() ? "" : ", ") + mesh_format_name(format);
+  return names;
+}
+
 int unit_scale_exponent(const SurfaceMesh& surface) {
   double largest = 0;
   for (const Triangle& t : surface.triangles)

@@ -33,6 +33,9 @@ struct MeshJob {
   double wait_for_space_minutes = 20;
 };
 
+// The job's formats by name, "tetgen, xdmf" (for messages).
+std::string format_names(const MeshJob& job);
+
 // What each rank measured. Gathered to rank 0 as raw doubles, so only doubles belong here.
 struct RankStats {
   double tetgen_seconds = 0;  // meshing pieces

@@ -72,7 +72,7 @@ fi
 # 4. Still full when the wait ends.
 run_free "1e9,0.000001" in.off -o m --pieces 3 --wait-for-space 0.005 > log 2>&1
 code=$?
-if [ $code = 1 ] && grep -q "error: $work has 0 MB free, .* after waiting 0 s: nothing was written; make room there and run again (with --checkpoint DIR the pieces meshed are kept for a rerun)" log && kept; then
+if [ $code = 1 ] && grep -q "error: $work has 0 MB free, .* after waiting 0 s: nothing was written; make room there and run again, with --checkpoint DIR so that a rerun need not mesh the pieces again" log && kept; then
   ok "still full after --wait-for-space: exit 1, nothing written, the previous mesh kept"
 else
   bad "giving up the wait (exit $code):"; cat log
