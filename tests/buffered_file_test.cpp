@@ -6,7 +6,10 @@
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/vfs.h>
+#include <sys/wait.h>
 #include <unistd.h>
+#include <atomic>
+#include <chrono>
 #include <charconv>
 #include <csignal>
 #include <cstdio>
@@ -14,10 +17,14 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <vector>
 
+#include "common/memory.hpp"
 #include "io/buffered_file.hpp"
 #include "partet/errors.hpp"
+#include "test_support.hpp"
 
 namespace partet {
 namespace {
@@ -100,6 +107,34 @@ TEST(BufferedFile, ManyBuffersGiveExactlyTheTextFormatted) {
     ASSERT_EQ(written.size(), expected.size());
     EXPECT_TRUE(written == expected);
   }
+}
+
+// Without room for the writing thread's stack (a tight ulimit -v) the caller writes each buffer
+// itself: the same file.
+TEST(BufferedFile, WithoutRoomForItsThreadTheCallerWrites) {
+  const fs::path path = fs::temp_directory_path() / ("partet_buffered_alone_" + std::to_string(::getpid()));
+  std::string expected;
+  for (std::int64_t i = 0; i < 1'500'000; ++i) expected += std::to_string(i * 7919) + " x\n";  // about 12 MB: several buffers
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    try {
+      BufferedFile out(path.string());
+      // Room for the second buffer (4 MB), not for a thread's stack (8 MB).
+      const test::NoRoomForThreads no_room(6);
+      if (!no_room.ok()) ::_exit(12);
+      out.bytes(expected.data(), expected.size());
+      out.close();
+    } catch (...) {
+      ::_exit(11);
+    }
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "11: the write failed, 12: threads still start under the limit";
+  EXPECT_TRUE(read_all(path) == expected);
+  fs::remove(path);
 }
 
 TEST(BufferedFile, SmallFileIsWrittenAtClose) {

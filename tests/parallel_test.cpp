@@ -3,13 +3,20 @@
 // threads it starts meanwhile), then its own mask back.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
 #include "common/parallel.hpp"
+#include "test_support.hpp"
 
 namespace partet {
 namespace {
@@ -21,6 +28,27 @@ TEST(ParallelFor, EveryIndexExactlyOnce) {
       parallel_for(count, threads, [&](std::size_t i) { ++calls[i]; });
       for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(calls[i].load(), 1) << threads << " threads, index " << i;
     }
+}
+
+// Under an address-space limit with no room for another thread's stack (a tight ulimit -v), the
+// work is still done, by the threads that could start.
+TEST(ParallelFor, WithoutRoomForAnotherThreadTheWorkIsStillDone) {
+  std::vector<std::atomic<int>> calls(1000);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    {
+      const test::NoRoomForThreads no_room(2);
+      if (!no_room.ok()) ::_exit(11);
+      parallel_for(calls.size(), 8, [&](std::size_t i) { ++calls[i]; });
+    }
+    for (const auto& c : calls)
+      if (c.load() != 1) ::_exit(12);
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "11: threads still start under the limit, 12: not every index once";
 }
 
 TEST(ParallelFor, FailureIsRethrownAfterAllThreadsStop) {

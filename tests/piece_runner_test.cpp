@@ -6,6 +6,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/memory.hpp"
 #include "io/file_owner.hpp"
 #include "stages/closure.hpp"
 #include "partet/errors.hpp"
@@ -189,6 +191,48 @@ TEST(PieceRunner, CrashAndHookFailuresInAChild) {
   ASSERT_TRUE(injected.failure);
   EXPECT_EQ(injected.failure->kind, FailureKind::injected);
   EXPECT_EQ(injected.failure->piece, 2);
+}
+
+// Under an address-space limit the process inherited (ulimit -v, a job's virtual memory limit)
+// below partet's own, running out of memory is the piece's size, not a runaway refinement: more
+// pieces help (out_of_memory), and the child keeps that lower limit even where it could raise it
+// (root). Without such a limit the same allocation is a runaway under partet's own limit.
+TEST(PieceRunner, UnderAnInheritedMemoryLimitAPieceRunsOutOfMemoryItDoesNotRunAway) {
+  const auto pieces = torus_pieces();
+  const auto allocate_much = [] {
+    std::vector<char> much(std::size_t{1} << 31, 1);
+    if (much[12345] != 1) std::abort();
+  };
+  const PieceOutcome unlimited = deserialize_outcome(runner(true).mesh_to_reply(pieces[0], allocate_much));
+  ASSERT_TRUE(unlimited.failure);
+  EXPECT_EQ(unlimited.failure->kind, FailureKind::runaway) << unlimited.failure->text();
+
+  const pid_t pid = ::fork();
+  if (pid == 0) {  // a process under a limit of its own, 48 MB above what it maps now
+    rlimit limit{};
+    limit.rlim_cur = limit.rlim_max = static_cast<rlim_t>((virtual_size_mb() + 48) * 1024 * 1024);
+    if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(10);
+    const PieceOutcome limited = deserialize_outcome(runner(true).mesh_to_reply(pieces[0], allocate_much));
+    if (!limited.failure || limited.failure->kind != FailureKind::out_of_memory) ::_exit(11);
+    const std::string text = limited.failure->text();
+    if (text.find("ran out of memory under the address-space limit this process inherited (ulimit -v") ==
+            std::string::npos ||
+        text.find("more --pieces make each smaller, or raise the limit") == std::string::npos)
+      ::_exit(12);
+    IsolatedRun child(
+        [] {
+          rlimit in_child{};
+          ::getrlimit(RLIMIT_AS, &in_child);
+          return std::to_string(in_child.rlim_cur);
+        },
+        10, 100000);
+    child.wait();
+    ::_exit(child.end() == ProcessEnd::finished && std::stoull(child.take_bytes()) <= limit.rlim_cur ? 0 : 13);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "10: no limit set, 11: not out_of_memory, 12: its message, 13: the child's limit";
 }
 
 // The out-of-memory killer takes a meshing child first (its rank survives and retries smaller

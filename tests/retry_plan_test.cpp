@@ -268,6 +268,10 @@ TEST(RetryPlan, PiecesKilledForMemoryDoubleAlongTheSameAxisUpToFourTimesThoseAsk
   RetryPlan alone(large_input(), asked(1), 0);
   alone.next(failure(FailureKind::killed));
   EXPECT_EQ(alone.options().pieces, 2);
+  // Out of memory under a limit the process inherited (ulimit -v): the same remedy.
+  RetryPlan limited(large_input(), asked(4, CutAxis::x), 0);
+  limited.next(failure(FailureKind::out_of_memory, {2}));
+  EXPECT_EQ(step(limited), (Step{CutAxis::x, 8, 0.25, std::vector<int>(7, 0)}));
 }
 
 TEST(RetryPlan, InjectedFailuresAndTheAttemptLimitEndAtOnce) {

@@ -1,15 +1,38 @@
 #include "test_support.hpp"
 
-#include "partet/errors.hpp"
-
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <system_error>
 #include <vector>
 
+#include "common/memory.hpp"
+#include "partet/errors.hpp"
+
 namespace partet::test {
+
+NoRoomForThreads::NoRoomForThreads(double room_mb) {
+  rlimit limit{};
+  limit.rlim_cur = limit.rlim_max = static_cast<rlim_t>((virtual_size_mb() + room_mb) * 1024 * 1024);
+  if (::setrlimit(RLIMIT_AS, &limit) != 0) return;
+  try {
+    while (holders_.size() < 100)
+      holders_.emplace_back([this] {
+        while (!release_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      });
+  } catch (const std::system_error&) {
+    ok_ = true;  // no thread starts any more
+  }
+}
+
+NoRoomForThreads::~NoRoomForThreads() {
+  release_ = true;
+  for (std::thread& h : holders_) h.join();
+}
 namespace {
 
 std::vector<std::filesystem::path>& created() {

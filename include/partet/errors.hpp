@@ -46,6 +46,7 @@ enum class FailureKind : std::int32_t {
   too_close = 9,          // TetGen took features closer than its tolerance for one (thin solids)
   runaway = 10,           // TetGen's refinement grew far past what the surface needs (a bound too tight)
   killed = 11,            // the meshing process was killed from outside (SIGKILL), most often for memory
+  out_of_memory = 12,     // the meshing process ran out of memory under a limit it inherited (ulimit -v)
 };
 
 // A meshing failure as a value: it crosses process and rank boundaries serialized.

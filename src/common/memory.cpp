@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -39,6 +40,12 @@ double virtual_size_mb() {
   const bool ok = std::fscanf(f, "%ld", &total) == 1;
   std::fclose(f);
   return ok ? static_cast<double>(total) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0) : 0;
+}
+
+double address_space_room_mb() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return HUGE_VAL;
+  return static_cast<double>(limit.rlim_cur) / (1024.0 * 1024.0) - virtual_size_mb();
 }
 
 double own_peak_rss_mb() { return peak_rss_mb(RUSAGE_SELF); }

@@ -7,6 +7,9 @@ namespace partet {
 
 double current_rss_mb();        // this process now
 double virtual_size_mb();       // this process's virtual size now (what RLIMIT_AS counts)
+// What this process may still map under its address-space limit (ulimit -v, a job's virtual
+// memory limit): the limit less its virtual size, in MB; infinite without a limit.
+double address_space_room_mb();
 double own_peak_rss_mb();       // this process's peak so far
 double children_peak_rss_mb();  // the largest waited-for child process's peak
 // Makes every array of 1 MB or more go back to the system as soon as it is freed. glibc's

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -65,7 +66,12 @@ void parallel_for(std::size_t count, unsigned threads, const Work& work) {
     }
   };
   std::vector<std::thread> helpers;
-  for (std::size_t t = 1; t < std::min<std::size_t>(threads, count); ++t) helpers.emplace_back(run);
+  try {
+    for (std::size_t t = 1; t < std::min<std::size_t>(threads, count); ++t) helpers.emplace_back(run);
+  } catch (const std::system_error&) {
+    // No room for another thread's stack (a tight ulimit -v): the threads already started, and
+    // this one, do the work.
+  }
   run();
   for (std::thread& h : helpers) h.join();
   if (failure) std::rethrow_exception(failure);

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <mutex>
 #include <new>
+#include <system_error>
 #include <thread>
 
 #include "common/log.hpp"
@@ -71,6 +72,7 @@ struct BufferedFile::Writer {
   int error = 0;        // the first write's errno
   std::uint64_t written = 0, written_back = 0;
   std::thread thread;
+  bool alone = false;  // no thread could be started: the caller writes
   std::string shown;  // for the error of a file closed in the background
 
   // Writes everything or records why not; no more writes after a failure. Writing directly,
@@ -159,10 +161,15 @@ struct BufferedFile::Writer {
   }
 
   // Starts the thread, with a buffer of its own to write from (small files never need one).
+  // Without room for its stack (a tight ulimit -v) the caller writes each buffer itself.
   void start(std::size_t buffer_size) {
     pending = AlignedBytes(buffer_size);
     direct = start_direct_writes(fd);
-    thread = std::thread([this] { run(); });
+    try {
+      thread = std::thread([this] { run(); });
+    } catch (const std::system_error&) {
+      alone = true;
+    }
   }
 
   // Waits for what the thread was given, stops it and closes the file; returns the first error
@@ -221,13 +228,20 @@ void BufferedFile::flush(bool last) {
   if (used_ == 0) return;
   Writer& w = *writer_;
   // Started at the first hand-over: a small file closed with close() is written without one.
-  if (!w.thread.joinable()) {
+  if (!w.thread.joinable() && !w.alone) {
     w.start(buffer_.size());
     if (w.direct) log::debug("writing '" + shown_ + "' around the page cache (O_DIRECT)");
   }
   if (const int error = w.wait_idle(); error != 0) fail(error);
   const std::size_t handed = w.direct && !last ? used_ - used_ % kBlock : used_;
   if (handed == 0) return;
+  if (w.alone) {
+    w.write_all(data(), handed);
+    std::memmove(data(), data() + handed, used_ - handed);
+    used_ -= handed;
+    if (w.error != 0) fail(w.error);
+    return;
+  }
   {
     std::lock_guard<std::mutex> lock(w.mutex);
     buffer_.swap(w.pending);
@@ -244,7 +258,7 @@ bool BufferedFile::writes_directly() const { return writer_ && writer_->direct; 
 
 void BufferedFile::close() {
   Writer& w = *writer_;
-  if (w.thread.joinable()) {
+  if (w.thread.joinable() || w.alone) {
     flush(true);
   } else {
     w.write_all(data(), used_);  // a small file: never handed over, this thread writes it

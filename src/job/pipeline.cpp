@@ -435,8 +435,10 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& w
     return mesh;
   } catch (const MeshingError& error) {
     const FailureKind kind = error.failure.kind;
-    // (A region killed for memory would not fit better in a larger one.)
-    if (kind == FailureKind::runaway || kind == FailureKind::timed_out || kind == FailureKind::killed) throw;
+    // (A region killed for memory, or out of it, would not fit better in a larger one.)
+    if (kind == FailureKind::runaway || kind == FailureKind::timed_out || kind == FailureKind::killed ||
+        kind == FailureKind::out_of_memory)
+      throw;
     log::debug(std::string("seam healing goes on over the whole mesh: ") + error.what());
   }
   TetMesh mesh = welder.assemble(std::move(band), false);

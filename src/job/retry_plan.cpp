@@ -61,7 +61,7 @@ void RetryPlan::next(const AttemptFailure& failed) {
     // TetGen alone took a second or two: more partitions would cost more than they could save.
     use_one_piece_mesh_ = true;
     note = "; using the input meshed as one piece, as TetGen alone would";
-  } else if (f.kind == FailureKind::killed) {
+  } else if (f.kind == FailureKind::killed || f.kind == FailureKind::out_of_memory) {
     if (diagnosing_) end_diagnosis();  // the input as one piece does not fit: the cuts go on, in smaller pieces
     if (!more_pieces(note)) give_up(f, " (with " + std::to_string(current_.pieces) + " pieces)");
   } else if (quality_unmet(f, current_)) {

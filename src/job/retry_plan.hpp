@@ -10,7 +10,8 @@
 //   4. One piece: TetGen alone on the whole input, when it fits in the memory available.
 //
 // A piece killed from outside (SIGKILL: most often the out-of-memory killer of the node or of
-// the job's cgroup) is not the cut's fault, and other cuts or fewer pieces would need as much
+// the job's cgroup), or out of memory under an address-space limit its process inherited
+// (ulimit -v), is not the cut's fault, and other cuts or fewer pieces would need as much
 // memory or more: the next partition has twice the pieces along the same axis, each about half
 // as large, up to kMorePiecesFactor times the pieces asked for; then the run stops saying so.
 //

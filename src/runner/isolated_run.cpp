@@ -26,10 +26,14 @@
 namespace partet {
 namespace {
 
+// Never above the limit the process inherited: as root it could raise it, and a user's or a
+// job's ulimit -v would no longer hold for TetGen.
 void limit_memory(double megabytes) {
-  const double limit = (virtual_size_mb() + megabytes) * 1024 * 1024;
+  rlimit inherited{};
+  ::getrlimit(RLIMIT_AS, &inherited);
+  const auto limit = static_cast<rlim_t>((virtual_size_mb() + megabytes) * 1024 * 1024);
   rlimit r{};
-  r.rlim_cur = r.rlim_max = static_cast<rlim_t>(limit);
+  r.rlim_cur = r.rlim_max = std::min(limit, inherited.rlim_cur);
   ::setrlimit(RLIMIT_AS, &r);
 }
 

@@ -26,11 +26,31 @@ Failure runaway(int piece, std::size_t triangles, double limit_mb) {
                      " times what such a surface needs: its refinement ran away");
 }
 
-// Runs in the process that meshes: never throws, every failure becomes a reply. limit_mb > 0:
-// the process cannot allocate more than that (set by the isolated run), so running out of
-// memory means TetGen's refinement ran away.
+// The room a meshing child has: limit_mb (partet's limit) or, when the process runs under a
+// lower address-space limit it cannot raise (ulimit -v, a job's virtual memory limit), that one.
+struct MemoryRoom {
+  double limit_mb = 0;      // partet's (0: none)
+  double inherited_mb = 0;  // what the inherited limit leaves (infinite: no limit)
+  bool inherited_binds() const { return inherited_mb < limit_mb; }
+};
+
+// What running out of memory means: under partet's own limit, TetGen's refinement ran away;
+// under a lower limit the process inherited, the piece is too large for it (more pieces help).
+Failure out_of_memory(int piece, std::size_t triangles, const MemoryRoom& room) {
+  if (room.inherited_binds())
+    return Failure(FailureKind::out_of_memory, piece, {},
+                   "TetGen ran out of memory under the address-space limit this process inherited (ulimit -v, "
+                   "or a job's virtual memory limit: about " +
+                       std::to_string(static_cast<long long>(std::max(0.0, room.inherited_mb))) + " MB left, for " +
+                       std::to_string(triangles) + " triangles); more --pieces make each smaller, or raise the limit");
+  if (room.limit_mb > 0) return runaway(piece, triangles, room.limit_mb);
+  return Failure{FailureKind::other, piece, {}, "out of memory"};
+}
+
+// Runs in the process that meshes: never throws, every failure becomes a reply. With a memory
+// limit (set by the isolated run) running out of memory is out_of_memory's failure.
 std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, const std::function<void()>& before,
-                        double limit_mb) {
+                        const MemoryRoom& room) {
   PieceOutcome outcome;
   const double start = now_seconds(), resident_at_start = current_rss_mb();
   try {
@@ -38,11 +58,10 @@ std::string piece_reply(const PieceSurface& piece, const TetgenOptions& tetgen, 
     outcome.result = tetrahedralize_piece(piece, tetgen);
   } catch (const MeshingError& e) {
     outcome.failure = e.failure;
-    if (limit_mb > 0 && e.failure.kind == FailureKind::tetgen_error && e.failure.message == kTetgenOutOfMemory)
-      outcome.failure = runaway(piece.index, piece.triangles.size(), limit_mb);
+    if (room.limit_mb > 0 && e.failure.kind == FailureKind::tetgen_error && e.failure.message == kTetgenOutOfMemory)
+      outcome.failure = out_of_memory(piece.index, piece.triangles.size(), room);
   } catch (const std::bad_alloc&) {
-    outcome.failure = limit_mb > 0 ? runaway(piece.index, piece.triangles.size(), limit_mb)
-                                   : Failure{FailureKind::other, piece.index, {}, "out of memory"};
+    outcome.failure = out_of_memory(piece.index, piece.triangles.size(), room);
   } catch (const std::exception& e) {
     outcome.failure = Failure{FailureKind::other, piece.index, {}, e.what()};
   }
@@ -128,16 +147,18 @@ class ChildProcessJob : public PieceJob {
                   double cpu_seconds, double limit_mb)
       : piece_(piece.index),
         triangles_(piece.triangles.size()),
-        limit_mb_(limit_mb),
-        run_([&piece, tetgen, before, limit_mb] { return piece_reply(piece, tetgen, before, limit_mb); },
-             cpu_seconds, limit_mb) {}
+        room_{limit_mb, address_space_room_mb()},
+        run_([&piece, tetgen, before, room = room_] { return piece_reply(piece, tetgen, before, room); }, cpu_seconds,
+             limit_mb) {}
   bool poll(int wait_ms) override { return run_.poll(wait_ms); }
   std::string take_reply() override {
     run_.wait();
     PieceOutcome outcome;
-    if (run_.end() == ProcessEnd::crashed && run_.peak_mb() > 0.8 * limit_mb_) {
-      // TetGen does not check every allocation: at the memory limit it may crash instead.
-      outcome.failure = runaway(piece_, triangles_, limit_mb_);
+    const bool near_limit = run_.peak_mb() > 0.8 * room_.limit_mb || (room_.inherited_binds() && run_.signal() != SIGKILL);
+    if (run_.end() == ProcessEnd::crashed && near_limit) {
+      // TetGen does not check every allocation: at the memory limit it may crash instead (under
+      // an inherited limit, whose room the peak does not show, any crash but a kill counts).
+      outcome.failure = out_of_memory(piece_, triangles_, room_);
     } else if (run_.end() != ProcessEnd::finished) {
       outcome.failure = process_failure(run_, piece_, "meshing");
     } else {
@@ -153,7 +174,7 @@ class ChildProcessJob : public PieceJob {
  private:
   int piece_;
   std::size_t triangles_;
-  double limit_mb_;
+  MemoryRoom room_;
   IsolatedRun run_;
 };
 
@@ -212,7 +233,7 @@ std::unique_ptr<PieceJob> PieceRunner::start(const PieceSurface& piece, std::fun
 }
 
 std::unique_ptr<PieceJob> PieceRunner::start_meshing(const PieceSurface& piece, std::function<void()> before) const {
-  if (!run_.isolate) return std::make_unique<InProcessJob>(piece_reply(piece, tetgen_, before, 0));
+  if (!run_.isolate) return std::make_unique<InProcessJob>(piece_reply(piece, tetgen_, before, MemoryRoom{}));
   return std::make_unique<ChildProcessJob>(piece, tetgen_, std::move(before), time_limit(piece),
                                            memory_limit_mb(piece.triangles.size()));
 }
