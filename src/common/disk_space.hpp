@@ -4,12 +4,9 @@
 
 namespace partet {
 
-// What this process may still write on the filesystem holding `directory`, in MB (statvfs: the
+// What this process may still write on the filesystem holding `path` (a file or a directory), in MB (statvfs: the
 // blocks reserved for root count for root only; a user's quota does not show); negative when
 // unknown.
-double free_disk_mb(const std::string& directory);
-
-// The directory a path's file goes to: "." for a bare name.
-std::string directory_of(const std::string& path);
+double free_disk_mb(const std::string& path);
 
 }  // namespace partet

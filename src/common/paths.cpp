@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 
 #include "partet/errors.hpp"
 
@@ -14,6 +15,11 @@ std::string absolute_path(const std::string& path) {
   if (!path.empty() && path[0] == '/') return path;
   char here[4096];
   return ::getcwd(here, sizeof here) ? std::string(here) + "/" + path : path;
+}
+
+std::string directory_of(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  return parent.empty() ? "." : parent.string();
 }
 
 void check_writable_directory(const std::string& option, const std::string& directory) {

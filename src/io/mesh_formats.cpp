@@ -16,6 +16,7 @@
 
 #include "common/group_items.hpp"
 #include "common/parallel.hpp"
+#include "common/paths.hpp"
 #include "io/buffered_file.hpp"
 #include "io/msh.hpp"
 #include "io/row_lines.hpp"
@@ -391,10 +392,6 @@ bool is_partition_file(const std::string& directory, const std::string& name, co
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
   return head.find("\n$PartitionedEntities\n") != std::string::npos;
-}
-
-std::string directory_of(const std::string& prefix) {
-  return prefix.find('/') == std::string::npos ? "." : prefix.substr(0, prefix.find_last_of('/') + 1);
 }
 
 void write_piece_files(MeshFormat format, const std::vector<PieceFile>& files, const PieceArraysOf& arrays_of,

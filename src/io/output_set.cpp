@@ -27,6 +27,7 @@
 #include "io/file_owner.hpp"
 #include "partet/errors.hpp"
 #include "common/log.hpp"
+#include "common/paths.hpp"
 #include "runner/interrupts.hpp"
 #include "common/test_hooks.hpp"
 #include "common/write_all.hpp"
@@ -38,11 +39,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kJournalHeader = "partet publish journal 1";
 constexpr const char* kOld = ".old";  // a previous file set aside: FINAL.old<suffix>
-
-std::string directory_of(const std::string& path) {
-  const fs::path parent = fs::path(path).parent_path();
-  return parent.empty() ? "." : parent.string();
-}
 
 std::string absolute(const std::string& path) {
   std::error_code ec;

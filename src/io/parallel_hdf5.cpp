@@ -5,13 +5,13 @@
 #include <hdf5.h>
 
 #include <sys/stat.h>
-#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <type_traits>
 #include <vector>
 
+#include "common/disk_space.hpp"
 #include "partet/errors.hpp"
 
 namespace partet {
@@ -80,10 +80,8 @@ struct Rows {
 
 // Whether the file system holding `path` is full: HDF5 reports only that a write failed.
 bool file_system_full(const std::string& path) {
-  struct statvfs fs {};
-  if (statvfs(path.c_str(), &fs) != 0) return false;
-  const auto blocks = ::geteuid() == 0 ? fs.f_bfree : fs.f_bavail;  // root may use the reserved blocks
-  return static_cast<double>(blocks) * static_cast<double>(fs.f_frsize) < double(1 << 20);
+  const double free_mb = free_disk_mb(path);
+  return free_mb >= 0 && free_mb < 1;
 }
 
 class Hdf5File {

@@ -13,6 +13,7 @@
 #include "common/stage_timer.hpp"
 #include "common/test_hooks.hpp"
 #include "partet/errors.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {
@@ -46,9 +47,7 @@ double free_output_mb(const MeshJob& job) {
 }
 
 std::int64_t used_vertex_count(const SurfaceMesh& input) {
-  std::vector<char> used(input.points.size(), 0);
-  for (const Triangle& t : input.triangles)
-    for (auto v : t) used[static_cast<std::size_t>(v)] = 1;
+  const std::vector<char> used = used_vertices(input.points.size(), input.triangles);
   return std::count(used.begin(), used.end(), 1);
 }
 
