@@ -17,6 +17,7 @@
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
 #include "stages/seam_healing.hpp"
+#include "stages/tet_region.hpp"
 #include "stages/topology.hpp"
 #include "stages/validate.hpp"
 
@@ -263,6 +264,56 @@ TEST(HealSeams, ThinPiecesHealInTurnsAndEveryPointGoes) {
   EXPECT_TRUE(report.ok()) << violations(report);
   const double volume = enclosed_volume(input);
   EXPECT_NEAR(total_tet_volume(mesh.points, mesh.tets), volume, 1e-9 * volume);
+}
+
+// A chain of cuts heals the same alone as beside the others (seam_chains.hpp): healing the chains
+// one at a time gives the mesh healing them all at once gives, the same points in the same order
+// and the same tets, so a chain can be healed wherever its tets are. With a quality bound the
+// regions add points, and two layers of room make the bands deeper.
+TEST(HealSeams, ChainsHealTheSameOneAtATime) {
+  int several = 0;
+  for (const char* name : {"sphere", "torus", "genus3", "nested"})
+    for (int k : {3, 5})
+      for (const bool quality : {false, true}) {
+        SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (quality ? " quality" : ""));
+        const SurfaceMesh input = generate_surface(name, 2000);
+        const Stage s = prepare(input, k, 1.0, quality ? "1.414" : "");
+        HealOptions options{quality, quality ? 2 : 0, false};
+        TetMesh all = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+        TetMesh one_at_a_time = all;
+        const std::vector<std::vector<int>> chains = seam_chain_planes(all, s.prepared.split, options);
+        const SeamStats together = heal_seams(all, input, s.prepared.split, options, here(s.options));
+        EXPECT_EQ(together.chains, static_cast<std::int64_t>(chains.size()));
+        for (const auto& planes : chains) {
+          options.planes = planes;
+          heal_seams(one_at_a_time, input, s.prepared.split, options, here(s.options));
+        }
+        several += chains.size() > 1;
+        EXPECT_EQ(one_at_a_time.points, all.points);
+        EXPECT_EQ(tet_set(one_at_a_time.tets), tet_set(all.tets));
+        EXPECT_EQ(one_at_a_time.neighbours, compute_neighbours(one_at_a_time.tets));
+        drop_unused_points(one_at_a_time);  // (the chains' vertices; kept to compare the numbering)
+        const CheckReport report = check_mesh(input, one_at_a_time);
+        EXPECT_TRUE(report.ok()) << violations(report);
+      }
+  EXPECT_GE(several, 8);  // 10 of the 16: most cuts of a partition heal apart
+}
+
+// The cuts of thin pieces meet: their seams form one chain, which plans its rounds as a whole.
+TEST(HealSeams, CutsOfThinPiecesAreOneChain) {
+  const SurfaceMesh input = generate_surface("sphere", 1500);
+  const Stage thin = prepare(input, 8);
+  TetMesh mesh = weld(thin.prepared.split, thin.prepared.pieces, std::vector<PieceTetMesh>(thin.results));
+  const SeamStats stats = heal_seams(mesh, input, thin.prepared.split, HealOptions{true, 0}, here(thin.options));
+  EXPECT_LT(stats.chains, static_cast<std::int64_t>(thin.prepared.planes.size()));
+  EXPECT_GE(stats.chains, 1);
+  // Wider pieces: without a quality bound, the tets inside span a piece from cap to cap, so the
+  // caps' points (--heal) chain the cuts; the cut vertices on the surface do not.
+  const SurfaceMesh finer = generate_surface("sphere", 6000);
+  const Stage wide = prepare(finer, 3);
+  mesh = weld(wide.prepared.split, wide.prepared.pieces, std::vector<PieceTetMesh>(wide.results));
+  EXPECT_EQ(seam_chain_planes(mesh, wide.prepared.split, HealOptions{false, 0}).size(), 2u);
+  EXPECT_EQ(seam_chain_planes(mesh, wide.prepared.split, HealOptions{true, 0}).size(), 1u);
 }
 
 TEST(HealSeams, OnePieceChangesNothing) {

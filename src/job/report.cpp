@@ -66,6 +66,7 @@ std::string report_json(const JobSummary& s) {
                       {"cut_vertices_removed", s.result.seam.cut_vertices_removed},
                       {"cap_points_removed", s.result.seam.cap_points_removed},
                       {"seam_regions", s.result.seam.regions},
+                      {"seam_chains", s.result.seam.chains},
                       {"cap_triangles", s.result.cap_triangles},
                       {"split_input_faces", s.result.split_input_faces},
                       {"surface_points_added", s.result.surface_points_added},

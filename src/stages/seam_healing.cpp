@@ -9,6 +9,7 @@
 #include "partet/errors.hpp"
 #include "common/log.hpp"
 #include "common/stage_timer.hpp"
+#include "stages/seam_chains.hpp"
 #include "stages/seam_rounds.hpp"
 #include "stages/tet_region.hpp"
 #include "stages/topology.hpp"
@@ -23,6 +24,7 @@ struct Removed {
   std::int32_t first, first_cap, end;
   const SplitSurface& split;
   const std::vector<char>* selected = nullptr;  // by v - first; all when null
+  const std::vector<int>* chain_of_plane = nullptr;
   bool in_round(std::int32_t v) const { return !selected || (*selected)[v - first]; }
   bool contains(std::int32_t v) const { return v >= first && v < end && in_round(v); }
   bool is_cut_vertex(std::int32_t v) const { return v >= first && v < first_cap && in_round(v); }
@@ -31,6 +33,14 @@ struct Removed {
     return v < first_cap ? split.cut_vertex_plane[v - first] : split.cap_point_plane[v - first_cap];
   }
   std::size_t size() const { return static_cast<std::size_t>(end - first); }
+  int chain_of(std::int32_t v) const { return (*chain_of_plane)[plane_of(v)]; }
+  std::int32_t id(std::size_t i) const { return first + static_cast<std::int32_t>(i); }
+};
+
+// The Steiner points a round's parts added, in the order they were appended: how many, of which chain.
+struct NewPoints {
+  int chain;
+  std::size_t count;
 };
 
 using FragmentParents = std::unordered_map<FaceKey, std::int32_t, FaceKeyHash>;
@@ -52,6 +62,7 @@ struct Part {
   std::vector<Triangle> faces;        // its boundary, global ids
   std::vector<std::int32_t> parents;  // input triangles replacing its boundary fragments
   std::vector<int> planes;            // cut planes of its cut vertices
+  int chain = -1;                     // its chain (all its removed vertices are of one)
   RegionMesh remeshed;
 };
 
@@ -136,7 +147,10 @@ std::vector<Part> region_parts(const TetMesh& mesh, const std::vector<std::int32
     const std::int32_t t = region[i];
     Part& part = parts[part_of[i]];
     for (auto v : mesh.tets[t])
-      if (removed.contains(v)) part.planes.push_back(removed.plane_of(v));
+      if (removed.contains(v)) {
+        part.planes.push_back(removed.plane_of(v));
+        part.chain = removed.chain_of(v);
+      }
     for (int j = 0; j < 4; ++j) {
       const auto nb = mesh.neighbours[t][j];
       if (nb >= 0 && in_region[nb] && part_of[position_in(region, nb)] == part_of[i]) continue;
@@ -334,7 +348,7 @@ std::vector<std::int32_t> surviving_stars(const std::vector<std::int32_t>& star_
 std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, const Removed& removed,
                                      const FragmentParents& parent_of, const std::vector<std::int32_t>& star_tets,
                                      const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
-                                     StepClock& clock) {
+                                     std::vector<NewPoints>& new_points, StepClock& clock) {
   std::vector<char> in_region;
   std::vector<std::int32_t> region = round_region(mesh, removed, star_tets, options.layers, in_region);
   if (region.empty()) return star_tets;
@@ -370,7 +384,10 @@ std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, co
   stats.regions += static_cast<std::int64_t>(part_count);
   std::vector<RegionMesh> remeshed;
   remeshed.reserve(parts.size());
-  for (Part& part : parts) remeshed.push_back(std::move(part.remeshed));
+  for (Part& part : parts) {
+    new_points.push_back({part.chain, part.remeshed.mesh.steiner_points.size()});
+    remeshed.push_back(std::move(part.remeshed));
+  }
   std::vector<Part>().swap(parts);
   const Replacement where = replace_region(mesh, in_region, std::move(remeshed));
   clock.lap("splice");
@@ -379,44 +396,121 @@ std::vector<std::int32_t> heal_round(TetMesh& mesh, const SurfaceMesh& input, co
   return surviving_stars(star_tets, in_region, where);
 }
 
+// The vertices healing removes, grouped (cuts splitting one input triangle heal together) and
+// chained (seam_chains.hpp) on the mesh as it is.
+struct RemovedGroups {
+  std::vector<int> group_left;  // by v - first: the group of cuts of each vertex still to remove, or -1
+  SeamChains chains;
+  std::vector<int> chain_of_plane;  // -1: no vertex of its chain is left
+};
+
+RemovedGroups removed_groups(const TetMesh& mesh, const Removed& all, const HealOptions& options) {
+  const std::vector<int> group_of_plane = groups_of_planes(all.split);
+  RemovedGroups r;
+  r.group_left.resize(all.size());
+  for (std::size_t v = 0; v < r.group_left.size(); ++v) r.group_left[v] = group_of_plane[all.plane_of(all.id(v))];
+  const int groups = group_of_plane.empty() ? 0 : group_of_plane.back() + 1;
+  r.chains = seam_chains(mesh, all.first, r.group_left, groups, options.layers + 1);
+  r.chain_of_plane.resize(group_of_plane.size());
+  for (std::size_t p = 0; p < group_of_plane.size(); ++p) r.chain_of_plane[p] = r.chains.of_group[group_of_plane[p]];
+  return r;
+}
+
+// By v - first: whether vertex v lies on one of `planes` (all when empty). The vertices of other
+// planes are not healed: `group_left` loses them.
+std::vector<char> vertices_of_planes(const Removed& all, const std::vector<int>& planes, std::vector<int>& group_left) {
+  if (planes.empty()) return {};
+  std::vector<char> on_planes(all.size(), 0);
+  for (std::size_t v = 0; v < on_planes.size(); ++v) {
+    on_planes[v] = std::find(planes.begin(), planes.end(), all.plane_of(all.id(v))) != planes.end();
+    if (!on_planes[v]) group_left[v] = -1;
+  }
+  return on_planes;
+}
+
+// The vertices healing removes, with these options.
+Removed removed_vertices(const SplitSurface& split, const HealOptions& options) {
+  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
+  return Removed{
+      split.input_vertex_count, first_cap,
+      first_cap + (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0), split};
+}
+
+// Healing's new points, appended from `first_new` on as the rounds' parts made them, renumbered
+// chain by chain (stably): a chain's points then come in the order its own rounds made them,
+// whichever chains healed beside it, so that chains healed apart give the same numbering.
+void order_new_points_by_chain(TetMesh& mesh, std::size_t first_new, const std::vector<NewPoints>& runs) {
+  const auto by_chain = [&](std::size_t a, std::size_t b) { return runs[a].chain < runs[b].chain; };
+  std::vector<std::size_t> order(runs.size()), from(runs.size());
+  for (std::size_t r = 0, at = 0; r < runs.size(); at += runs[r].count, ++r) order[r] = r, from[r] = at;
+  if (std::is_sorted(order.begin(), order.end(), by_chain)) return;
+  std::stable_sort(order.begin(), order.end(), by_chain);
+  std::vector<std::int32_t> new_id(mesh.points.size() - first_new);
+  std::vector<Point3> points;
+  points.reserve(new_id.size());
+  for (std::size_t r : order)
+    for (std::size_t i = 0; i < runs[r].count; ++i) {
+      new_id[from[r] + i] = static_cast<std::int32_t>(first_new + points.size());
+      points.push_back(mesh.points[first_new + from[r] + i]);
+    }
+  std::copy(points.begin(), points.end(), mesh.points.begin() + static_cast<std::ptrdiff_t>(first_new));
+  const auto first = static_cast<std::int32_t>(first_new);
+  for (auto& t : mesh.tets)
+    for (auto& v : t)
+      if (v >= first) v = new_id[v - first];
+}
+
 }  // namespace
 
 SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
                      const RegionMesher& mesher) {
   SeamStats stats;
-  const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
-  const Removed all{
-      split.input_vertex_count, first_cap,
-      first_cap + (options.remove_cap_points ? static_cast<std::int32_t>(split.cap_point_plane.size()) : 0), split};
+  Removed all = removed_vertices(split, options);
   const FragmentParents parent_of = fragment_parents(split);
-  const std::vector<int> group_of_plane = groups_of_planes(split);
+  RemovedGroups groups = removed_groups(mesh, all, options);
+  all.chain_of_plane = &groups.chain_of_plane;
+  std::vector<int>& group_left = groups.group_left;
+  const std::vector<char> on_planes = vertices_of_planes(all, options.planes, group_left);
+  if (!options.planes.empty()) all.selected = &on_planes;
   // The piece array marks re-meshed tets (-1), so the figures count each tet once even when a
   // later round re-meshes tets of an earlier one.
   const bool had_pieces = mesh.piece.size() == mesh.tets.size();
   if (!had_pieces) mesh.piece.assign(mesh.tets.size(), 0);
   const std::int64_t tets_before = static_cast<std::int64_t>(mesh.tets.size());
-  // The group of cuts of each vertex still to remove (-1 once removed).
-  std::vector<int> group_left(all.size());
-  for (std::size_t v = 0; v < group_left.size(); ++v)
-    group_left[v] = group_of_plane[all.plane_of(all.first + static_cast<std::int32_t>(v))];
+  const std::size_t first_new_point = mesh.points.size();
+  std::vector<NewPoints> new_points;
   Removed healing = all;
   // The first round looks at every tet; later ones only at the tets the previous one left.
   std::vector<std::int32_t> candidates;
   for (bool first_round = true;; first_round = false) {
     StepClock clock;
-    const SeamRound round = plan_seam_round(mesh, all.first, group_left, first_round ? nullptr : &candidates);
+    const SeamRound round =
+        plan_seam_round(mesh, all.first, group_left, first_round ? nullptr : &candidates, &groups.chains.of_group);
     clock.lap("plan");
     if (std::find(round.heals.begin(), round.heals.end(), 1) == round.heals.end()) break;
     healing.selected = &round.heals;
-    candidates = heal_round(mesh, input, healing, parent_of, round.star_tets, options, mesher, stats, clock);
+    candidates =
+        heal_round(mesh, input, healing, parent_of, round.star_tets, options, mesher, stats, new_points, clock);
     for (std::size_t v = 0; v < round.heals.size(); ++v)
       if (round.heals[v]) group_left[v] = -1;
   }
+  stats.chains = groups.chains.count;
+  order_new_points_by_chain(mesh, first_new_point, new_points);
   stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
   stats.tets_in = tets_before - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
   if (!had_pieces) std::vector<std::int32_t>().swap(mesh.piece);
   drop_removed_points(mesh, all, options.drop_points, stats);
   return stats;
+}
+
+std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
+                                               const HealOptions& options) {
+  const Removed all = removed_vertices(split, options);
+  const RemovedGroups groups = removed_groups(mesh, all, options);
+  std::vector<std::vector<int>> planes(static_cast<std::size_t>(groups.chains.count));
+  for (std::size_t p = 0; p < groups.chain_of_plane.size(); ++p)
+    if (groups.chain_of_plane[p] >= 0) planes[groups.chain_of_plane[p]].push_back(static_cast<int>(p));
+  return planes;
 }
 
 BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options) {

@@ -18,6 +18,7 @@ struct SeamStats {
   std::int64_t cut_vertices_removed = 0;  // vertices partitioning put on input edges
   std::int64_t cap_points_removed = 0;    // the caps' interior points (when healing)
   std::int64_t regions = 0;               // regions re-meshed (after growth)
+  std::int64_t chains = 0;                // chains of cuts whose seams meet (seam_chains.hpp)
   std::int64_t tets_in = 0;               // tets replaced
   std::int64_t tets_out = 0;              // tets that replaced them
 };
@@ -33,6 +34,9 @@ struct HealOptions {
   // Drop the points no tet uses afterwards (the whole mesh); a band keeps them all (its points are
   // numbered as in the whole mesh, and the bulks use most of them).
   bool drop_points = true;
+  // Heal only the vertices of these cut planes, all when empty: the planes of whole chains
+  // (seam_chain_planes), which heal the same alone as beside the others.
+  std::vector<int> planes = {};
 };
 
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
@@ -44,7 +48,9 @@ using RegionMesher = std::function<std::vector<PieceOutcome>(const std::vector<P
 // time, with its boundary fixed, except that the split fragments of input triangles are replaced
 // by the input triangles themselves. Vertices that share a tet are healed together; all other
 // parts heal in parallel, on any rank, in rounds planned on the mesh as it stands (parts where
-// neighbouring cuts meet may take turns; see seam_rounds.hpp). A part that fails grows by a layer
+// neighbouring cuts meet may take turns; see seam_rounds.hpp). Each chain of cuts whose seams
+// meet (seam_chains.hpp) plans its rounds apart, and its new points are numbered together, chain
+// by chain, so healing one chain at a time gives the same mesh as healing them all. A part that fails grows by a layer
 // of tets (up to three times) first.
 // Afterwards the mesh has none of the removed vertices and (with options.drop_points) no unused
 // points; input vertices keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
@@ -56,6 +62,12 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
 // removes, grown by the layers its first round adds and one more, so that a later round's region
 // (grown from new tets) or a failed part's growth rarely meets the band's edge. Where one does,
 // the edge's faces stay fixed, as the faces around any region do.
+// The cut planes of each chain of cuts whose seams meet (seam_chains.hpp) and still have vertices
+// to remove in `mesh`, in the order of their lowest plane. A chain healed alone (options.planes)
+// heals as it does among the others.
+std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
+                                               const HealOptions& options);
+
 BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options);
 
 }  // namespace partet

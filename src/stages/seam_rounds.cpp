@@ -62,13 +62,19 @@ struct Components {
   std::vector<std::int64_t> tets;        // by component
   std::vector<std::int64_t> group_tets;  // by component * groups + group
   std::set<std::tuple<std::int32_t, int, int>> meet;
-  std::int64_t largest_alone = 0;  // star tets of the largest single-group part
+  std::vector<int> chain;                   // by component
+  std::vector<std::int64_t> largest_alone;  // by chain: star tets of its largest single-group part
 };
 
 Components measure_components(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int groups,
-                              Stars& stars) {
+                              const std::vector<int>* chain_of_group, Stars& stars) {
   Components c;
   c.of_set.assign(group.size(), -1);
+  auto chain_of = [&](int g) { return chain_of_group ? (*chain_of_group)[g] : 0; };
+  int chains = 1;
+  if (chain_of_group)
+    for (int chain : *chain_of_group) chains = std::max(chains, chain + 1);
+  c.largest_alone.assign(static_cast<std::size_t>(chains), 0);
   std::vector<std::int64_t> alone_tets(group.size(), 0);
   for (auto t : stars.tets) {
     const TetRemoved found(mesh.tets[t], first, group);
@@ -76,10 +82,12 @@ Components measure_components(const TetMesh& mesh, std::int32_t first, const std
     if (component < 0) {
       component = static_cast<std::int32_t>(c.tets.size());
       c.tets.push_back(0);
+      c.chain.push_back(chain_of(found.group[0]));
       c.group_tets.resize(c.group_tets.size() + static_cast<std::size_t>(groups), 0);
     }
     ++c.tets[component];
-    c.largest_alone = std::max(c.largest_alone, ++alone_tets[stars.alone.find(found.vertex[0])]);
+    std::int64_t& largest = c.largest_alone[chain_of(found.group[0])];
+    largest = std::max(largest, ++alone_tets[stars.alone.find(found.vertex[0])]);
     int distinct[4] = {}, count = 0;
     for (int i = 0; i < found.count; ++i)
       if (std::find(distinct, distinct + count, found.group[i]) == distinct + count) distinct[count++] = found.group[i];
@@ -102,7 +110,7 @@ std::vector<char> groups_taken(const Components& c, int groups) {
     for (int g = 0; g < groups; ++g)
       if (tets[g] > 0) order.push_back(g);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return tets[a] > tets[b]; });
-    const bool at_once = c.tets[component] <= c.largest_alone;
+    const bool at_once = c.tets[component] <= c.largest_alone[c.chain[component]];
     for (int g : order) {
       bool meets_taken = false;
       for (int h = 0; h < groups && !at_once && !meets_taken; ++h)
@@ -116,11 +124,11 @@ std::vector<char> groups_taken(const Components& c, int groups) {
 }  // namespace
 
 SeamRound plan_seam_round(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
-                          const std::vector<std::int32_t>* candidates) {
+                          const std::vector<std::int32_t>* candidates, const std::vector<int>* chain_of_group) {
   int groups = 0;
   for (int g : group) groups = std::max(groups, g + 1);
   Stars stars = find_stars(mesh, first, group, candidates);
-  const Components components = measure_components(mesh, first, group, groups, stars);
+  const Components components = measure_components(mesh, first, group, groups, chain_of_group, stars);
   const std::vector<char> takes = groups_taken(components, groups);
   SeamRound round{std::vector<char>(group.size(), 0), std::move(stars.tets)};
   for (auto t : round.star_tets) {

@@ -20,7 +20,8 @@ struct SeamRound {
 // group), or -1. Vertices sharing tets form components. A component whose vertices all belong to
 // one group heals now. So does a component of several groups (the stars of neighbouring cuts
 // meet across a thin piece) that is no larger, in star tets, than the largest set of one group's
-// vertices sharing tets; otherwise its groups take turns, the one with the most star tets first
+// vertices sharing tets in its chain (seam_chains.hpp; all groups are one chain when
+// `chain_of_group` is null), so that a chain's plan does not depend on the other chains; otherwise its groups take turns, the one with the most star tets first
 // together with every group that meets none taken before it. Planning each round anew matters:
 // re-meshing a region can bring the stars left for later rounds together (without a quality
 // bound the new tets span the region), and a plan made up front would then re-mesh them as one
@@ -30,6 +31,7 @@ struct SeamRound {
 // (the previous round's star tets that survived it, and its new tets): later rounds then cost
 // what their stars cost, not a scan of the whole mesh.
 SeamRound plan_seam_round(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
-                          const std::vector<std::int32_t>* candidates = nullptr);
+                          const std::vector<std::int32_t>* candidates = nullptr,
+                          const std::vector<int>* chain_of_group = nullptr);
 
 }  // namespace partet

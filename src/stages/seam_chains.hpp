@@ -1,0 +1,28 @@
+// Seam chains (internal header): the cuts whose seams heal together. Healing re-meshes the tets
+// around the vertices it removes; the seams of two cuts interact only where those neighbourhoods
+// meet (a thin piece between them). A chain is a set of groups of cuts (seam_healing.cpp's
+// groups: cuts splitting one input triangle) whose bands, the tets within `reach` layers of their
+// removed vertices, are joined through faces. Chains plan their rounds apart (seam_rounds.hpp),
+// so a chain heals the same whether the other chains heal beside it or not: what lets a chain's
+// seam be healed on its own, by the ranks that hold it.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "partet/mesh_types.hpp"
+
+namespace partet {
+
+struct SeamChains {
+  std::vector<int> of_group;  // chain of each group, numbered in the order of their lowest group;
+                              // -1 for a group with no vertex left
+  int count = 0;
+};
+
+// The chains of the groups of the vertices [first, first + group.size()) still to remove
+// (group[v - first] >= 0). `reach` is the band's depth in layers of tets across faces
+// (seam_band_spec's layers): the band path sees exactly these tets, so the chains found on the
+// band are those found on the whole mesh. `groups` is the number of groups.
+SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int groups, int reach);
+
+}  // namespace partet
