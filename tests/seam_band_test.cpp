@@ -19,6 +19,7 @@
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
 #include "stages/seam_band.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/seam_healing.hpp"
 #include "stages/spread_mesh.hpp"
 #include "stages/topology.hpp"
@@ -87,6 +88,50 @@ TEST(SeamBand, HealingTheBandsGivesTheMeshHealingTheWholeGives) {
         SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (caps ? " caps healed" : " cut vertices only"));
         expect_bands_heal_as_the_whole(generate_surface(name, 1500), k, HealOptions{caps, 0});
       }
+}
+
+// A chain cut out of the band heals there as it heals in the band (issue 22, item 2: a chain can
+// heal on a rank of its own): the chains healed apart and put back give the band healed in one
+// piece, point for point and tet for tet (both in order_band_tets' order), and it assembles into
+// a valid mesh. With a quality bound the regions add points and the band is deeper.
+TEST(SeamBand, ChainsCutOutOfTheBandHealAsTheBand) {
+  std::size_t most_chains = 0;
+  for (const char* name : {"sphere", "torus", "genus3", "nested"})
+    for (int k : {3, 5})
+      for (const bool quality : {false, true})
+        for (const bool caps : {false, true}) {
+          if (quality && !caps) continue;  // (a quality bound heals the caps)
+          SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (quality ? " quality" : "") +
+                       (caps ? " caps healed" : ""));
+          const SurfaceMesh input = generate_surface(name, 2000);
+          const MeshedPieces s = mesh_pieces_in_batch(input, k, 1.0, quality ? "1.414" : "");
+          const HealOptions options{caps, quality ? 2 : 0, false};
+          const SplitSurface& split = s.prepared.split;
+          Welder welder(split, s.prepared.pieces);
+          for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+          TetMesh band = welder.finish_band(split.points, band_spec(split, caps, options.layers + 1));
+          TetMesh by_chains = band;
+          heal_seams(band, input, split, options, regions_here(s.options));
+          order_band_tets(band);
+          std::vector<ChainBand> chains;
+          std::vector<HealedChain> healed;
+          const std::vector<std::vector<int>> planes = seam_chain_planes(by_chains, split, options);
+          std::vector<std::vector<std::int32_t>> tets = chain_band_tets(by_chains, split, planes, options);
+          for (std::size_t c = 0; c < planes.size(); ++c) {
+            chains.push_back(cut_out_chain(by_chains, input, split, planes[c], std::move(tets[c])));
+            healed.push_back(heal_chain(std::move(chains.back()), options, regions_here(s.options)));
+            ASSERT_FALSE(healed.back().failure);
+          }
+          most_chains = std::max(most_chains, chains.size());
+          put_back_chains(by_chains, chains, std::move(healed));
+          EXPECT_EQ(by_chains.points, band.points);
+          EXPECT_EQ(by_chains.tets, band.tets);
+          EXPECT_EQ(by_chains.neighbours, band.neighbours);
+          EXPECT_EQ(by_chains.piece, band.piece);
+          const CheckReport report = check_mesh(input, welder.assemble(std::move(by_chains)));
+          EXPECT_TRUE(report.ok());
+        }
+  EXPECT_GE(most_chains, 3u);
 }
 
 class SharedModels : public ::testing::Test {

@@ -105,6 +105,56 @@ TEST(Serialize, TaskCarriesEveryTetgenOption) {
   EXPECT_TRUE(received.boundary_points);
 }
 
+// A chain of the seams goes to a worker and comes back healed: the chain that arrives heals as
+// the one sent (the same tets and points), and the healed chain and a failure come back whole.
+TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
+  const SurfaceMesh input = generate_surface("torus", 1500);
+  const MeshedPieces s = mesh_pieces_in_batch(input, 3, 1.0, "1.414");
+  const HealOptions options{true, 2, false};
+  Welder welder(s.prepared.split, s.prepared.pieces);
+  for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+  const TetMesh band = welder.finish_band(s.prepared.split.points, seam_band_spec(s.prepared.split, options));
+  const std::vector<std::vector<int>> chains = seam_chain_planes(band, s.prepared.split, options);
+  ASSERT_FALSE(chains.empty());
+  ChainTask sent{static_cast<std::int32_t>(chains.size() - 1),
+                 cut_out_chain(band, input, s.prepared.split, chains.back(),
+                               chain_band_tets(band, s.prepared.split, chains, options).back()),
+                 options, TetgenOptions()};
+  sent.tetgen.quality = "1.414";
+  sent.tetgen.boundary_points = false;
+  ChainTask received = deserialize_chain_task(serialize_chain_task(sent));
+  EXPECT_EQ(received.index, sent.index);
+  EXPECT_EQ(received.chain.planes, sent.chain.planes);
+  EXPECT_EQ(received.heal.remove_cap_points, true);
+  EXPECT_EQ(received.heal.layers, 2);
+  EXPECT_EQ(received.tetgen.quality, "1.414");
+  EXPECT_FALSE(received.tetgen.boundary_points);
+  EXPECT_EQ(received.chain.split.parent, sent.chain.split.parent);
+  EXPECT_EQ(received.chain.mesh.piece, sent.chain.mesh.piece);
+  EXPECT_TRUE(received.chain.global_ids.empty());  // (rank 0 keeps them)
+  const HealedChain here = heal_chain(std::move(sent.chain), options, regions_here(s.options));
+  const HealedChain there = heal_chain(std::move(received.chain), received.heal, regions_here(s.options));
+  ASSERT_FALSE(here.failure);
+  EXPECT_GT(here.new_points.size(), 0u);
+  EXPECT_EQ(there.new_points, here.new_points);
+  EXPECT_EQ(there.tets, here.tets);
+  std::int32_t index = -1;
+  const HealedChain back = deserialize_chain_outcome(serialize_chain_outcome(7, there), index);
+  EXPECT_EQ(index, 7);
+  EXPECT_EQ(back.new_points, here.new_points);
+  EXPECT_EQ(back.tets, here.tets);
+  EXPECT_EQ(back.piece, here.piece);
+  EXPECT_EQ(back.stats.regions, here.stats.regions);
+  EXPECT_EQ(back.stats.tets_out, here.stats.tets_out);
+  HealedChain failed;
+  failed.failure = Failure(FailureKind::other, -1, {1, 2}, "re-meshing the seam near cut plane(s) 1, 2: no");
+  const HealedChain failure = deserialize_chain_outcome(serialize_chain_outcome(3, failed), index);
+  EXPECT_EQ(index, 3);
+  ASSERT_TRUE(failure.failure);
+  EXPECT_EQ(failure.failure->planes, (std::vector<int>{1, 2}));
+  EXPECT_EQ(failure.failure->message, failed.failure->message);
+}
+
 TEST(Serialize, TaskCarriesTheSplitOrder) {
   const Real r = real_pieces();
   TetgenOptions tetgen;

@@ -376,6 +376,19 @@ class RegionMeshers {
   RegionMesher seams() {
     return [this](const std::vector<PieceSurface>& regions) { return mesh(regions, tetgen_); };
   }
+  // The chains of the seams: on the ranks, each whole on one, when there are several of both;
+  // else here, one after another, their regions meshed on every rank. Stops at a chain that fails
+  // here (its failure is the band's).
+  std::vector<HealedChain> heal_chains(std::size_t count, const PieceScheduler::ChainCutter& cut_out,
+                                       const HealOptions& options) {
+    if (count > 1 && scheduler_.heals_chains_on_ranks()) return scheduler_.heal_chains(count, cut_out, options, tetgen_);
+    std::vector<HealedChain> healed;
+    for (std::size_t i = 0; i < count; ++i) {
+      healed.push_back(heal_chain(cut_out(i), options, seams()));
+      if (healed.back().failure) break;
+    }
+    return healed;
+  }
   PolishMesher polish() {
     return [this](const std::vector<PieceSurface>& regions, const std::string& optimization) {
       TetgenOptions tetgen = tetgen_;
@@ -410,17 +423,47 @@ void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, con
   result.axis = options.axis;
 }
 
+// Heals the band chain by chain (seam_chain_band.hpp): each chain is cut out of the band, healed
+// (on a rank of its own when there are several), and put back, so the band is the same however
+// many ranks healed it. Throws the MeshingError of the first chain that failed; the band is then
+// as it was.
+SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
+                              const HealOptions& options, RegionMeshers& meshers) {
+  const std::vector<std::vector<int>> planes = seam_chain_planes(band, split, options);
+  std::vector<std::vector<std::int32_t>> tets = chain_band_tets(band, split, planes, options);
+  std::vector<ChainBand> chains(planes.size());  // what stays here of each: its ids and tets in the band
+  const PieceScheduler::ChainCutter cut_out = [&](std::size_t i) {
+    ChainBand chain = cut_out_chain(band, input, split, planes[i], std::move(tets[i]));
+    chains[i].global_ids = chain.global_ids;
+    chains[i].band_tets = chain.band_tets;
+    return chain;
+  };
+  std::vector<HealedChain> healed = meshers.heal_chains(planes.size(), cut_out, options);
+  SeamStats stats;
+  stats.chains = static_cast<std::int64_t>(planes.size());
+  for (const HealedChain& chain : healed) {
+    if (chain.failure) throw MeshingError(*chain.failure);
+    stats.cut_vertices_removed += chain.stats.cut_vertices_removed;
+    stats.cap_points_removed += chain.stats.cap_points_removed;
+    stats.regions += chain.stats.regions;
+    stats.tets_in += chain.stats.tets_in;
+    stats.tets_out += chain.stats.tets_out;
+  }
+  put_back_chains(band, chains, std::move(healed));
+  return stats;
+}
+
 // 5. Heals the band alone; a part that failed (other than by running out of time or refining
-// without end) may have needed to grow past the band's edge, so the seams heal on over the whole
-// mesh, from the last round that ended, as far as they need to grow.
+// without end) may have needed to grow past the band's edge, so the seams heal over the whole
+// mesh, as far as they need to grow.
 TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& welder, TetMesh&& band,
-                  const HealOptions& options, const RegionMesher& mesher, SeamStats& stats,
+                  const HealOptions& options, RegionMeshers& meshers, SeamStats& stats,
                   std::shared_ptr<SpreadMesh>* spread, bool spread_neighbours) {
   const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + band.tets.size());
   HealOptions on_band = options;
   on_band.drop_points = false;
   try {
-    stats = heal_seams(band, input, split, on_band, mesher);
+    stats = heal_band_by_chains(band, input, split, on_band, meshers);
     const double start = now_seconds();
     if (spread && welder.keeps_bulks_elsewhere()) {
       *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours));
@@ -442,7 +485,7 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& w
     log::debug(std::string("seam healing goes on over the whole mesh: ") + error.what());
   }
   TetMesh mesh = welder.assemble(std::move(band), false);
-  stats = heal_seams(mesh, input, split, options, mesher);
+  stats = heal_seams(mesh, input, split, options, meshers.seams());
   stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
   stats.tets_in = welded_tets - (static_cast<std::int64_t>(mesh.tets.size()) - stats.tets_out);
   return mesh;
@@ -491,7 +534,7 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   MeshResult result;
   RegionMeshers meshers(options, scheduler);
   const bool spread = leaves_spread(options, band.tets.size() + welder.bulk_tet_count());
-  result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers.seams(),
+  result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers,
                           result.seam, spread ? &result.spread : nullptr, options.spread_neighbours);
   timer.lap("seam_healing");
   finish_healed(input, prepared, options, meshers, timer, result);

@@ -16,6 +16,7 @@
 #include "stages/partition.hpp"
 #include "stages/piece.hpp"
 #include "stages/polish.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/seam_healing.hpp"
 
 namespace partet {
@@ -161,6 +162,17 @@ class PieceScheduler {
   // round).
   using Arrived = std::function<void(std::size_t position, PieceOutcome&& outcome)>;
   virtual void end_round(const Arrived& arrived) = 0;
+  // Seam healing chain by chain (seam_chain_band.hpp), each chain healed whole on whichever rank
+  // is free: false when this scheduler has no other rank (the chains then heal here, one after
+  // another, their regions submitted as pieces).
+  virtual bool heals_chains_on_ranks() const { return false; }
+  // Heals `count` chains, chain i cut out by cut_out(i) when it is handed out, its regions
+  // meshed with `tetgen`; returns each chain's outcome, by chain.
+  using ChainCutter = std::function<ChainBand(std::size_t)>;
+  virtual std::vector<HealedChain> heal_chains(std::size_t /*count*/, const ChainCutter& /*cut_out*/,
+                                               const HealOptions& /*heal*/, const TetgenOptions& /*tetgen*/) {
+    return {};
+  }
   // The same, returning the outcomes in submission order.
   std::vector<PieceOutcome> end_round_all() {
     std::vector<PieceOutcome> outcomes;

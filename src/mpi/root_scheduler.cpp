@@ -212,6 +212,36 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
+  // Seam healing chain by chain: a free worker takes the next chain whole (its regions meshed
+  // there), and this rank heals chains too, looking at MPI while its regions are meshed, so that
+  // a worker done with its chain gets the next at once.
+  bool heals_chains_on_ranks() const override { return size_ > 1; }
+
+  std::vector<HealedChain> heal_chains(std::size_t count, const ChainCutter& cut_out, const HealOptions& heal,
+                                       const TetgenOptions& tetgen) override {
+    begin_round(tetgen);
+    chain_round_.emplace(ChainRound{&cut_out, heal, tetgen, {}, std::vector<HealedChain>(count), 0});
+    for (std::size_t i = 0; i < count; ++i) chain_round_->queue.push_back(i);
+    std::chrono::microseconds idle = kShortestIdle;
+    while (chain_round_->done < count) {
+      dispatch_chains();
+      bool replied = false;
+      while (receive_reply()) replied = true;
+      check_workers_answer();
+      if (!chain_round_->queue.empty()) {
+        heal_chain_here();
+        idle = kShortestIdle;
+      } else {
+        idle = replied ? kShortestIdle : sleep_idle(idle);
+      }
+    }
+    for (int w = 1; w < size_; ++w) send_piece(w, nullptr);  // round over
+    take_alive();
+    std::vector<HealedChain> healed = std::move(chain_round_->healed);
+    chain_round_.reset();
+    return healed;
+  }
+
   void progress() override {
     while (receive_reply()) {
     }
@@ -268,6 +298,68 @@ class RootScheduler : public PieceScheduler {
         send_cap(worker, plane);
       }
     }
+  }
+
+  void dispatch_chains() {
+    while (!idle_.empty() && !chain_round_->queue.empty()) {
+      const int worker = idle_.back();
+      idle_.pop_back();
+      const std::size_t chain = chain_round_->queue.front();
+      chain_round_->queue.pop_front();
+      send_chain(worker, chain);
+    }
+  }
+
+  // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything;
+  // the worker's heartbeats, from the start, tell a stopped or dead rank much sooner.
+  void send_chain(int worker, std::size_t chain) {
+    AddSeconds timer{stats_.send_seconds};
+    ChainTask task{static_cast<std::int32_t>(chain), (*chain_round_->cut_out)(chain), chain_round_->heal,
+                   chain_round_->tetgen};
+    const std::string bytes = serialize_chain_task(task);
+    task = ChainTask();
+    busy_[worker] = {awake_seconds() + kRootSeconds, static_cast<int>(chain), false, ++tasks_[worker]};
+    busy_[worker].chain = true;
+    try {
+      stats_.bytes_sent +=
+          static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, kWorkerSeconds));
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(worker) + " did not take seam chain " + std::to_string(chain) + " within " +
+                std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+    }
+  }
+
+  // Heals the next chain here, its regions in TetGen processes one after another; between looks
+  // at a region, the replies that came are taken and free workers get the next chains.
+  void heal_chain_here() {
+    const std::size_t chain = chain_round_->queue.front();
+    chain_round_->queue.pop_front();
+    const PieceRunner runner(chain_round_->tetgen, job_.options.run);
+    const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
+      std::vector<PieceOutcome> outcomes;
+      for (const PieceSurface& region : regions) {
+        const std::unique_ptr<PieceJob> run = runner.start(region, [] {});
+        while (!run->poll(2)) {
+          while (receive_reply()) {
+          }
+          check_workers_answer();
+          dispatch_chains();
+        }
+        outcomes.push_back(deserialize_outcome(run->take_reply()));
+      }
+      return outcomes;
+    };
+    AddSeconds timer{stats_.region_seconds};
+    chain_done(chain, heal_chain((*chain_round_->cut_out)(chain), chain_round_->heal, here), 0);
+  }
+
+  void chain_done(std::size_t chain, HealedChain&& healed, int rank) {
+    const bool failed = healed.failure.has_value();
+    chain_round_->healed.at(chain) = std::move(healed);
+    ++chain_round_->done;
+    log::info("seam chains " + std::to_string(chain_round_->done) + "/" + std::to_string(chain_round_->healed.size()) +
+              " healed (chain " + std::to_string(chain) + " on rank " + std::to_string(rank) +
+              (failed ? ", failed)" : ")"));
   }
 
   void build_cap_here(int plane) {
@@ -357,7 +449,7 @@ class RootScheduler : public PieceScheduler {
                   std::to_string(busy.piece) + " (stopped, hung, or its node lost?)");
       if (now > busy.deadline)
         abort_job("rank " + std::to_string(worker) + " has not answered for " +
-                  (busy.cap ? "the cap of plane " : "piece ") + std::to_string(busy.piece) +
+                  (busy.cap ? "the cap of plane " : busy.chain ? "seam chain " : "piece ") + std::to_string(busy.piece) +
                   " within its time limit (stopped or dead?)");
     }
   }
@@ -432,6 +524,16 @@ class RootScheduler : public PieceScheduler {
       AddSeconds timer{stats_.receive_seconds};
       const std::string reply = recv_bytes(worker, kTagReply, job_comm());
       stats_.bytes_received += static_cast<double>(reply.size());
+      if (is_chain_outcome(reply)) {
+        std::int32_t chain = 0;
+        HealedChain healed = deserialize_chain_outcome(reply, chain);
+        if (!chain_round_ || busy_.at(worker).piece != chain)
+          throw InternalError("rank " + std::to_string(worker) + " sent a seam chain it was not given");
+        idle_.push_back(worker);
+        busy_.erase(worker);
+        chain_done(static_cast<std::size_t>(chain), std::move(healed), worker);
+        return true;
+      }
       if (is_cap_outcome(reply)) {
         CapOutcome outcome = deserialize_cap_outcome(reply);
         const int plane = busy_.at(worker).piece;
@@ -502,12 +604,22 @@ class RootScheduler : public PieceScheduler {
     std::uint64_t task;    // the worker's task number (its heartbeats name it)
     double heard = 0;      // its latest heartbeat (awake_seconds)
     bool meshing = false;  // its TetGen process is at work: its heartbeats must not stop
+    bool chain = false;    // a chain of the seams to heal (piece: its index)
   };
   std::map<int, Busy> busy_;            // workers with a piece
   std::map<int, std::uint64_t> tasks_;  // per worker: the tasks sent (pieces, regions, caps)
   std::size_t remaining_ = 0;
   std::deque<int> cap_queue_;       // planes whose caps nobody builds yet
   std::map<int, CapOutcome> caps_;  // by plane: built, not yet taken by cap()
+  struct ChainRound {
+    const ChainCutter* cut_out;
+    HealOptions heal;
+    TetgenOptions tetgen;
+    std::deque<std::size_t> queue;  // chains not handed out yet
+    std::vector<HealedChain> healed;
+    std::size_t done;
+  };
+  std::optional<ChainRound> chain_round_;  // while heal_chains runs
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
   double own_start_ = 0;

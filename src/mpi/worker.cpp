@@ -29,6 +29,48 @@ void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
       bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+// A worker's part of seam healing: heals a chain of the seams whole, its regions in TetGen
+// processes here one after another, and sends rank 0 the healed chain or its failure. Its
+// heartbeats go on from the start to the reply (heartbeat.hpp).
+void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob& job, int rank, RankStats& stats) {
+  ChainTask chain = deserialize_chain_task(bytes);
+  std::string().swap(bytes);
+  const PieceRunner runner(chain.tetgen, job.options.run);
+  Heartbeat heartbeat(job_comm(), task);
+  heartbeat.meshing();
+  const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
+    std::vector<PieceOutcome> outcomes;
+    for (const PieceSurface& region : regions) {
+      const std::unique_ptr<PieceJob> run = runner.start(region);
+      do {
+        heartbeat.meshing();
+        test_hooks::meshing_stop(rank);
+      } while (!run->poll(250));
+      outcomes.push_back(deserialize_outcome(run->take_reply()));
+    }
+    return outcomes;
+  };
+  HealedChain healed;
+  const std::int32_t index = chain.index;
+  const std::vector<int> planes = chain.chain.planes;
+  try {
+    AddSeconds timer{stats.region_seconds};
+    healed = heal_chain(std::move(chain.chain), chain.heal, here);
+  } catch (const std::bad_alloc&) {
+    healed = HealedChain();
+    healed.failure = Failure(FailureKind::other, -1, planes, out_of_memory_message(rank));
+  } catch (const std::exception& e) {
+    healed = HealedChain();
+    healed.failure = Failure(FailureKind::other, -1, planes, e.what());
+  }
+  chain = ChainTask();
+  heartbeat.done();
+  const std::string reply = serialize_chain_outcome(index, healed);
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent += static_cast<double>(
+      bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
 }  // namespace
 
 // The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
@@ -275,6 +317,10 @@ void Worker::mesh_rounds() {
       ++tasks;
       if (task_kind(bytes) == TaskKind::cap) {
         build_cap_for_root(bytes, rank, stats);
+        continue;
+      }
+      if (task_kind(bytes) == TaskKind::chain) {
+        heal_chain_for_root(std::move(bytes), tasks, job, rank, stats);
         continue;
       }
       TetgenOptions tetgen;

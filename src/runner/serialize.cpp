@@ -116,11 +116,12 @@ std::size_t piece_bytes(const PieceSurface& piece) {
 
 }  // namespace
 
-constexpr char kPieceTaskTag = 'P', kCapTaskTag = 'K';
+constexpr char kPieceTaskTag = 'P', kCapTaskTag = 'K', kChainTaskTag = 'H';
 
 TaskKind task_kind(std::string_view bytes) {
   if (!bytes.empty() && bytes[0] == kPieceTaskTag) return TaskKind::piece;
   if (!bytes.empty() && bytes[0] == kCapTaskTag) return TaskKind::cap;
+  if (!bytes.empty() && bytes[0] == kChainTaskTag) return TaskKind::chain;
   throw InternalError("a task has no valid tag");
 }
 
@@ -497,6 +498,129 @@ PieceOutcome deserialize_outcome(std::string_view bytes) {
   else
     outcome.failure = deserialize_failure(bytes.substr(kHead));
   return outcome;
+}
+
+}  // namespace partet
+
+namespace partet {
+namespace {
+constexpr char kChainHealedTag = 'L', kChainFailureTag = 'M';
+
+template <class Archive>
+void save_stats(Archive& ar, const SeamStats& stats) {
+  std::int64_t figures[6] = {stats.cut_vertices_removed, stats.cap_points_removed, stats.regions,
+                             stats.tets_in,              stats.tets_out,           stats.chains};
+  ar << boost::serialization::make_array(figures, 6);
+}
+
+template <class Archive>
+void load_stats(Archive& ar, SeamStats& stats) {
+  std::int64_t figures[6] = {};
+  ar >> boost::serialization::make_array(figures, 6);
+  stats.cut_vertices_removed = figures[0];
+  stats.cap_points_removed = figures[1];
+  stats.regions = figures[2];
+  stats.tets_in = figures[3];
+  stats.tets_out = figures[4];
+  stats.chains = figures[5];
+}
+}  // namespace
+
+std::string serialize_chain_task(const ChainTask& task) {
+  const ChainBand& chain = task.chain;
+  const std::size_t bytes = 256 + chain.input.triangles.size() * 12 + chain.split.triangles.size() * 16 +
+                            chain.mesh.points.size() * 24 + chain.mesh.tets.size() * 36;
+  return encode(
+      bytes,
+      [&](auto& ar) {
+        const std::int32_t head[5] = {task.index, chain.split.input_vertex_count, task.heal.remove_cap_points,
+                                      task.heal.layers, task.tetgen.boundary_points};
+        ar << boost::serialization::make_array(head, 5);
+        ar << task.tetgen.quality << task.tetgen.tolerance << task.tetgen.optimization;
+        std::vector<std::int32_t> planes(chain.planes.begin(), chain.planes.end());
+        save_block(ar, planes);
+        save_block(ar, chain.input.triangles);
+        save_block(ar, chain.split.triangles);
+        save_block(ar, chain.split.parent);
+        save_block(ar, chain.split.cut_vertex_plane);
+        save_block(ar, chain.split.cap_point_plane);
+        save_block(ar, chain.mesh.points);
+        save_block(ar, chain.mesh.tets);
+        save_block(ar, chain.mesh.neighbours);
+        save_block(ar, chain.mesh.piece);
+      },
+      std::string_view(&kChainTaskTag, 1));
+}
+
+ChainTask deserialize_chain_task(std::string_view bytes) {
+  if (task_kind(bytes) != TaskKind::chain) throw InternalError("a task was read as a chain of the seams");
+  bytes.remove_prefix(1);
+  return decode<ChainTask>(bytes, [](auto& ar, ChainTask& task) {
+    ChainBand& chain = task.chain;
+    std::int32_t head[5] = {};
+    ar >> boost::serialization::make_array(head, 5);
+    task.index = head[0];
+    chain.split.input_vertex_count = head[1];
+    task.heal.remove_cap_points = head[2] != 0;
+    task.heal.layers = head[3];
+    task.tetgen.boundary_points = head[4] != 0;
+    ar >> task.tetgen.quality >> task.tetgen.tolerance >> task.tetgen.optimization;
+    std::vector<std::int32_t> planes;
+    load_block(ar, planes);
+    chain.planes.assign(planes.begin(), planes.end());
+    load_block(ar, chain.input.triangles);
+    load_block(ar, chain.split.triangles);
+    load_block(ar, chain.split.parent);
+    load_block(ar, chain.split.cut_vertex_plane);
+    load_block(ar, chain.split.cap_point_plane);
+    load_block(ar, chain.mesh.points);
+    load_block(ar, chain.mesh.tets);
+    load_block(ar, chain.mesh.neighbours);
+    load_block(ar, chain.mesh.piece);
+  });
+}
+
+std::string serialize_chain_outcome(std::int32_t index, const HealedChain& healed) {
+  const char tag = healed.failure ? kChainFailureTag : kChainHealedTag;
+  if (healed.failure) {
+    const std::string failure = encode_failure(*healed.failure, {});
+    return encode(
+        64 + failure.size(), [&](auto& ar) { ar << index << failure; }, std::string_view(&tag, 1));
+  }
+  return encode(
+      128 + healed.new_points.size() * 24 + healed.tets.size() * 20,
+      [&](auto& ar) {
+        ar << index << healed.seconds;
+        save_stats(ar, healed.stats);
+        save_block(ar, healed.new_points);
+        save_block(ar, healed.tets);
+        save_block(ar, healed.piece);
+      },
+      std::string_view(&tag, 1));
+}
+
+bool is_chain_outcome(std::string_view reply) {
+  return !reply.empty() && (reply[0] == kChainHealedTag || reply[0] == kChainFailureTag);
+}
+
+HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& index) {
+  if (!is_chain_outcome(bytes)) throw InternalError("a reply was read as a chain of the seams");
+  const bool failed = bytes[0] == kChainFailureTag;
+  bytes.remove_prefix(1);
+  return decode<HealedChain>(bytes, [&](auto& ar, HealedChain& healed) {
+    ar >> index;
+    if (failed) {
+      std::string failure;
+      ar >> failure;
+      healed.failure = deserialize_failure(failure);
+      return;
+    }
+    ar >> healed.seconds;
+    load_stats(ar, healed.stats);
+    load_block(ar, healed.new_points);
+    load_block(ar, healed.tets);
+    load_block(ar, healed.piece);
+  });
 }
 
 }  // namespace partet

@@ -13,14 +13,15 @@
 #include "stages/assembly_numbering.hpp"
 #include "stages/closure.hpp"
 #include "stages/piece.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/spread_mesh.hpp"
 #include "mesher/tetgen_mesher.hpp"
 
 namespace partet {
 
-// What a worker receives: a piece and the TetGen options to mesh it with, or a cap's border to
-// triangulate (one tag byte tells which).
-enum class TaskKind { piece, cap };
+// What a worker receives: a piece and the TetGen options to mesh it with, a cap's border to
+// triangulate, or a chain of the seams to heal (one tag byte tells which).
+enum class TaskKind { piece, cap, chain };
 // Throws InternalError on bytes that are no task.
 TaskKind task_kind(std::string_view bytes);
 // A piece's result to be split where it is meshed (split_where_meshed), in rank 0's attempt
@@ -33,6 +34,22 @@ std::string serialize_task(const PieceSurface& piece, const TetgenOptions& tetge
 PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen, std::optional<SplitOrder>* split = nullptr);
 std::string serialize_cap_task(const CapBorder& border);
 CapBorder deserialize_cap_task(std::string_view bytes);
+
+// A chain of the seams for a worker to heal (seam_chain_band.hpp; without its global_ids and
+// band_tets, which only rank 0 needs), its index, the healing's options and its regions' TetGen
+// options.
+struct ChainTask {
+  std::int32_t index = 0;
+  ChainBand chain;
+  HealOptions heal;
+  TetgenOptions tetgen;
+};
+std::string serialize_chain_task(const ChainTask& task);
+ChainTask deserialize_chain_task(std::string_view bytes);
+// The chain healed there, or its failure.
+std::string serialize_chain_outcome(std::int32_t index, const HealedChain& healed);
+bool is_chain_outcome(std::string_view reply);
+HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& index);
 
 // A cap triangulated elsewhere: its shape, or why its border cannot be closed (the failure of the
 // PartitionError it threw), and the seconds it took.

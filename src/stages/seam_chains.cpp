@@ -18,10 +18,11 @@ std::array<int, 4> groups_in(const Tet& t, std::int32_t first, const std::vector
   return found;
 }
 
-// The tets within `reach` layers of a tet with a vertex to remove, ascending; the first
-// `stars` of them (before sorting) hold such a vertex. Marks by bit, not by an id per tet: the
-// whole mesh may have tens of millions of tets and the band a few percent of them.
-std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int reach) {
+// The tets within `reach` layers (across faces) of a tet holding a vertex to remove, ascending.
+// Marks by bit, not by an id per tet: the whole mesh may have tens of millions of tets and the
+// band a few percent of them.
+std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
+                                         int reach) {
   std::vector<bool> reached(mesh.tets.size(), false);
   std::vector<std::int32_t> band, layer;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Meshes INPUT with K pieces on 1, 2 and 4 (oversubscribed) ranks and requires byte-identical
-# output files, each passing `partet check`.
+# output files, each passing `partet check`. With MIN_CHAINS=N in the environment, the seams must
+# form at least N chains (each healed whole on a rank of its own on 2 and 4 ranks).
 # Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE K [partet mesh options...]
 set -euo pipefail
 partet=$1 mpiexec=$2 input=$3 k=$4
@@ -12,7 +13,7 @@ if [[ $input == generated:* ]]; then
   input=$work/input.off
 fi
 "$partet" mesh "$input" -o "$work/n1" --pieces "$k" --quiet "$@"
-"$mpiexec" -n 2 "$partet" mesh "$input" -o "$work/n2" --pieces "$k" --quiet "$@"
+"$mpiexec" -n 2 "$partet" mesh "$input" -o "$work/n2" --pieces "$k" --quiet --report "$work/n2.json" "$@"
 "$mpiexec" -n 4 --oversubscribe "$partet" mesh "$input" -o "$work/n4" --pieces "$k" --quiet "$@"
 "$partet" check "$input" "$work/n1" | tail -n 1 | grep -q "check passed"
 for n in n2 n4; do
@@ -20,4 +21,6 @@ for n in n2 n4; do
     cmp "$work/n1.$ext" "$work/$n.$ext" || { echo "FAIL: $n.$ext differs from the 1-rank output"; exit 1; }
   done
 done
-echo "identical output on 1, 2 and 4 ranks (k=$k $*)"
+chains=$(/usr/bin/python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['counts']['seam_chains'])" "$work/n2.json")
+if (( chains < ${MIN_CHAINS:-0} )); then echo "FAIL: $chains chains of cuts, expected at least $MIN_CHAINS"; exit 1; fi
+echo "identical output on 1, 2 and 4 ranks (k=$k $*; $chains chains of cuts)"

@@ -1,0 +1,231 @@
+#include "stages/seam_chain_band.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_map>
+
+#include "common/stage_timer.hpp"
+#include "partet/errors.hpp"
+#include "stages/topology.hpp"
+
+namespace partet {
+namespace {
+
+// The id ranges of the split surface's points in the band: input vertices, cut vertices, caps'
+// interior points; Steiner points follow.
+struct SplitRanges {
+  std::int32_t first_cut, first_cap, end_caps;
+  explicit SplitRanges(const SplitSurface& split)
+      : first_cut(split.input_vertex_count),
+        first_cap(first_cut + split.cut_vertex_count()),
+        end_caps(first_cap + static_cast<std::int32_t>(split.cap_point_plane.size())) {}
+};
+
+int plane_count(const SplitSurface& split) {
+  int planes = 0;
+  for (auto p : split.cut_vertex_plane) planes = std::max(planes, p + 1);
+  for (auto p : split.cap_point_plane) planes = std::max(planes, p + 1);
+  return planes;
+}
+
+// By v - first_cut: the chain of each vertex healing removes (-1: none of `chains`).
+std::vector<int> chains_of_removed(const SplitSurface& split, const HealOptions& options,
+                                   const std::vector<std::vector<int>>& chains) {
+  std::vector<int> chain_of_plane(static_cast<std::size_t>(plane_count(split)), -1);
+  for (std::size_t c = 0; c < chains.size(); ++c)
+    for (int p : chains[c]) chain_of_plane.at(static_cast<std::size_t>(p)) = static_cast<int>(c);
+  const std::size_t cuts = split.cut_vertex_plane.size();
+  const std::size_t caps = options.remove_cap_points ? split.cap_point_plane.size() : 0;
+  std::vector<int> chain_of(cuts + caps, -1);
+  for (std::size_t i = 0; i < cuts; ++i) chain_of[i] = chain_of_plane[split.cut_vertex_plane[i]];
+  for (std::size_t i = 0; i < caps; ++i) chain_of[cuts + i] = chain_of_plane[split.cap_point_plane[i]];
+  return chain_of;
+}
+
+std::int32_t local_id(const std::vector<std::int32_t>& global_ids, std::int32_t id) {
+  const auto it = std::lower_bound(global_ids.begin(), global_ids.end(), id);
+  if (it == global_ids.end() || *it != id) throw InternalError("a seam chain's band lacks a point its healing needs");
+  return static_cast<std::int32_t>(it - global_ids.begin());
+}
+
+Triangle local_triangle(const std::vector<std::int32_t>& global_ids, const Triangle& t) {
+  return {local_id(global_ids, t[0]), local_id(global_ids, t[1]), local_id(global_ids, t[2])};
+}
+
+// The chain's tets, points and pieces in local ids (its points: the band's ids its tets use).
+void cut_out_tets(const TetMesh& band, ChainBand& chain) {
+  for (auto t : chain.band_tets)
+    for (auto v : band.tets[t]) chain.global_ids.push_back(v);
+  std::sort(chain.global_ids.begin(), chain.global_ids.end());
+  chain.global_ids.erase(std::unique(chain.global_ids.begin(), chain.global_ids.end()), chain.global_ids.end());
+  chain.mesh.points.reserve(chain.global_ids.size());
+  for (auto id : chain.global_ids) chain.mesh.points.push_back(band.points[id]);
+  chain.mesh.tets.reserve(chain.band_tets.size());
+  chain.mesh.neighbours.reserve(chain.band_tets.size());
+  for (auto t : chain.band_tets) {
+    Tet local, across;
+    for (int j = 0; j < 4; ++j) {
+      local[j] = local_id(chain.global_ids, band.tets[t][j]);
+      const std::int32_t nb = band.neighbours[t][j];
+      const auto it = std::lower_bound(chain.band_tets.begin(), chain.band_tets.end(), nb);
+      across[j] = nb >= 0 && it != chain.band_tets.end() && *it == nb
+                      ? static_cast<std::int32_t>(it - chain.band_tets.begin())
+                      : -1;
+    }
+    chain.mesh.tets.push_back(local);
+    chain.mesh.neighbours.push_back(across);
+    if (band.piece.size() == band.tets.size()) chain.mesh.piece.push_back(band.piece[t]);
+  }
+}
+
+// What healing reads of the split surface, in the chain's ids: the planes of its cut vertices
+// and caps' points, and the split triangles with a cut vertex on its planes, whose input
+// triangles go into chain.input.
+void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<char>& on_plane,
+                   ChainBand& chain) {
+  const SplitRanges ranges(split);
+  SplitSurface& local = chain.split;
+  for (auto id : chain.global_ids) {
+    if (id < ranges.first_cut)
+      ++local.input_vertex_count;
+    else if (id < ranges.first_cap)
+      local.cut_vertex_plane.push_back(split.cut_vertex_plane[id - ranges.first_cut]);
+    else if (id < ranges.end_caps)
+      local.cap_point_plane.push_back(split.cap_point_plane[id - ranges.first_cap]);
+  }
+  std::unordered_map<std::int32_t, std::int32_t> local_parent;
+  for (std::size_t t = 0; t < split.triangles.size(); ++t) {
+    const Triangle& f = split.triangles[t];
+    const auto cut = std::find_if(f.begin(), f.end(), [&](std::int32_t v) { return split.is_cut_vertex(v); });
+    if (cut == f.end() || !on_plane[split.cut_vertex_plane[*cut - ranges.first_cut]]) continue;
+    const auto [it, fresh] = local_parent.emplace(split.parent[t], static_cast<std::int32_t>(chain.input.triangles.size()));
+    if (fresh) chain.input.triangles.push_back(local_triangle(chain.global_ids, input.triangles[split.parent[t]]));
+    local.triangles.push_back(local_triangle(chain.global_ids, f));
+    local.parent.push_back(it->second);
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<std::int32_t>> chain_band_tets(const TetMesh& band, const SplitSurface& split,
+                                                       const std::vector<std::vector<int>>& chains,
+                                                       const HealOptions& options) {
+  const std::vector<int> chain_of = chains_of_removed(split, options, chains);
+  const std::int32_t first = split.input_vertex_count;
+  std::vector<std::int32_t> label(band.tets.size(), -1);
+  std::vector<std::int32_t> layer;
+  for (std::size_t t = 0; t < band.tets.size(); ++t)
+    for (auto v : band.tets[t]) {
+      const std::int64_t i = static_cast<std::int64_t>(v) - first;
+      if (i >= 0 && i < static_cast<std::int64_t>(chain_of.size()) && chain_of[i] >= 0) {
+        label[t] = chain_of[i];
+        layer.push_back(static_cast<std::int32_t>(t));
+        break;
+      }
+    }
+  for (int depth = 0; depth < seam_band_spec(split, options).layers && !layer.empty(); ++depth) {
+    std::vector<std::int32_t> next;
+    for (auto t : layer)
+      for (auto nb : band.neighbours[t])
+        if (nb >= 0 && label[nb] < 0) label[nb] = label[t], next.push_back(nb);
+    layer = std::move(next);
+  }
+  std::vector<std::vector<std::int32_t>> tets(chains.size());
+  for (std::size_t t = 0; t < label.size(); ++t)
+    if (label[t] >= 0) tets[label[t]].push_back(static_cast<std::int32_t>(t));
+  return tets;
+}
+
+ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
+                        const std::vector<int>& planes, std::vector<std::int32_t> band_tets) {
+  std::vector<char> on_plane(static_cast<std::size_t>(plane_count(split)), 0);
+  for (int p : planes) on_plane.at(static_cast<std::size_t>(p)) = 1;
+  ChainBand chain;
+  chain.planes = planes;
+  chain.band_tets = std::move(band_tets);
+  cut_out_tets(band, chain);
+  cut_out_split(split, input, on_plane, chain);
+  return chain;
+}
+
+HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const RegionMesher& mesher) {
+  HealOptions whole_chain = options;
+  whole_chain.planes.clear();
+  whole_chain.drop_points = false;
+  const double start = now_seconds();
+  const auto old_points = static_cast<std::ptrdiff_t>(chain.mesh.points.size());  // (global_ids stay on rank 0)
+  HealedChain healed;
+  try {
+    healed.stats = heal_seams(chain.mesh, chain.input, chain.split, whole_chain, mesher);
+  } catch (const MeshingError& error) {
+    healed.failure = error.failure;
+    return healed;
+  }
+  healed.new_points.assign(chain.mesh.points.begin() + old_points, chain.mesh.points.end());
+  healed.tets = std::move(chain.mesh.tets);
+  healed.piece = std::move(chain.mesh.piece);
+  chain.mesh = TetMesh();
+  healed.seconds = now_seconds() - start;
+  return healed;
+}
+
+void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
+  const bool pieces = band.piece.size() == band.tets.size();
+  std::vector<char> cut_out(band.tets.size(), 0);
+  for (const ChainBand& chain : chains)
+    for (auto t : chain.band_tets) cut_out[t] = 1;
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < band.tets.size(); ++t)
+    if (!cut_out[t]) {
+      band.tets[kept] = band.tets[t];
+      if (pieces) band.piece[kept] = band.piece[t];
+      ++kept;
+    }
+  band.tets.resize(kept);
+  if (pieces) band.piece.resize(kept);
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
+    HealedChain& chain = healed[c];
+    const std::size_t old_points = global_ids.size();
+    const auto first_new = static_cast<std::int32_t>(band.points.size());
+    band.points.insert(band.points.end(), chain.new_points.begin(), chain.new_points.end());
+    for (const Tet& local : chain.tets) {
+      Tet tet;
+      for (int j = 0; j < 4; ++j) {
+        const auto v = static_cast<std::size_t>(local[j]);
+        tet[j] = v < old_points ? global_ids[v] : first_new + static_cast<std::int32_t>(v - old_points);
+      }
+      band.tets.push_back(tet);
+    }
+    if (pieces) band.piece.insert(band.piece.end(), chain.piece.begin(), chain.piece.end());
+    chain = HealedChain();
+  }
+  band.neighbours = compute_neighbours(band.tets, band.points.size());
+  order_band_tets(band);
+}
+
+void order_band_tets(TetMesh& band) {
+  std::vector<Tet> keys(band.tets);
+  for (Tet& key : keys) std::sort(key.begin(), key.end());
+  std::vector<std::int32_t> order(band.tets.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) { return keys[a] < keys[b]; });
+  std::vector<std::int32_t> place(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) place[order[i]] = static_cast<std::int32_t>(i);
+  const bool pieces = band.piece.size() == band.tets.size();
+  std::vector<Tet> tets(order.size()), neighbours(order.size());
+  std::vector<std::int32_t> piece(pieces ? order.size() : 0);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    tets[i] = band.tets[order[i]];
+    for (int j = 0; j < 4; ++j) {
+      const std::int32_t nb = band.neighbours[order[i]][j];
+      neighbours[i][j] = nb >= 0 ? place[nb] : -1;
+    }
+    if (pieces) piece[i] = band.piece[order[i]];
+  }
+  band.tets = std::move(tets);
+  band.neighbours = std::move(neighbours);
+  band.piece = std::move(piece);
+}
+
+}  // namespace partet

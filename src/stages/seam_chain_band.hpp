@@ -1,0 +1,63 @@
+// A chain's band (internal header): the part of the welded band that one chain of cuts heals
+// (seam_chains.hpp), cut out with ids of its own and with what its healing reads of the input
+// and of the split surface, so that it can heal anywhere (on a rank of its own); and the band
+// with the healed chains put back. The ids keep their order (a chain's points are numbered by
+// their ids in the band, ascending), so a chain heals as it would in the band: its regions reach
+// TetGen as the same surfaces.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "partet/errors.hpp"
+#include "partet/mesh_types.hpp"
+#include "stages/partition.hpp"
+#include "stages/seam_healing.hpp"
+
+namespace partet {
+
+struct ChainBand {
+  std::vector<int> planes;               // the chain's cut planes
+  SurfaceMesh input;                     // the input triangles its healing may put back (no points)
+  SplitSurface split;                    // its cut vertices, cap points and split triangles, local ids
+  TetMesh mesh;                          // its tets (and their pieces), local ids
+  std::vector<std::int32_t> global_ids;  // by local point: its id in the band, ascending
+  std::vector<std::int32_t> band_tets;   // the band's tets it holds, ascending
+};
+
+// The tets of each chain (the planes of whole chains, as seam_chain_planes lists them) in `band`:
+// those within the band's depth (seam_band_spec) of the vertices on its planes that healing with
+// these options removes, ascending. One search from every chain at once: chains never meet.
+std::vector<std::vector<std::int32_t>> chain_band_tets(const TetMesh& band, const SplitSurface& split,
+                                                       const std::vector<std::vector<int>>& chains,
+                                                       const HealOptions& options);
+
+// The chain of these planes and tets (chain_band_tets), cut out of `band`.
+ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
+                        const std::vector<int>& planes, std::vector<std::int32_t> band_tets);
+
+// A chain healed, wherever that was: in its ids, its points then new_points.
+struct HealedChain {
+  std::vector<Point3> new_points;  // the points its healing added
+  std::vector<Tet> tets;
+  std::vector<std::int32_t> piece;  // when the band has pieces
+  SeamStats stats;
+  std::optional<Failure> failure;  // of the MeshingError its healing threw (then nothing else)
+  double seconds = 0;
+};
+
+// Heals a chain cut out of the band; its mesh goes into the result. A MeshingError becomes the
+// result's failure.
+HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const RegionMesher& mesher);
+
+// The band with its chains (cut out of it, in the order of seam_chain_planes; their global_ids
+// and band_tets) healed and put back: their tets replace those they were cut from, and the points
+// healing added follow the band's, chain after chain, as heal_seams numbers them. The tets are
+// then in order_band_tets' order.
+void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
+
+// Orders a healed band's tets by their vertices (and neighbours to match): the band is then the
+// same whether it healed in one piece or chain by chain, on one rank or on several.
+void order_band_tets(TetMesh& band);
+
+}  // namespace partet
