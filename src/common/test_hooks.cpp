@@ -76,6 +76,10 @@ void cap_stop(int rank) {
   if (rank == 1 && injected("worker:stop-on-cap")) ::raise(SIGSTOP);
 }
 
+void chain_stop(int rank) {
+  if (rank == 1 && injected("worker:stop-on-chain")) ::raise(SIGSTOP);
+}
+
 void verdict_stop(int rank) {
   if (rank == 1 && injected("worker:stop-before-verdict")) ::raise(SIGSTOP);
 }

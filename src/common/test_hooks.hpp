@@ -26,6 +26,9 @@ void worker_cap_failure(int plane);
 // PARTET_INJECT_FAILURE="worker:stop-on-cap": rank 1 stops itself (SIGSTOP) when it is given a
 // cap to triangulate, so rank 0 waits for a cap that never comes.
 void cap_stop(int rank);
+// PARTET_INJECT_FAILURE="worker:stop-on-chain": rank 1 stops itself (SIGSTOP) once it has told
+// rank 0 that it heals the chain of the seams it was given, so it falls silent mid-chain.
+void chain_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-when-idle": rank 1 stops itself (SIGSTOP) after its first
 // reply, so rank 0's next piece finds no one to take it.
 void worker_stop(int rank);

@@ -310,8 +310,9 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
-  // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything;
-  // the worker's heartbeats, from the start, tell a stopped or dead rank much sooner.
+  // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything,
+  // from the worker's latest heartbeat (take_alive); its heartbeats, from the start, tell a
+  // stopped or dead rank within kSilentSeconds.
   void send_chain(int worker, std::size_t chain) {
     AddSeconds timer{stats_.send_seconds};
     ChainTask task{static_cast<std::int32_t>(chain), (*chain_round_->cut_out)(chain), chain_round_->heal,
@@ -445,7 +446,8 @@ class RootScheduler : public PieceScheduler {
     for (const auto& [worker, busy] : busy_) {
       if (busy.meshing && now - busy.heard > silence_limit_)
         abort_job("rank " + std::to_string(worker) + " has not been heard from for " +
-                  std::to_string(static_cast<int>(silence_limit_)) + " s while meshing piece " +
+                  std::to_string(static_cast<int>(silence_limit_)) +
+                  (busy.chain ? " s while healing seam chain " : " s while meshing piece ") +
                   std::to_string(busy.piece) + " (stopped, hung, or its node lost?)");
       if (now > busy.deadline)
         abort_job("rank " + std::to_string(worker) + " has not answered for " +
@@ -462,6 +464,9 @@ class RootScheduler : public PieceScheduler {
       if (busy == busy_.end() || busy->second.task != alive.task) continue;
       busy->second.meshing = alive.meshing != 0;
       busy->second.heard = awake_seconds();
+      // A chain heals as long as its regions take, one after another: while it is heard, its
+      // deadline moves on, and its silence tells a stopped rank.
+      if (busy->second.chain) busy->second.deadline = busy->second.heard + kRootSeconds;
     }
   }
 

@@ -38,6 +38,7 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
   const PieceRunner runner(chain.tetgen, job.options.run);
   Heartbeat heartbeat(job_comm(), task);
   heartbeat.meshing();
+  test_hooks::chain_stop(rank);
   const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
     std::vector<PieceOutcome> outcomes;
     for (const PieceSurface& region : regions) {

@@ -170,6 +170,7 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
 }
 
 void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
+  if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
   const bool pieces = band.piece.size() == band.tets.size();
   std::vector<char> cut_out(band.tets.size(), 0);
   for (const ChainBand& chain : chains)

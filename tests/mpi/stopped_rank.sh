@@ -21,7 +21,10 @@
 #            (worker:stop-while-meshing), with the default piece limits (over 80 s here): rank 0
 #            must name it once its heartbeats have stopped for PARTET_TEST_SILENCE_S (3 s here;
 #            normally 60 s), long before the piece's limit.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent]
+#   chain:   rank 1 stops itself once it has said it heals the chain of the seams it was given
+#            (worker:stop-on-chain; a chain's deadline moves on with its heartbeats): rank 0
+#            must name it and the chain once its heartbeats have stopped for 3 s.
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -37,10 +40,11 @@ case $mode in
   share) fault=worker:stop-before-findings check_waits=1 ranks=(-n 4 --oversubscribe) ;;
   share-oom) fault=worker:share-out-of-memory check_waits=1 ranks=(-n 4 --oversubscribe) ;;
   silent) fault=worker:stop-while-meshing limits=() ;;
+  chain) fault=worker:stop-on-chain limits=() ;;
 esac
 [ -z "$fault" ] || { export PARTET_INJECT_FAILURE=$fault; inject+=(-x PARTET_INJECT_FAILURE); }
 [ "$check_waits" = 0 ] || { export PARTET_TEST_VERDICT_WAIT_S=3; inject+=(-x PARTET_TEST_VERDICT_WAIT_S); }
-[ "$mode" != silent ] || { export PARTET_TEST_SILENCE_S=3; inject+=(-x PARTET_TEST_SILENCE_S); }
+[[ $mode != silent && $mode != chain ]] || { export PARTET_TEST_SILENCE_S=3; inject+=(-x PARTET_TEST_SILENCE_S); }
 start=$(date +%s)
 timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
   "${limits[@]}" > "$work/log" 2>&1 &
@@ -76,12 +80,13 @@ case $mode in
   share-oom) expected="rank 2 ran out of memory" ;;
   cap) expected="rank 1 has not answered for the cap of plane 0" ;;
   silent) expected="rank 1 has not been heard from for 3 s while meshing piece" ;;
+  chain) expected="rank 1 has not been heard from for 3 s while healing seam chain" ;;
   idle) expected="rank 1 has not answered" ;;
   *) expected="rank 1 (has not answered|did not take)" ;;
 esac
 grep -qE "$expected" "$work/log" || fail "no message '$expected'"
 [ "$mode" != share ] || ! grep -q "rank 1 has not" "$work/log" || fail "rank 1 blamed for rank 2's silence"
 [ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
-[ "$mode" != silent ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
+[[ $mode != silent && $mode != chain ]] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 -E "$expected" "$work/log")"
