@@ -1,6 +1,7 @@
 #include "job/pipeline.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -377,16 +378,13 @@ class RegionMeshers {
     return [this](const std::vector<PieceSurface>& regions) { return mesh(regions, tetgen_); };
   }
   // The chains of the seams: on the ranks, each whole on one, when there are several of both;
-  // else here, one after another, their regions meshed on every rank. Stops at a chain that fails
-  // here (its failure is the band's).
+  // else here, one after another, their regions meshed on every rank. Every chain heals, even
+  // after one failed: the band's failure is the first in chain order, as on the ranks.
   std::vector<HealedChain> heal_chains(std::size_t count, const PieceScheduler::ChainCutter& cut_out,
                                        const HealOptions& options) {
     if (count > 1 && scheduler_.heals_chains_on_ranks()) return scheduler_.heal_chains(count, cut_out, options, tetgen_);
     std::vector<HealedChain> healed;
-    for (std::size_t i = 0; i < count; ++i) {
-      healed.push_back(heal_chain(cut_out(i), options, seams()));
-      if (healed.back().failure) break;
-    }
+    for (std::size_t i = 0; i < count; ++i) healed.push_back(heal_chain(cut_out(i), options, seams()));
     return healed;
   }
   PolishMesher polish() {
@@ -429,16 +427,26 @@ void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, con
 // as it was.
 SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
                               const HealOptions& options, RegionMeshers& meshers) {
+  StepClock clock;
   const std::vector<std::vector<int>> planes = seam_chain_planes(band, split, options);
   std::vector<std::vector<std::int32_t>> tets = chain_band_tets(band, split, planes, options);
+  clock.lap("chains");
   std::vector<ChainBand> chains(planes.size());  // what stays here of each: its ids and tets in the band
-  const PieceScheduler::ChainCutter cut_out = [&](std::size_t i) {
+  // The largest chains first, so that no rank is left with a large one at the end.
+  std::vector<std::size_t> order(planes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tets[a].size() > tets[b].size(); });
+  const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
+    const std::size_t i = order[j];
     ChainBand chain = cut_out_chain(band, input, split, planes[i], std::move(tets[i]));
     chains[i].global_ids = chain.global_ids;
     chains[i].band_tets = chain.band_tets;
     return chain;
   };
-  std::vector<HealedChain> healed = meshers.heal_chains(planes.size(), cut_out, options);
+  std::vector<HealedChain> in_order = meshers.heal_chains(planes.size(), cut_out, options);
+  std::vector<HealedChain> healed(planes.size());
+  for (std::size_t j = 0; j < in_order.size(); ++j) healed[order[j]] = std::move(in_order[j]);
+  clock.lap("healing");
   SeamStats stats;
   stats.chains = static_cast<std::int64_t>(planes.size());
   for (const HealedChain& chain : healed) {
@@ -450,6 +458,8 @@ SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const Spl
     stats.tets_out += chain.stats.tets_out;
   }
   put_back_chains(band, chains, std::move(healed));
+  clock.lap("put back");
+  log::debug("seam healing by " + std::to_string(planes.size()) + " chains of cuts: " + clock.steps);
   return stats;
 }
 

@@ -321,6 +321,7 @@ class RootScheduler : public PieceScheduler {
     task = ChainTask();
     busy_[worker] = {awake_seconds() + kRootSeconds, static_cast<int>(chain), false, ++tasks_[worker]};
     busy_[worker].chain = true;
+    account_meshing();
     try {
       stats_.bytes_sent +=
           static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, kWorkerSeconds));
@@ -351,7 +352,12 @@ class RootScheduler : public PieceScheduler {
       return outcomes;
     };
     AddSeconds timer{stats_.region_seconds};
-    chain_done(chain, heal_chain((*chain_round_->cut_out)(chain), chain_round_->heal, here), 0);
+    healing_here_ = true;
+    account_meshing();
+    HealedChain healed = heal_chain((*chain_round_->cut_out)(chain), chain_round_->heal, here);
+    healing_here_ = false;
+    account_meshing();
+    chain_done(chain, std::move(healed), 0);
   }
 
   void chain_done(std::size_t chain, HealedChain&& healed, int rank) {
@@ -536,6 +542,7 @@ class RootScheduler : public PieceScheduler {
           throw InternalError("rank " + std::to_string(worker) + " sent a seam chain it was not given");
         idle_.push_back(worker);
         busy_.erase(worker);
+        account_meshing();
         chain_done(static_cast<std::size_t>(chain), std::move(healed), worker);
         return true;
       }
@@ -569,7 +576,7 @@ class RootScheduler : public PieceScheduler {
     const double now = now_seconds();
     if (meshing_ > 0) stats_.meshing_wall_seconds += now - meshing_since_;
     meshing_since_ = now;
-    meshing_ = busy_.size() + (own_ ? 1 : 0);
+    meshing_ = busy_.size() + (own_ || healing_here_ ? 1 : 0);
   }
 
   // Where each piece (not seam region) was meshed, for the report.
@@ -625,6 +632,7 @@ class RootScheduler : public PieceScheduler {
     std::size_t done;
   };
   std::optional<ChainRound> chain_round_;  // while heal_chains runs
+  bool healing_here_ = false;              // this rank heals a chain
   std::unique_ptr<PieceJob> own_;
   std::size_t own_position_ = 0;
   double own_start_ = 0;
