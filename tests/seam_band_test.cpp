@@ -116,9 +116,9 @@ TEST(SeamBand, ChainsCutOutOfTheBandHealAsTheBand) {
           std::vector<ChainBand> chains;
           std::vector<HealedChain> healed;
           const std::vector<std::vector<int>> planes = seam_chain_planes(by_chains, split, options);
-          std::vector<std::vector<std::int32_t>> tets = chain_band_tets(by_chains, split, planes, options);
+          std::vector<ChainParts> parts = chain_parts(by_chains, split, planes, options);
           for (std::size_t c = 0; c < planes.size(); ++c) {
-            chains.push_back(cut_out_chain(by_chains, input, split, planes[c], std::move(tets[c])));
+            chains.push_back(cut_out_chain(by_chains, input, split, planes[c], std::move(parts[c])));
             healed.push_back(heal_chain(std::move(chains.back()), options, regions_here(s.options)));
             ASSERT_FALSE(healed.back().failure);
           }

@@ -118,7 +118,7 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   ASSERT_FALSE(chains.empty());
   ChainTask sent{static_cast<std::int32_t>(chains.size() - 1),
                  cut_out_chain(band, input, s.prepared.split, chains.back(),
-                               chain_band_tets(band, s.prepared.split, chains, options).back()),
+                               std::move(chain_parts(band, s.prepared.split, chains, options).back())),
                  options, TetgenOptions()};
   sent.tetgen.quality = "1.414";
   sent.tetgen.boundary_points = false;

@@ -1,10 +1,10 @@
 #include "job/pipeline.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -421,34 +421,10 @@ void finish_healed(const SurfaceMesh& input, const PreparedPieces& prepared, con
   result.axis = options.axis;
 }
 
-// Heals the band chain by chain (seam_chain_band.hpp): each chain is cut out of the band, healed
-// (on a rank of its own when there are several), and put back, so the band is the same however
-// many ranks healed it. Throws the MeshingError of the first chain that failed; the band is then
-// as it was.
-SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
-                              const HealOptions& options, RegionMeshers& meshers) {
-  StepClock clock;
-  const std::vector<std::vector<int>> planes = seam_chain_planes(band, split, options);
-  std::vector<std::vector<std::int32_t>> tets = chain_band_tets(band, split, planes, options);
-  clock.lap("chains");
-  std::vector<ChainBand> chains(planes.size());  // what stays here of each: its ids and tets in the band
-  // The largest chains first, so that no rank is left with a large one at the end.
-  std::vector<std::size_t> order(planes.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tets[a].size() > tets[b].size(); });
-  const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
-    const std::size_t i = order[j];
-    ChainBand chain = cut_out_chain(band, input, split, planes[i], std::move(tets[i]));
-    chains[i].global_ids = chain.global_ids;
-    chains[i].band_tets = chain.band_tets;
-    return chain;
-  };
-  std::vector<HealedChain> in_order = meshers.heal_chains(planes.size(), cut_out, options);
-  std::vector<HealedChain> healed(planes.size());
-  for (std::size_t j = 0; j < in_order.size(); ++j) healed[order[j]] = std::move(in_order[j]);
-  clock.lap("healing");
+// The healed chains' figures together; throws the MeshingError of the first chain that failed.
+SeamStats chains_stats(const std::vector<HealedChain>& healed) {
   SeamStats stats;
-  stats.chains = static_cast<std::int64_t>(planes.size());
+  stats.chains = static_cast<std::int64_t>(healed.size());
   for (const HealedChain& chain : healed) {
     if (chain.failure) throw MeshingError(*chain.failure);
     stats.cut_vertices_removed += chain.stats.cut_vertices_removed;
@@ -457,6 +433,37 @@ SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const Spl
     stats.tets_in += chain.stats.tets_in;
     stats.tets_out += chain.stats.tets_out;
   }
+  return stats;
+}
+
+// Heals the band chain by chain (seam_chain_band.hpp): each chain is cut out of the band, healed
+// (on a rank of its own when there are several), and put back, so the band is the same however
+// many ranks healed it. Throws the MeshingError of the first chain that failed; the band is then
+// as it was.
+SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
+                              const HealOptions& options, RegionMeshers& meshers) {
+  StepClock clock;
+  const std::vector<std::vector<int>> planes = seam_chain_planes(band, split, options);
+  std::vector<ChainParts> parts = chain_parts(band, split, planes, options);
+  clock.lap("chains");
+  std::vector<ChainBand> chains(planes.size());  // what stays here of each: its ids and tets in the band
+  // The largest chains first, so that no rank is left with a large one at the end.
+  std::vector<std::size_t> order(planes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return parts[a].tets.size() > parts[b].tets.size(); });
+  const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
+    const std::size_t i = order[j];
+    ChainBand chain = cut_out_chain(band, input, split, planes[i], std::move(parts[i]));
+    chains[i].global_ids = chain.global_ids;
+    chains[i].band_tets = chain.band_tets;
+    return chain;
+  };
+  std::vector<HealedChain> in_order = meshers.heal_chains(planes.size(), cut_out, options);
+  std::vector<HealedChain> healed(planes.size());
+  for (std::size_t j = 0; j < in_order.size(); ++j) healed[order[j]] = std::move(in_order[j]);
+  clock.lap("healing");
+  const SeamStats stats = chains_stats(healed);
   put_back_chains(band, chains, std::move(healed));
   clock.lap("put back");
   log::debug("seam healing by " + std::to_string(planes.size()) + " chains of cuts: " + clock.steps);

@@ -28,12 +28,16 @@ int plane_count(const SplitSurface& split) {
   return planes;
 }
 
-// By v - first_cut: the chain of each vertex healing removes (-1: none of `chains`).
-std::vector<int> chains_of_removed(const SplitSurface& split, const HealOptions& options,
-                                   const std::vector<std::vector<int>>& chains) {
+std::vector<int> chain_of_planes(const SplitSurface& split, const std::vector<std::vector<int>>& chains) {
   std::vector<int> chain_of_plane(static_cast<std::size_t>(plane_count(split)), -1);
   for (std::size_t c = 0; c < chains.size(); ++c)
     for (int p : chains[c]) chain_of_plane.at(static_cast<std::size_t>(p)) = static_cast<int>(c);
+  return chain_of_plane;
+}
+
+// By v - first_cut: the chain of each vertex healing removes (-1: none of them).
+std::vector<int> chains_of_removed(const SplitSurface& split, const HealOptions& options,
+                                   const std::vector<int>& chain_of_plane) {
   const std::size_t cuts = split.cut_vertex_plane.size();
   const std::size_t caps = options.remove_cap_points ? split.cap_point_plane.size() : 0;
   std::vector<int> chain_of(cuts + caps, -1);
@@ -79,9 +83,8 @@ void cut_out_tets(const TetMesh& band, ChainBand& chain) {
 }
 
 // What healing reads of the split surface, in the chain's ids: the planes of its cut vertices
-// and caps' points, and the split triangles with a cut vertex on its planes, whose input
-// triangles go into chain.input.
-void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<char>& on_plane,
+// and caps' points, and its split triangles, whose input triangles go into chain.input.
+void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<std::int32_t>& triangles,
                    ChainBand& chain) {
   const SplitRanges ranges(split);
   SplitSurface& local = chain.split;
@@ -94,10 +97,8 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
       local.cap_point_plane.push_back(split.cap_point_plane[id - ranges.first_cap]);
   }
   std::unordered_map<std::int32_t, std::int32_t> local_parent;
-  for (std::size_t t = 0; t < split.triangles.size(); ++t) {
+  for (auto t : triangles) {
     const Triangle& f = split.triangles[t];
-    const auto cut = std::find_if(f.begin(), f.end(), [&](std::int32_t v) { return split.is_cut_vertex(v); });
-    if (cut == f.end() || !on_plane[split.cut_vertex_plane[*cut - ranges.first_cut]]) continue;
     const auto [it, fresh] = local_parent.emplace(split.parent[t], static_cast<std::int32_t>(chain.input.triangles.size()));
     if (fresh) chain.input.triangles.push_back(local_triangle(chain.global_ids, input.triangles[split.parent[t]]));
     local.triangles.push_back(local_triangle(chain.global_ids, f));
@@ -105,12 +106,23 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
   }
 }
 
+// The split triangles of each chain.
+void chain_triangles(const SplitSurface& split, const std::vector<int>& chain_of_plane, std::vector<ChainParts>& parts) {
+  for (std::size_t t = 0; t < split.triangles.size(); ++t) {
+    const Triangle& f = split.triangles[t];
+    const auto cut = std::find_if(f.begin(), f.end(), [&](std::int32_t v) { return split.is_cut_vertex(v); });
+    if (cut == f.end()) continue;
+    const int chain = chain_of_plane[split.cut_vertex_plane[*cut - split.input_vertex_count]];
+    if (chain >= 0) parts[chain].split_triangles.push_back(static_cast<std::int32_t>(t));
+  }
+}
+
 }  // namespace
 
-std::vector<std::vector<std::int32_t>> chain_band_tets(const TetMesh& band, const SplitSurface& split,
-                                                       const std::vector<std::vector<int>>& chains,
-                                                       const HealOptions& options) {
-  const std::vector<int> chain_of = chains_of_removed(split, options, chains);
+std::vector<ChainParts> chain_parts(const TetMesh& band, const SplitSurface& split,
+                                    const std::vector<std::vector<int>>& chains, const HealOptions& options) {
+  const std::vector<int> chain_of_plane = chain_of_planes(split, chains);
+  const std::vector<int> chain_of = chains_of_removed(split, options, chain_of_plane);
   const std::int32_t first = split.input_vertex_count;
   std::vector<std::int32_t> label(band.tets.size(), -1);
   std::vector<std::int32_t> layer;
@@ -130,21 +142,20 @@ std::vector<std::vector<std::int32_t>> chain_band_tets(const TetMesh& band, cons
         if (nb >= 0 && label[nb] < 0) label[nb] = label[t], next.push_back(nb);
     layer = std::move(next);
   }
-  std::vector<std::vector<std::int32_t>> tets(chains.size());
+  std::vector<ChainParts> parts(chains.size());
   for (std::size_t t = 0; t < label.size(); ++t)
-    if (label[t] >= 0) tets[label[t]].push_back(static_cast<std::int32_t>(t));
-  return tets;
+    if (label[t] >= 0) parts[label[t]].tets.push_back(static_cast<std::int32_t>(t));
+  chain_triangles(split, chain_of_plane, parts);
+  return parts;
 }
 
 ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
-                        const std::vector<int>& planes, std::vector<std::int32_t> band_tets) {
-  std::vector<char> on_plane(static_cast<std::size_t>(plane_count(split)), 0);
-  for (int p : planes) on_plane.at(static_cast<std::size_t>(p)) = 1;
+                        const std::vector<int>& planes, ChainParts&& parts) {
   ChainBand chain;
   chain.planes = planes;
-  chain.band_tets = std::move(band_tets);
+  chain.band_tets = std::move(parts.tets);
   cut_out_tets(band, chain);
-  cut_out_split(split, input, on_plane, chain);
+  cut_out_split(split, input, parts.split_triangles, chain);
   return chain;
 }
 

@@ -25,16 +25,21 @@ struct ChainBand {
   std::vector<std::int32_t> band_tets;   // the band's tets it holds, ascending
 };
 
-// The tets of each chain (the planes of whole chains, as seam_chain_planes lists them) in `band`:
-// those within the band's depth (seam_band_spec) of the vertices on its planes that healing with
-// these options removes, ascending. One search from every chain at once: chains never meet.
-std::vector<std::vector<std::int32_t>> chain_band_tets(const TetMesh& band, const SplitSurface& split,
-                                                       const std::vector<std::vector<int>>& chains,
-                                                       const HealOptions& options);
+// Where a chain is: its tets in the band and its split triangles (those with a cut vertex on its
+// planes), ascending.
+struct ChainParts {
+  std::vector<std::int32_t> tets, split_triangles;
+};
 
-// The chain of these planes and tets (chain_band_tets), cut out of `band`.
+// The parts of each chain (the planes of whole chains, as seam_chain_planes lists them): its tets
+// are those within the band's depth (seam_band_spec) of the vertices on its planes that healing
+// with these options removes. One search from every chain at once: chains never meet.
+std::vector<ChainParts> chain_parts(const TetMesh& band, const SplitSurface& split,
+                                    const std::vector<std::vector<int>>& chains, const HealOptions& options);
+
+// The chain of these planes and parts (chain_parts), cut out of `band`.
 ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
-                        const std::vector<int>& planes, std::vector<std::int32_t> band_tets);
+                        const std::vector<int>& planes, ChainParts&& parts);
 
 // A chain healed, wherever that was: in its ids, its points then new_points.
 struct HealedChain {
