@@ -29,6 +29,16 @@ void build_cap_for_root(const std::string& task, int rank, RankStats& stats) {
       bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+// Waits for a meshing job's reply, telling rank 0 meanwhile that this rank is alive
+// (heartbeat.hpp).
+std::string reply_with_heartbeats(PieceJob& job, Heartbeat& heartbeat, int rank) {
+  do {
+    heartbeat.meshing();
+    test_hooks::meshing_stop(rank);
+  } while (!job.poll(250));
+  return job.take_reply();
+}
+
 // A worker's part of seam healing: heals a chain of the seams whole, its regions in TetGen
 // processes here one after another, and sends rank 0 the healed chain or its failure. Its
 // heartbeats go on from the start to the reply (heartbeat.hpp).
@@ -41,14 +51,8 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
   test_hooks::chain_stop(rank);
   const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
     std::vector<PieceOutcome> outcomes;
-    for (const PieceSurface& region : regions) {
-      const std::unique_ptr<PieceJob> run = runner.start(region);
-      do {
-        heartbeat.meshing();
-        test_hooks::meshing_stop(rank);
-      } while (!run->poll(250));
-      outcomes.push_back(deserialize_outcome(run->take_reply()));
-    }
+    for (const PieceSurface& region : regions)
+      outcomes.push_back(deserialize_outcome(reply_with_heartbeats(*runner.start(region), heartbeat, rank)));
     return outcomes;
   };
   HealedChain healed;
@@ -238,17 +242,6 @@ void send_bulk_links(KeptBulks& kept, RankStats& stats) {
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
-// Waits for a piece's reply, telling rank 0 meanwhile that this rank is alive (heartbeat.hpp).
-std::string reply_with_heartbeats(PieceJob& job, std::uint64_t task, int rank) {
-  Heartbeat heartbeat(job_comm(), task);
-  do {
-    heartbeat.meshing();
-    test_hooks::meshing_stop(rank);
-  } while (!job.poll(250));
-  heartbeat.done();
-  return job.take_reply();
-}
-
 }  // namespace
 
 CapOutcome triangulated(const CapBorder& border, RankStats& stats, const std::function<void()>& before) {
@@ -338,7 +331,9 @@ void Worker::mesh_rounds() {
         const std::unique_ptr<PieceJob> job = runner.start(piece, [&piece, rank, region] {
           if (!region) test_hooks::piece_failure(piece.index, piece.triangles.size(), rank);
         });
-        reply = reply_with_heartbeats(*job, tasks, rank);
+        Heartbeat heartbeat(job_comm(), tasks);
+        reply = reply_with_heartbeats(*job, heartbeat, rank);
+        heartbeat.done();
         stats.pieces_from_checkpoint += job->from_checkpoint();
         if (split) reply = split_here(std::move(reply), piece, *split, kept);
       }

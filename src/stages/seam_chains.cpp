@@ -21,8 +21,7 @@ std::array<int, 4> groups_in(const Tet& t, std::int32_t first, const std::vector
 // The tets within `reach` layers (across faces) of a tet holding a vertex to remove, ascending.
 // Marks by bit, not by an id per tet: the whole mesh may have tens of millions of tets and the
 // band a few percent of them.
-std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group,
-                                         int reach) {
+std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int reach) {
   std::vector<bool> reached(mesh.tets.size(), false);
   std::vector<std::int32_t> band, layer;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
@@ -62,20 +61,16 @@ SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vecto
   // ...join the groups with vertices in them (a group may lie in several: a cut's loops).
   DisjointSets joined(0, static_cast<std::size_t>(groups));
   std::vector<int> group_of_part(band.size(), -1);
-  for (std::size_t i = 0; i < band.size(); ++i)
-    for (int g : groups_in(mesh.tets[band[i]], first, group)) {
-      if (g < 0) break;
-      int& seen = group_of_part[parts.find(static_cast<std::int32_t>(i))];
-      if (seen < 0)
-        seen = g;
-      else
-        joined.join(g, seen);
-    }
   std::vector<char> present(static_cast<std::size_t>(groups), 0);
   for (std::size_t i = 0; i < band.size(); ++i)
     for (int g : groups_in(mesh.tets[band[i]], first, group)) {
       if (g < 0) break;
       present[g] = 1;
+      int& seen = group_of_part[parts.find(static_cast<std::int32_t>(i))];
+      if (seen < 0)
+        seen = g;
+      else
+        joined.join(g, seen);
     }
   SeamChains chains;
   chains.of_group.assign(static_cast<std::size_t>(groups), -1);

@@ -50,24 +50,24 @@ using RegionMesher = std::function<std::vector<PieceOutcome>(const std::vector<P
 // parts heal in parallel, on any rank, in rounds planned on the mesh as it stands (parts where
 // neighbouring cuts meet may take turns; see seam_rounds.hpp). Each chain of cuts whose seams
 // meet (seam_chains.hpp) plans its rounds apart, and its new points are numbered together, chain
-// by chain, so healing one chain at a time gives the same mesh as healing them all. A part that fails grows by a layer
-// of tets (up to three times) first.
+// by chain, so healing one chain at a time gives the same mesh as healing them all. A part that
+// fails grows by a layer of tets (up to three times) first.
 // Afterwards the mesh has none of the removed vertices and (with options.drop_points) no unused
 // points; input vertices keep their relative order and coordinates, and re-meshed tets get piece -1. Throws the
 // MeshingError of the region that failed, with the cut planes of that region.
 SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
                      const RegionMesher& mesher);
 
-// The band healing with these options needs (seam_band.hpp): the stars of the vertices it
-// removes, grown by the layers its first round adds and one more, so that a later round's region
-// (grown from new tets) or a failed part's growth rarely meets the band's edge. Where one does,
-// the edge's faces stay fixed, as the faces around any region do.
 // The cut planes of each chain of cuts whose seams meet (seam_chains.hpp) and still have vertices
 // to remove in `mesh`, in the order of their lowest plane. A chain healed alone (options.planes)
 // heals as it does among the others.
 std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
                                                const HealOptions& options);
 
+// The band healing with these options needs (seam_band.hpp): the stars of the vertices it
+// removes, grown by the layers its first round adds and one more, so that a later round's region
+// (grown from new tets) or a failed part's growth rarely meets the band's edge. Where one does,
+// the edge's faces stay fixed, as the faces around any region do.
 BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options);
 
 }  // namespace partet
