@@ -16,6 +16,7 @@
 #include "stages/check.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/seam_healing.hpp"
 #include "stages/tet_region.hpp"
 #include "stages/topology.hpp"
@@ -267,9 +268,10 @@ TEST(HealSeams, ThinPiecesHealInTurnsAndEveryPointGoes) {
 }
 
 // A chain of cuts heals the same alone as beside the others (seam_chains.hpp): healing the chains
-// one at a time gives the mesh healing them all at once gives, the same points in the same order
-// and the same tets, so a chain can be healed wherever its tets are. With a quality bound the
-// regions add points, and two layers of room make the bands deeper.
+// one at a time, each cut out of the whole welded mesh (seam_chain_band.hpp), gives the mesh
+// healing them all at once gives, the same points in the same order and the same tets, so a chain
+// can be healed wherever its tets are. With a quality bound the regions add points, and two
+// layers of room make the bands deeper.
 TEST(HealSeams, ChainsHealTheSameOneAtATime) {
   int several = 0;
   for (const char* name : {"sphere", "torus", "genus3", "nested"})
@@ -278,16 +280,22 @@ TEST(HealSeams, ChainsHealTheSameOneAtATime) {
         SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (quality ? " quality" : ""));
         const SurfaceMesh input = generate_surface(name, 2000);
         const Stage s = prepare(input, k, 1.0, quality ? "1.414" : "");
-        HealOptions options{quality, quality ? 2 : 0, false};
-        TetMesh all = weld(s.prepared.split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+        const HealOptions options{quality, quality ? 2 : 0, false};
+        const SplitSurface& split = s.prepared.split;
+        TetMesh all = weld(split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
         TetMesh one_at_a_time = all;
-        const std::vector<std::vector<int>> chains = seam_chain_planes(all, s.prepared.split, options);
-        const SeamStats together = heal_seams(all, input, s.prepared.split, options, here(s.options));
+        const std::vector<std::vector<int>> chains = seam_chain_planes(all, split, options);
+        const SeamStats together = heal_seams(all, input, split, options, here(s.options));
         EXPECT_EQ(together.chains, static_cast<std::int64_t>(chains.size()));
-        for (const auto& planes : chains) {
-          options.planes = planes;
-          heal_seams(one_at_a_time, input, s.prepared.split, options, here(s.options));
+        std::vector<ChainParts> parts = chain_parts(one_at_a_time, split, chains, options);
+        std::vector<ChainBand> cut_out;
+        std::vector<HealedChain> healed;
+        for (std::size_t c = 0; c < chains.size(); ++c) {
+          cut_out.push_back(cut_out_chain(one_at_a_time, input, split, chains[c], std::move(parts[c])));
+          healed.push_back(heal_chain(std::move(cut_out.back()), options, here(s.options)));
+          ASSERT_FALSE(healed.back().failure);
         }
+        put_back_chains(one_at_a_time, cut_out, std::move(healed));
         several += chains.size() > 1;
         EXPECT_EQ(one_at_a_time.points, all.points);
         EXPECT_EQ(tet_set(one_at_a_time.tets), tet_set(all.tets));

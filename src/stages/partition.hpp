@@ -1,6 +1,7 @@
 // Partition: PCA axis, k-1 parallel cut planes in vertex gaps, and the input triangles split
 // so that every piece's open border lies on a cut plane.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -74,6 +75,13 @@ struct SplitSurface {
 
   bool is_cut_vertex(std::int32_t v) const { return v >= input_vertex_count; }
   std::int32_t cut_vertex_count() const { return static_cast<std::int32_t>(cut_vertex_plane.size()); }
+  // One past the last plane with a cut vertex or cap point (planes past it have nothing to heal).
+  int plane_count() const {
+    int planes = 0;
+    for (auto p : cut_vertex_plane) planes = std::max(planes, p + 1);
+    for (auto p : cap_point_plane) planes = std::max(planes, p + 1);
+    return planes;
+  }
 };
 
 // Splits the triangles at the planes. Each crossing of an input edge with a plane is

@@ -21,15 +21,8 @@ struct SplitRanges {
         end_caps(first_cap + static_cast<std::int32_t>(split.cap_point_plane.size())) {}
 };
 
-int plane_count(const SplitSurface& split) {
-  int planes = 0;
-  for (auto p : split.cut_vertex_plane) planes = std::max(planes, p + 1);
-  for (auto p : split.cap_point_plane) planes = std::max(planes, p + 1);
-  return planes;
-}
-
 std::vector<int> chain_of_planes(const SplitSurface& split, const std::vector<std::vector<int>>& chains) {
-  std::vector<int> chain_of_plane(static_cast<std::size_t>(plane_count(split)), -1);
+  std::vector<int> chain_of_plane(static_cast<std::size_t>(split.plane_count()), -1);
   for (std::size_t c = 0; c < chains.size(); ++c)
     for (int p : chains[c]) chain_of_plane.at(static_cast<std::size_t>(p)) = static_cast<int>(c);
   return chain_of_plane;
@@ -161,7 +154,6 @@ ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const Spl
 
 HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const RegionMesher& mesher) {
   HealOptions whole_chain = options;
-  whole_chain.planes.clear();
   whole_chain.drop_points = false;
   const double start = now_seconds();
   const auto old_points = static_cast<std::ptrdiff_t>(chain.mesh.points.size());  // (global_ids stay on rank 0)

@@ -2,21 +2,11 @@
 
 #include <algorithm>
 
+#include "stages/seam_rounds.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
 namespace {
-
-// The group of each removed vertex tet t holds (up to four; -1 past the last).
-std::array<int, 4> groups_in(const Tet& t, std::int32_t first, const std::vector<int>& group) {
-  std::array<int, 4> found{-1, -1, -1, -1};
-  int count = 0;
-  for (auto v : t) {
-    const std::int64_t i = static_cast<std::int64_t>(v) - first;
-    if (i >= 0 && i < static_cast<std::int64_t>(group.size()) && group[i] >= 0) found[count++] = group[i];
-  }
-  return found;
-}
 
 // The tets within `reach` layers (across faces) of a tet holding a vertex to remove, ascending.
 // Marks by bit, not by an id per tet: the whole mesh may have tens of millions of tets and the
@@ -25,7 +15,7 @@ std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, con
   std::vector<bool> reached(mesh.tets.size(), false);
   std::vector<std::int32_t> band, layer;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    if (groups_in(mesh.tets[t], first, group)[0] >= 0) {
+    if (TetRemoved(mesh.tets[t], first, group).count > 0) {
       reached[t] = true;
       layer.push_back(static_cast<std::int32_t>(t));
     }
@@ -62,9 +52,10 @@ SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vecto
   DisjointSets joined(0, static_cast<std::size_t>(groups));
   std::vector<int> group_of_part(band.size(), -1);
   std::vector<char> present(static_cast<std::size_t>(groups), 0);
-  for (std::size_t i = 0; i < band.size(); ++i)
-    for (int g : groups_in(mesh.tets[band[i]], first, group)) {
-      if (g < 0) break;
+  for (std::size_t i = 0; i < band.size(); ++i) {
+    const TetRemoved found(mesh.tets[band[i]], first, group);
+    for (int j = 0; j < found.count; ++j) {
+      const int g = found.group[j];
       present[g] = 1;
       int& seen = group_of_part[parts.find(static_cast<std::int32_t>(i))];
       if (seen < 0)
@@ -72,6 +63,7 @@ SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vecto
       else
         joined.join(g, seen);
     }
+  }
   SeamChains chains;
   chains.of_group.assign(static_cast<std::size_t>(groups), -1);
   std::vector<int> number(static_cast<std::size_t>(groups), -1);

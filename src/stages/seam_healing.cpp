@@ -279,9 +279,7 @@ void drop_removed_points(TetMesh& mesh, const Removed& removed, bool drop, SeamS
 // Groups of cuts that must heal together: cuts that split one input triangle between them (the
 // triangle returns whole).
 std::vector<int> groups_of_planes(const SplitSurface& split) {
-  int planes = 0;
-  for (auto p : split.cut_vertex_plane) planes = std::max(planes, p + 1);
-  for (auto p : split.cap_point_plane) planes = std::max(planes, p + 1);
+  const int planes = split.plane_count();
   std::vector<char> joined_to_previous(static_cast<std::size_t>(planes), 0);
   std::unordered_map<std::int32_t, int> lowest_plane;  // input triangle -> lowest plane cutting it
   for (std::size_t t = 0; t < split.triangles.size(); ++t)
@@ -416,18 +414,6 @@ RemovedGroups removed_groups(const TetMesh& mesh, const Removed& all, const Heal
   return r;
 }
 
-// By v - first: whether vertex v lies on one of `planes` (all when empty). The vertices of other
-// planes are not healed: `group_left` loses them.
-std::vector<char> vertices_of_planes(const Removed& all, const std::vector<int>& planes, std::vector<int>& group_left) {
-  if (planes.empty()) return {};
-  std::vector<char> on_planes(all.size(), 0);
-  for (std::size_t v = 0; v < on_planes.size(); ++v) {
-    on_planes[v] = std::find(planes.begin(), planes.end(), all.plane_of(all.id(v))) != planes.end();
-    if (!on_planes[v]) group_left[v] = -1;
-  }
-  return on_planes;
-}
-
 // The vertices healing removes, with these options.
 Removed removed_vertices(const SplitSurface& split, const HealOptions& options) {
   const std::int32_t first_cap = split.input_vertex_count + split.cut_vertex_count();
@@ -470,8 +456,6 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   RemovedGroups groups = removed_groups(mesh, all, options);
   all.chain_of_plane = &groups.chain_of_plane;
   std::vector<int>& group_left = groups.group_left;
-  const std::vector<char> on_planes = vertices_of_planes(all, options.planes, group_left);
-  if (!options.planes.empty()) all.selected = &on_planes;
   // The piece array marks re-meshed tets (-1), so the figures count each tet once even when a
   // later round re-meshes tets of an earlier one.
   const bool had_pieces = mesh.piece.size() == mesh.tets.size();

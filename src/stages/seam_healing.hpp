@@ -34,9 +34,6 @@ struct HealOptions {
   // Drop the points no tet uses afterwards (the whole mesh); a band keeps them all (its points are
   // numbered as in the whole mesh, and the bulks use most of them).
   bool drop_points = true;
-  // Heal only the vertices of these cut planes, all when empty: the planes of whole chains
-  // (seam_chain_planes), which heal the same alone as beside the others.
-  std::vector<int> planes = {};
 };
 
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
@@ -59,8 +56,8 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
                      const RegionMesher& mesher);
 
 // The cut planes of each chain of cuts whose seams meet (seam_chains.hpp) and still have vertices
-// to remove in `mesh`, in the order of their lowest plane. A chain healed alone (options.planes)
-// heals as it does among the others.
+// to remove in `mesh`, in the order of their lowest plane. A chain cut out and healed alone
+// (seam_chain_band.hpp) heals as it does among the others.
 std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
                                                const HealOptions& options);
 

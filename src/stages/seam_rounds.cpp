@@ -7,20 +7,6 @@
 namespace partet {
 namespace {
 
-// The vertices of a tet still to be removed (up to four), and their groups.
-struct TetRemoved {
-  std::int32_t vertex[4] = {};
-  int group[4] = {};
-  int count = 0;
-  TetRemoved(const Tet& t, std::int32_t first, const std::vector<int>& group_of) {
-    for (auto v : t) {
-      const std::int64_t i = static_cast<std::int64_t>(v) - first;
-      if (i >= 0 && i < static_cast<std::int64_t>(group_of.size()) && group_of[i] >= 0)
-        vertex[count] = v, group[count++] = group_of[i];
-    }
-  }
-};
-
 // The vertices left, joined into components (sharing tets) and into single-group parts
 // (sharing tets within a group).
 struct Stars {

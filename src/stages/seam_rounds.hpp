@@ -10,6 +10,21 @@
 
 namespace partet {
 
+// The vertices of a tet still to be removed (up to four), and their groups: group_of[v - first]
+// as plan_seam_round takes it.
+struct TetRemoved {
+  std::int32_t vertex[4] = {};
+  int group[4] = {};
+  int count = 0;
+  TetRemoved(const Tet& t, std::int32_t first, const std::vector<int>& group_of) {
+    for (auto v : t) {
+      const std::int64_t i = static_cast<std::int64_t>(v) - first;
+      if (i >= 0 && i < static_cast<std::int64_t>(group_of.size()) && group_of[i] >= 0)
+        vertex[count] = v, group[count++] = group_of[i];
+    }
+  }
+};
+
 struct SeamRound {
   std::vector<char> heals;              // by vertex v - first: re-meshed in this round
   std::vector<std::int32_t> star_tets;  // the tets with a vertex left to remove, ascending
