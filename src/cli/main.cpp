@@ -182,8 +182,8 @@ CLI::App* add_mesh_command(CLI::App& app, CommandLine& c) {
       ->type_name("DIR");
   mesh->add_option("--wait-for-space", job.wait_for_space_minutes,
                    "minutes to wait, once the mesh is made, for room on the output's filesystem when it has less "
-                   "than the files need at least (a neighbouring job filled it), instead of losing the mesh; a "
-                   "filesystem already that full is refused before the meshing")
+                   "than the files need at least (a neighbouring job filled it) or fills up during the write, "
+                   "instead of losing the mesh; a filesystem already that full is refused before the meshing")
       ->check(kFinite)
       ->check(CLI::Range(0.0, 40.0))
       ->capture_default_str();

@@ -3,6 +3,8 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -150,6 +152,12 @@ void before_publish() { sleep_ms("PARTET_TEST_PAUSE_BEFORE_PUBLISH_MS"); }
 double publish_wait_seconds(double fallback) { return seconds_or("PARTET_TEST_PUBLISH_WAIT_S", fallback); }
 
 void buffer_handed() { sleep_ms("PARTET_TEST_WRITE_DELAY_MS"); }
+
+int quota_refusal() {
+  static const int refusals = static_cast<int>(seconds_or("PARTET_TEST_QUOTA_WRITES", 0));
+  static std::atomic<int> refused{0};
+  return refusals > 0 && refused.fetch_add(1) < refusals ? EDQUOT : 0;
+}
 
 bool assemble_always() { return value("PARTET_TEST_ASSEMBLE") != nullptr; }
 

@@ -115,6 +115,10 @@ double available_mb_for_check(double measured);
 double free_disk_mb(double measured);
 double disk_poll_seconds(double fallback);
 
+// PARTET_TEST_QUOTA_WRITES=N: the first N writes of large files (BufferedFile, any thread) fail
+// with EDQUOT, as when a user's quota runs out during the write (errno then; else 0).
+int quota_refusal();
+
 // PARTET_TEST_NO_NAMELESS_FILES: the filesystems refuse nameless files (O_TMPFILE), as NFS does.
 bool nameless_files_refused();
 

@@ -91,6 +91,7 @@ struct BufferedFile::Writer {
   std::size_t write_blocks_directly(const char* p, std::size_t n) {
     std::size_t total = 0;
     while (total < n && error == 0 && direct) {
+      if ((error = test_hooks::quota_refusal()) != 0) break;
       const ssize_t done = ::write(fd, p + total, n - total);
       if (done < 0) {
         if (errno == EINVAL)
@@ -113,6 +114,7 @@ struct BufferedFile::Writer {
 
   void write_through_cache(const char* p, std::size_t n) {
     while (n > 0 && error == 0) {
+      if ((error = test_hooks::quota_refusal()) != 0) break;
       const ssize_t done = ::write(fd, p, n);
       if (done < 0) {
         if (errno != EINTR) error = errno;

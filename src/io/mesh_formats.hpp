@@ -229,6 +229,9 @@ struct RankWriters {
       spread_piece_files;
   std::function<void(OutputSet& set, MeshFormat format, const MeshOutput& output, const std::string& prefix)>
       spread_rows;
+  // Before the files are written again after a write failed (a full disk): the other ranks forget
+  // that write's failure.
+  std::function<void()> again;
 };
 
 // Writes the format's files for PREFIX under temporary names into `set` (published together).

@@ -417,6 +417,7 @@ void OutputSet::discard() {
   }
   impl_->temporaries.clear();
   impl_->owned.clear();
+  impl_->families.clear();  // (a set written again names them again)
   finals_.clear();
 }
 

@@ -78,10 +78,11 @@ struct Rows {
   std::uint64_t total;
 };
 
-// Whether the file system holding `path` is full: HDF5 reports only that a write failed.
-bool file_system_full(const std::string& path) {
+// Whether the file system holding `path` is full, for a write of `bytes`: HDF5 reports only that
+// a write failed, and MPI-IO may fail a large write whole while some room is left.
+bool file_system_full(const std::string& path, double bytes = 0) {
   const double free_mb = free_disk_mb(path);
-  return free_mb >= 0 && free_mb < 1;
+  return free_mb >= 0 && free_mb < 1 + bytes / 1048576;
 }
 
 class Hdf5File {
@@ -113,7 +114,7 @@ class Hdf5File {
     H5Pset_obj_track_times(creation.get(), false);
     Hid dataset(H5Dcreate2(file_, rows.dataset, rows.file_type, file_space.get(), link.get(), creation.get(), H5P_DEFAULT),
                 H5Dclose);
-    if (!all_ranks(comm_, dataset.ok())) fail(std::string("create ") + rows.dataset);
+    if (!all_ranks(comm_, dataset.ok())) fail_open(std::string("create ") + rows.dataset, 0);
     Hid transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
     H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE);
     // Each run in calls of at most rows_per_call rows; every rank makes as many calls as the rank
@@ -134,7 +135,7 @@ class Hdf5File {
       const Call c = call < mine.size() ? mine[call] : Call{nullptr, 0, 0};
       ok = write_rows(dataset.get(), file_space.get(), transfer.get(), rows, c.run, c.begin, c.n) && ok;
     }
-    if (!all_ranks(comm_, ok)) fail(std::string("write ") + rows.dataset);
+    if (!all_ranks(comm_, ok)) fail_open(std::string("write ") + rows.dataset, double(rows.total) * double(rows.row_bytes));
   }
 
   void close() {
@@ -165,10 +166,26 @@ class Hdf5File {
     return H5Dwrite(dataset, rows.memory_type, memory_space.get(), file_space, transfer, data) >= 0;
   }
 
-  [[noreturn]] void fail(const std::string& step) {
+  [[noreturn]] void fail(const std::string& step, bool full = false) {
     throw OutputError("cannot write '" + shown_ + "': parallel HDF5 could not " + step +
-                      (file_system_full(path_) ? ": No space left on device"
-                                               : " (is the directory writable, is there space left?)"));
+                      (full || file_system_full(path_) ? ": No space left on device"
+                                                       : " (is the directory writable, is there space left?)"));
+  }
+
+  // Collective, with the file open on every rank. The failed file is worthless (its temporary
+  // goes), but HDF5 still writes its metadata as it closes it. On a full disk that fails too, and
+  // the library then keeps a half-closed file that crashes it in MPI_Finalize (h5py#914; HDF5
+  // 1.10), so the file is emptied first: its own room then takes the metadata. (`bytes`: what
+  // the failed step was writing.)
+  [[noreturn]] void fail_open(const std::string& step, double bytes) {
+    const bool full = file_system_full(path_, bytes);
+    int rank = 0;
+    MPI_Comm_rank(comm_, &rank);
+    [[maybe_unused]] const int emptied = rank == 0 ? ::truncate(path_.c_str(), 0) : 0;  // (else closed as it is)
+    MPI_Barrier(comm_);
+    H5Fclose(file_);
+    file_ = -1;
+    fail(step, full);
   }
 
   MPI_Comm comm_;

@@ -46,6 +46,17 @@ double free_output_mb(const MeshJob& job) {
   return test_hooks::free_disk_mb(free_disk_mb(directory_of(job.output_prefix)));
 }
 
+// What a write that ran out of room (of the disk, or of a quota) says as the mesh waits.
+std::string write_out_of_room(const std::string& error, bool disk_full, const std::string& where, double had_mb,
+                              double wait_left) {
+  return (disk_full ? "the disk" : "the quota") + std::string(" ran out while the files were written (") + error +
+         "); the mesh is kept: " +
+         (had_mb >= 0 ? "waiting up to " + wait_span(wait_left) + " for more room at " + where + " than the " +
+                            megabytes_free(had_mb) + " the write had"
+                      : "trying again every minute for up to " + wait_span(wait_left)) +
+         " (--wait-for-space); make room there, and the files are written";
+}
+
 std::int64_t used_vertex_count(const SurfaceMesh& input) {
   const std::vector<char> used = used_vertices(input.points.size(), input.triangles);
   return std::count(used.begin(), used.end(), 1);
@@ -65,13 +76,13 @@ void refuse_output_beyond_disk(const MeshJob& job, const SurfaceMesh& input) {
                     " free: make room there, or write elsewhere (-o). Nothing was meshed.");
 }
 
-void wait_for_room(const MeshJob& job, const MeshCounts& counts) {
+void wait_for_room(const MeshJob& job, const MeshCounts& counts, double since) {
   const double needed_mb = least_room_mb(job, counts);
   const std::string where = output_directory(job);
-  const double start = now_seconds(), limit = job.wait_for_space_minutes * 60;
+  const double limit = job.wait_for_space_minutes * 60;
   for (bool first = true;; first = false) {
     const double free_mb = free_output_mb(job);
-    const double waited = now_seconds() - start;
+    const double waited = now_seconds() - since;
     if (free_mb < 0 || free_mb >= needed_mb) {
       if (!first) log::warning("room at " + where + " after " + wait_span(waited) + ": writing");
       return;
@@ -88,12 +99,35 @@ void wait_for_room(const MeshJob& job, const MeshCounts& counts) {
   }
 }
 
-std::string with_room_advice(const MeshJob& job, const MeshCounts& counts, const std::string& error) {
-  if (error.find(std::strerror(ENOSPC)) == std::string::npos && error.find(std::strerror(EDQUOT)) == std::string::npos)
-    return error;
-  const double needed_mb = least_room_mb(job, counts);
-  return error + " (the files of this mesh take at least " + megabytes_needed(needed_mb) + " as " + format_names(job) +
-         "; make room there and run again" + rerun_advice(job) + ")";
+void wait_for_more_room(const MeshJob& job, const MeshCounts& counts, const std::string& error, double since) {
+  const bool disk_full = error.find(std::strerror(ENOSPC)) != std::string::npos;
+  if (!disk_full && error.find(std::strerror(EDQUOT)) == std::string::npos) throw OutputError(error);
+  const double limit = job.wait_for_space_minutes * 60, start = now_seconds();
+  const auto give_up = [&] {
+    const double waited = now_seconds() - start;
+    return OutputError(error + " (the files of this mesh take at least " + megabytes_needed(least_room_mb(job, counts)) +
+                       " as " + format_names(job) + (waited >= 1 ? "; waited " + wait_span(waited) + " for room" : "") +
+                       ": nothing was written; make room there and run again" + rerun_advice(job) + ")");
+  };
+  if (start - since >= limit) throw give_up();
+  // The failed write's files are gone, so the room now is about the room it had: writing again
+  // pays only with more. A quota's room does not show, nor does an unknown filesystem's: then
+  // the write is tried again after a minute.
+  const double had_mb = disk_full ? free_output_mb(job) : -1;
+  const double enough_mb = had_mb + std::max(1.0, had_mb / 100);
+  const std::string where = output_directory(job);
+  log::warning(write_out_of_room(error, disk_full, where, had_mb, limit - (start - since)));
+  const double poll = test_hooks::disk_poll_seconds(had_mb >= 0 ? 10 : 60);
+  for (;;) {
+    const double left = limit - (now_seconds() - since);
+    if (left <= 0) throw give_up();
+    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(poll, left)));
+    if (had_mb >= 0 && free_output_mb(job) < enough_mb) continue;
+    const std::string waited = wait_span(now_seconds() - start);
+    log::warning(had_mb >= 0 ? "more room at " + where + " after " + waited + ": writing again"
+                             : "writing again after " + waited);
+    return;
+  }
 }
 
 }  // namespace partet

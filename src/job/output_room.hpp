@@ -18,12 +18,17 @@ void refuse_output_beyond_disk(const MeshJob& job, const SurfaceMesh& input);
 
 // Returns once the output's filesystem has the room the files of a mesh of these counts take at
 // least (at once when it has, or its room is not known). Until then it says so once and looks
-// again every 10 s, for job.wait_for_space_minutes at most; then throws OutputError (nothing was
-// written), with the room needed and what keeps the pieces for a rerun.
-void wait_for_room(const MeshJob& job, const MeshCounts& counts);
+// again every 10 s, until job.wait_for_space_minutes have passed since `since` (the job's first
+// wait for room: all of them share that time); then throws OutputError (nothing was written),
+// with the room needed and what keeps the pieces for a rerun.
+void wait_for_room(const MeshJob& job, const MeshCounts& counts, double since);
 
-// A write error with, when the disk had no room (ENOSPC, EDQUOT), the room the files take at least
-// and what keeps the pieces for a rerun; any other error as it is.
-std::string with_room_advice(const MeshJob& job, const MeshCounts& counts, const std::string& error);
+// After a write failed with `error` (its temporaries removed, nothing published): when the disk
+// ran out of room during the write (ENOSPC: a neighbouring job, or files larger than the bound),
+// returns once it has more room than that write had, so the caller writes again and the mesh is
+// not lost; when a quota ran out (EDQUOT, which the free space does not show), after a minute.
+// Throws OutputError with the error (and, for room, the room the files take at least and what
+// keeps the pieces for a rerun) for any other error, or once the wait shared from `since` is over.
+void wait_for_more_room(const MeshJob& job, const MeshCounts& counts, const std::string& error, double since);
 
 }  // namespace partet

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/memory.hpp"
+#include "common/stage_timer.hpp"
 #include "common/test_hooks.hpp"
 #include "io/mesh_formats.hpp"
 #include "job/output_room.hpp"
@@ -105,13 +106,24 @@ void RootRun::check_and_write(const RankWriters& writers, const WrittenSetCheck&
   if (!job_.report_path.empty())
     estimated_costs_ = estimated_piece_costs(input_, result_.planes, job_.options.density);
   if (!job_.compare_tetgen && !checks_files) std::vector<Point3>().swap(input_.points);
-  wait_for_room(job_, written_counts());
-  try {
-    write_result(job_, input_, result_, times_, outputs_, writers);
-  } catch (const OutputError& e) {
-    throw OutputError(with_room_advice(job_, written_counts(), e.what()));
-  }
+  write_with_room(writers);
   if (checks_files) check_ = check_written(job_, input_, result_, outputs_, check_files, times_);
+}
+
+// A disk that fills up during the write (a neighbouring job, or files larger than the least room
+// asked for) costs a wait for room, not the mesh: a failed write publishes nothing, and every
+// rank still holds its part of the mesh, so the files are written again once there is room.
+void RootRun::write_with_room(const RankWriters& writers) {
+  const MeshCounts counts = written_counts();
+  const double since = now_seconds();
+  wait_for_room(job_, counts, since);
+  for (;;) try {
+      write_result(job_, input_, result_, times_, outputs_, writers);
+      return;
+    } catch (const OutputError& e) {
+      wait_for_more_room(job_, counts, e.what(), since);
+      if (writers.again) writers.again();
+    }
 }
 
 MeshCounts RootRun::written_counts() const {

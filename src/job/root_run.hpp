@@ -49,6 +49,7 @@ class RootRun {
 
  private:
   MeshCounts written_counts() const;  // the mesh's, for the room its files need
+  void write_with_room(const RankWriters& writers);
 
   const MeshJob& job_;
   StageTimes times_;

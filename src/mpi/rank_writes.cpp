@@ -32,6 +32,7 @@ namespace partet::mpi {
 namespace {
 
 constexpr const char* kSpreadOrder = "hdf5-spread";
+constexpr const char* kAgainOrder = "again";  // the last write failed; the files are written again
 // Bytes of text per message: rank 0 holds one such chunk at a time beside the mesh.
 constexpr std::size_t kTextChunk = std::size_t{8} << 20;
 // Rows per part of a block (32 MB of .node rows, 16 MB of .ele rows).
@@ -461,6 +462,7 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int sca
     };
   }
   if (size > 1) writers.tetgen_lines = write_tetgen_lines_on_every_rank;
+  writers.again = [] { broadcast_text(kAgainOrder); };
   writers.piece_files = [&stats](MeshFormat format, const std::vector<PieceFile>& files,
                                  const PieceArraysOf& arrays_of) {
     PieceFileDealer(format, files, arrays_of, stats).run();
@@ -473,6 +475,7 @@ void end_writes() { broadcast_text(""); }
 void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks) {
   const AddSeconds timer{stats.write_seconds};
   BulksForWrites kept(take_bulks);
+  const std::string error_before = status.error;
   for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
     std::istringstream lines(order);
     std::string kind;
@@ -489,6 +492,8 @@ void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take
       write_piece_files_sent(lines, stats);
     else if (kind == kSetCheckOrder)
       join_set_check(lines, status);
+    else if (kind == kAgainOrder)
+      status.error = error_before;  // (rank 0 waited for room after a full disk)
     else
       format_rows_block(lines);
   }

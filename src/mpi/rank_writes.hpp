@@ -13,6 +13,8 @@
 //   (see PieceFileDealer).
 // - hdf5-spread, pvtu-spread: the same files from a mesh left spread, each part written by the
 //   rank that keeps it (spread_piece_files.hpp).
+// - again: a write failed for want of room and rank 0 found more; the files are written again
+//   (every rank still holds its part), so each rank forgets that write's failure.
 #pragma once
 #include <functional>
 #include <map>

@@ -7,7 +7,9 @@
 #    files took writes them), and every format but the compressed .vtu sets asks for some;
 # 3. a disk that fills up during the meshing: the mesh waits for room, says so, and is written
 #    (and checked) once room is made;
-# 4. still full when --wait-for-space runs out: exit 1, nothing written, the previous mesh kept.
+# 4. still full when --wait-for-space runs out: exit 1, nothing written, the previous mesh kept;
+# 5. a quota that runs out during the write (EDQUOT, set by PARTET_TEST_QUOTA_WRITES: the free
+#    space does not show it): the mesh is kept and written again after the pause, the same files.
 # Usage: disk_space.sh PARTET [LAUNCH...]
 set -uo pipefail
 partet=$(realpath "$1")
@@ -24,7 +26,7 @@ run_free() {
   local room=$1
   shift
   if [ ${#launch[@]} -gt 0 ]; then
-    env PARTET_TEST_FREE_DISK_MB="$room" "${launch[@]}" -x PARTET_TEST_FREE_DISK_MB "$partet" mesh "$@"
+    env PARTET_TEST_FREE_DISK_MB="$room" "${launch[@]}" -x PARTET_TEST_FREE_DISK_MB -x PARTET_TEST_QUOTA_WRITES "$partet" mesh "$@"
   else PARTET_TEST_FREE_DISK_MB="$room" "$partet" mesh "$@"; fi
 }
 kept() { md5sum --quiet -c before.md5 && [ -z "$(ls -A | grep -v -x -e m.node -e m.ele -e m.face -e m.neigh \
@@ -77,4 +79,17 @@ if [ $code = 1 ] && grep -q "error: $work has 0 MB free, .* after waiting 0 s: n
 else
   bad "giving up the wait (exit $code):"; cat log
 fi
+# 5. The quota runs out during the write: tried again after the pause, then written.
+PARTET_TEST_QUOTA_WRITES=1 run_free 1e9 in.off -o q --pieces 3 > log 2>&1
+code=$?
+if [ $code = 0 ] && [ "$(grep -c "warning: the quota ran out while the files were written (cannot write 'q\.[a-z]*': Disk quota exceeded); the mesh is kept: trying again every minute for up to 20 min (--wait-for-space)" log)" = 1 ] &&
+   [ "$(grep -c "warning: writing again after 0 s" log)" = 1 ]; then
+  same=1
+  for f in node ele face neigh; do cmp -s m.$f q.$f || same=0; done
+  [ $same = 1 ] && ok "a quota that ran out during the write: tried again, then the same files as a plain run" ||
+    bad "the files written after the quota ran out differ"
+else
+  bad "a quota running out during the write (exit $code):"; cat log
+fi
+export -n PARTET_TEST_QUOTA_WRITES 2> /dev/null
 summary

@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # A local disk fills up while partet writes to it around the page cache (ext4, O_DIRECT: the
-# direct path a tmpfs never takes). The run must end with the disk's error, publish nothing,
-# leave no temporary behind, and leave the previous mesh at the same prefix byte for byte; in one
-# process and on 2 ranks (rank 1 formats half of the lines rank 0 writes). The disk is an ext4
+# direct path a tmpfs never takes), and no room is made before --wait-for-space ends. The run must
+# end with the disk's error, publish nothing, leave no temporary behind, and leave the previous
+# mesh at the same prefix byte for byte; in one process and on 2 ranks (rank 1 formats half of the
+# lines rank 0 writes). The disk is an ext4
 # image on a loop device; without loop mounts (not root, or a container that forbids them) the
 # test exits 77 (skipped). Then --scratch on the full disk: a warning, and the same mesh as in memory;
 # and --checkpoint on it: a warning, the same mesh, nothing left in the checkpoint. Last, on a
 # second disk: one too full for the smallest files of a mesh is refused before the meshing; one
 # with room for those but not for this mesh's makes the mesh wait until room is made, then the
-# files are written and check (disk_space.sh has the rest, with the room set by a test hook).
+# files are written and check; one with room for this mesh's smallest files but not for its files
+# fills up during the write: the mesh is kept, waits for room, and is written again, the same
+# files as on an empty disk (on 2 ranks with the XDMF set, whose parallel HDF5 write is what
+# fails). disk_space.sh has the rest, with the room set by a test hook.
 # Usage: full_ext4.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -28,11 +32,13 @@ mount -o loop disk.img disk 2> /dev/null || { echo "SKIP: loop mounts are not pe
 (cd disk && md5sum m.* > ../before.md5)
 
 for n in 1 2; do
-  if "$mpiexec" -n $n "$partet" mesh big.off -o disk/m --pieces 4 --verbose > log 2>&1; then
+  if "$mpiexec" -n $n "$partet" mesh big.off -o disk/m --pieces 4 --verbose --wait-for-space 0.05 > log 2>&1; then
     echo "FAIL: $n rank(s): a full disk exited 0"; exit 1
   fi
   grep -q "around the page cache" log || { echo "FAIL: $n rank(s): no file was written directly:"; cat log; exit 1; }
-  grep -q "cannot write 'disk/m\.[a-z]*': No space left on device" log \
+  grep -q "warning: the disk ran out while the files were written (cannot write 'disk/m\.[a-z]*': No space left on device); the mesh is kept: waiting up to 3 s for more room" log \
+    || { echo "FAIL: $n rank(s): no wait for room:"; grep "warning\|error" log; exit 1; }
+  grep -q "error: cannot write 'disk/m\.[a-z]*': No space left on device (the files of this mesh take at least [0-9]* MB as tetgen; waited [0-9]* s for room: nothing was written; make room there and run again" log \
     || { echo "FAIL: $n rank(s): not the disk's error:"; grep error log; exit 1; }
   (cd disk && md5sum --quiet -c ../before.md5) || { echo "FAIL: $n rank(s): the previous mesh changed"; exit 1; }
   left=$(cd disk && ls -A | grep -v -x -e lost+found -e 'm\.\(node\|ele\|face\|neigh\)' || true)
@@ -77,7 +83,7 @@ for n in 1 2; do
 done
 
 # Room for the files: a fresh disk, filled by a neighbour up to ROOM MB of free space.
-truncate -s 48M room.img
+truncate -s 64M room.img
 mkfs.ext4 -q -F room.img
 mkdir room
 mount -o loop room.img room
@@ -110,4 +116,39 @@ for n in 1 2; do
     || { echo "FAIL: $n rank(s): not written and checked:"; cat log; exit 1; }
   echo "ok: $n rank(s): a disk filled during the meshing: the mesh waited $(grep -o 'after [0-9]* s' log | cut -c7-) for room, then was written and checked"
   rm room/m.*
+done
+
+# A disk that fills up during the write: room for this mesh's smallest files, not for its files.
+# In one process the TetGen files fail; on 2 ranks the TetGen files fit and the XDMF set's HDF5
+# file, written by both ranks at once, fails. Once room is made the same files are written.
+mkdir plain
+"$partet" mesh big.off -o plain/m --pieces 4 --format tetgen,xdmf --quiet
+files_mb() { du -b -c plain/m.node plain/m.ele plain/m.face plain/m.neigh $([ "$1" = tetgen,xdmf ] && echo plain/m*.h5 plain/m*.xdmf) \
+  | awk 'END {printf "%d", $1 / 1048576}'; }
+for n in 1 2; do
+  formats=tetgen
+  [ $n = 2 ] && formats=tetgen,xdmf
+  tetgen_mb=$(files_mb tetgen) all_mb=$(files_mb $formats)
+  # n=1: between this mesh's least room and its TetGen files; n=2: room for the TetGen files only.
+  room_mb=$(( n == 1 ? (least_mesh + tetgen_mb) / 2 : tetgen_mb + 6 ))
+  [ "$room_mb" -gt "$least_mesh" ] && [ "$room_mb" -lt "$all_mb" ] \
+    || { echo "FAIL: no room between the least room ($least_mesh MB) and the files ($all_mb MB)"; exit 1; }
+  leave_free "$room_mb"
+  "$mpiexec" -n $n "$partet" mesh big.off -o room/m --pieces 4 --format $formats > log 2>&1 &
+  pid=$!
+  for _ in $(seq 1200); do grep -q "ran out while the files were written" log && break; kill -0 $pid 2> /dev/null || break; sleep 0.1; done
+  grep -q "warning: the disk ran out while the files were written (cannot write 'room/m\.[a-z0-9]*': .*No space left on device); the mesh is kept: waiting up to 20 min for more room at $work/room than the [0-9]* MB the write had (--wait-for-space); make room there, and the files are written" log \
+    || { echo "FAIL: $n rank(s): no wait after the disk filled up during the write:"; cat log; exit 1; }
+  left=$(ls room | grep -v -x -e lost+found -e neighbour || true)
+  [ -z "$left" ] || { echo "FAIL: $n rank(s): the failed write left $left"; exit 1; }
+  rm room/neighbour  # room is made
+  wait $pid || { echo "FAIL: $n rank(s): no mesh once room was made:"; cat log; exit 1; }
+  grep -q "warning: more room at $work/room after [0-9]* s: writing again" log || { echo "FAIL: $n rank(s): not written again:"; cat log; exit 1; }
+  for f in $(cd plain && ls m.node m.ele m.face m.neigh $([ $n = 2 ] && echo m.xdmf m_boundary.xdmf m.h5 m_boundary.h5)); do
+    cmp -s plain/$f room/$f || { echo "FAIL: $n rank(s): room/$f differs from the mesh written on an empty disk"; exit 1; }
+  done
+  "$partet" check big.off room/m > check.log 2>&1 || { echo "FAIL: $n rank(s): the files written again do not check:"; cat check.log; exit 1; }
+  echo "ok: $n rank(s): the disk filled up while $formats was written ($room_mb MB free, $all_mb MB of files): the mesh waited" \
+    "$(grep -o 'after [0-9]* s: writing again' log | cut -d' ' -f2) s, then the same files were written again, and check"
+  rm room/m*
 done

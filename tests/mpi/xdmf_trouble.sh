@@ -124,21 +124,26 @@ assert not report['assembled_on_rank0'], 'the mesh was assembled'"
 echo "ok: not-shared-pvtu: rank 0 wrote the 5 piece files rank 1 could not see (from rank 1's parts: the mesh was not assembled), the same bytes as 1 rank's"
 rm out/m.pvtu out/m_*.vtu
 
-# The output directory fills up during the write (a small tmpfs): the run must end with the disk's
-# error on every rank and leave nothing there. (Each tmpfs is too small for the least room these
-# files take, which partet would refuse before the meshing: the hook has rank 0 see plenty, as
-# on a disk another job fills during the write. The room checks: tests/cli/disk_space.sh.)
+# The output directory fills up during the write (a small tmpfs) and stays full: the run must end
+# with the disk's error on every rank and leave nothing there. (Each tmpfs is too small for the
+# least room these files take, which partet would refuse before the meshing: the hook has rank 0
+# see plenty, as on a disk another job fills during the write; after the first failure it sees
+# more, so it writes again (every rank must join the second try), then fails again and waits
+# until the short --wait-for-space ends. The room checks:
+# tests/cli/disk_space.sh; the mesh written again once room is made: tests/cli/full_ext4.sh.)
 expect_full() {  # NAME TMPFS-SIZE OUTPUT ERROR-PATTERN [OPTION...]
   mount -t tmpfs -o size="$2" tmpfs full
-  if PARTET_TEST_FREE_DISK_MB=1e9 timeout 120 "$mpiexec" -n 2 -x PARTET_TEST_FREE_DISK_MB "$partet" mesh big.off \
-    -o "$3" --pieces 4 --quiet "${@:5}" 2> log; then
+  if PARTET_TEST_FREE_DISK_MB=1e9,1e9,1e9,2e9 timeout 120 "$mpiexec" -n 2 -x PARTET_TEST_FREE_DISK_MB "$partet" mesh big.off \
+    -o "$3" --pieces 4 --wait-for-space 0.02 "${@:5}" 2> log; then
     umount full; echo "FAIL: $1: a full disk exited 0"; exit 1
   fi
   left=$(ls full)
   umount full
   grep -q "$4" log || { echo "FAIL: $1: the error:"; cat log; exit 1; }
+  [ "$(grep -c "ran out while the files were written" log)" = 2 ] && [ "$(grep -c "writing again" log)" = 1 ] \
+    || { echo "FAIL: $1: not written twice:"; cat log; exit 1; }
   [ -z "$left" ] || { echo "FAIL: $1: files left: $left"; exit 1; }
-  echo "ok: $1: $(grep -o "$4" log | head -n 1), nothing left"
+  echo "ok: $1: $(grep -o "$4" log | head -n 1), tried twice, nothing left"
 }
 mkdir full
 "$partet" generate genus3 --faces 40000 -o big.off > /dev/null
