@@ -11,8 +11,9 @@
 # with room for those but not for this mesh's makes the mesh wait until room is made, then the
 # files are written and check; one with room for this mesh's smallest files but not for its files
 # fills up during the write: the mesh is kept, waits for room, and is written again, the same
-# files as on an empty disk (on 2 ranks with the XDMF set, whose parallel HDF5 write is what
-# fails). disk_space.sh has the rest, with the room set by a test hook.
+# files as on an empty disk (in one process; on 2 ranks with the XDMF set, whose parallel HDF5
+# write is what fails; and on 2 ranks with --check, the mesh assembled on rank 0). disk_space.sh
+# has the rest, with the room set by a test hook.
 # Usage: full_ext4.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
@@ -119,36 +120,44 @@ for n in 1 2; do
 done
 
 # A disk that fills up during the write: room for this mesh's smallest files, not for its files.
-# In one process the TetGen files fail; on 2 ranks the TetGen files fit and the XDMF set's HDF5
-# file, written by both ranks at once, fails. Once room is made the same files are written.
+# In one process the TetGen files fail; on 2 ranks the TetGen files fit and then the XDMF set's
+# HDF5 file, written by both ranks at once, fails (the mesh left on the ranks), or, with --check
+# (rank 0 assembles the mesh and the ranks format its rows), the .vtu file. Once room is made the
+# same files are written.
 mkdir plain
-"$partet" mesh big.off -o plain/m --pieces 4 --format tetgen,xdmf --quiet
-files_mb() { du -b -c plain/m.node plain/m.ele plain/m.face plain/m.neigh $([ "$1" = tetgen,xdmf ] && echo plain/m*.h5 plain/m*.xdmf) \
-  | awk 'END {printf "%d", $1 / 1048576}'; }
-for n in 1 2; do
-  formats=tetgen
-  [ $n = 2 ] && formats=tetgen,xdmf
-  tetgen_mb=$(files_mb tetgen) all_mb=$(files_mb $formats)
-  # n=1: between this mesh's least room and its TetGen files; n=2: room for the TetGen files only.
-  room_mb=$(( n == 1 ? (least_mesh + tetgen_mb) / 2 : tetgen_mb + 6 ))
+"$partet" mesh big.off -o plain/m --pieces 4 --format tetgen,xdmf,vtu --quiet
+files_of() {  # FORMATS: the names of their files
+  echo m.node m.ele m.face m.neigh
+  case $1 in *xdmf*) echo m.xdmf m_boundary.xdmf m.h5 m_boundary.h5 ;; esac
+  case $1 in *vtu*) echo m.vtu ;; esac
+}
+files_mb() { (cd plain && du -b -c $(files_of "$1")) | awk 'END {printf "%d", $1 / 1048576}'; }
+tetgen_mb=$(files_mb tetgen)
+for run in "1 tetgen" "2 tetgen,xdmf" "2 tetgen,vtu --check"; do
+  set -- $run
+  n=$1 formats=$2 options=("${@:3}")
+  all_mb=$(files_mb $formats)
+  # Between this mesh's least room and its TetGen files; on 2 ranks, room for the TetGen files only.
+  room_mb=$(( n == 1 ? (least_mesh + tetgen_mb) / 2 : tetgen_mb + (all_mb - tetgen_mb) / 2 ))
   [ "$room_mb" -gt "$least_mesh" ] && [ "$room_mb" -lt "$all_mb" ] \
     || { echo "FAIL: no room between the least room ($least_mesh MB) and the files ($all_mb MB)"; exit 1; }
+  what="$n rank(s), $formats${options[*]:+ ${options[*]}}"
   leave_free "$room_mb"
-  "$mpiexec" -n $n "$partet" mesh big.off -o room/m --pieces 4 --format $formats > log 2>&1 &
+  "$mpiexec" -n $n "$partet" mesh big.off -o room/m --pieces 4 --format $formats "${options[@]}" > log 2>&1 &
   pid=$!
   for _ in $(seq 1200); do grep -q "ran out while the files were written" log && break; kill -0 $pid 2> /dev/null || break; sleep 0.1; done
   grep -q "warning: the disk ran out while the files were written (cannot write 'room/m\.[a-z0-9]*': .*No space left on device); the mesh is kept: waiting up to 20 min for more room at $work/room than the [0-9]* MB the write had (--wait-for-space); make room there, and the files are written" log \
-    || { echo "FAIL: $n rank(s): no wait after the disk filled up during the write:"; cat log; exit 1; }
+    || { echo "FAIL: $what: no wait after the disk filled up during the write:"; cat log; exit 1; }
   left=$(ls room | grep -v -x -e lost+found -e neighbour || true)
-  [ -z "$left" ] || { echo "FAIL: $n rank(s): the failed write left $left"; exit 1; }
+  [ -z "$left" ] || { echo "FAIL: $what: the failed write left $left"; exit 1; }
   rm room/neighbour  # room is made
-  wait $pid || { echo "FAIL: $n rank(s): no mesh once room was made:"; cat log; exit 1; }
-  grep -q "warning: more room at $work/room after [0-9]* s: writing again" log || { echo "FAIL: $n rank(s): not written again:"; cat log; exit 1; }
-  for f in $(cd plain && ls m.node m.ele m.face m.neigh $([ $n = 2 ] && echo m.xdmf m_boundary.xdmf m.h5 m_boundary.h5)); do
-    cmp -s plain/$f room/$f || { echo "FAIL: $n rank(s): room/$f differs from the mesh written on an empty disk"; exit 1; }
+  wait $pid || { echo "FAIL: $what: no mesh once room was made:"; cat log; exit 1; }
+  grep -q "warning: more room at $work/room after [0-9]* s: writing again" log || { echo "FAIL: $what: not written again:"; cat log; exit 1; }
+  for f in $(files_of $formats); do
+    cmp -s plain/$f room/$f || { echo "FAIL: $what: room/$f differs from the mesh written on an empty disk"; exit 1; }
   done
-  "$partet" check big.off room/m > check.log 2>&1 || { echo "FAIL: $n rank(s): the files written again do not check:"; cat check.log; exit 1; }
-  echo "ok: $n rank(s): the disk filled up while $formats was written ($room_mb MB free, $all_mb MB of files): the mesh waited" \
-    "$(grep -o 'after [0-9]* s: writing again' log | cut -d' ' -f2) s, then the same files were written again, and check"
+  "$partet" check big.off room/m > check.log 2>&1 || { echo "FAIL: $what: the files written again do not check:"; cat check.log; exit 1; }
+  echo "ok: $what: the disk filled up during the write ($(grep -o "cannot write 'room/[^']*'" log | head -n 1); $room_mb MB free," \
+    "$all_mb MB of files): the mesh waited $(grep -o 'after [0-9]* s: writing again' log | cut -d' ' -f2) s, then the same files were written again, and check"
   rm room/m*
 done
