@@ -117,13 +117,15 @@ void RootRun::write_with_room(const RankWriters& writers) {
   const MeshCounts counts = written_counts();
   const double since = now_seconds();
   wait_for_room(job_, counts, since);
-  for (;;) try {
+  for (;;) {
+    try {
       write_result(job_, input_, result_, times_, outputs_, writers);
       return;
     } catch (const OutputError& e) {
       wait_for_more_room(job_, counts, e.what(), since);
-      if (writers.again) writers.again();
     }
+    if (writers.again) writers.again();
+  }
 }
 
 MeshCounts RootRun::written_counts() const {
