@@ -76,7 +76,7 @@ void refuse_output_beyond_disk(const MeshJob& job, const SurfaceMesh& input) {
                     " free: make room there, or write elsewhere (-o). Nothing was meshed.");
 }
 
-void wait_for_room(const MeshJob& job, const MeshCounts& counts, double since) {
+bool wait_for_room(const MeshJob& job, const MeshCounts& counts, double since) {
   const double needed_mb = least_room_mb(job, counts);
   const std::string where = output_directory(job);
   const double limit = job.wait_for_space_minutes * 60;
@@ -85,7 +85,7 @@ void wait_for_room(const MeshJob& job, const MeshCounts& counts, double since) {
     const double waited = now_seconds() - since;
     if (free_mb < 0 || free_mb >= needed_mb) {
       if (!first) log::warning("room at " + where + " after " + wait_span(waited) + ": writing");
-      return;
+      return !first;
     }
     const std::string shortfall = where + " has " + megabytes_free(free_mb) + " free, and the files of this mesh (" +
                                   std::to_string(counts.points) + " points, " + std::to_string(counts.tets) +

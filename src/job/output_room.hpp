@@ -20,8 +20,8 @@ void refuse_output_beyond_disk(const MeshJob& job, const SurfaceMesh& input);
 // least (at once when it has, or its room is not known). Until then it says so once and looks
 // again every 10 s, until job.wait_for_space_minutes have passed since `since` (the job's first
 // wait for room: all of them share that time); then throws OutputError (nothing was written),
-// with the room needed and what keeps the pieces for a rerun.
-void wait_for_room(const MeshJob& job, const MeshCounts& counts, double since);
+// with the room needed and what keeps the pieces for a rerun. Returns whether it waited.
+bool wait_for_room(const MeshJob& job, const MeshCounts& counts, double since);
 
 // After a write failed with `error` (its temporaries removed, nothing published): when the disk
 // ran out of room during the write (ENOSPC: a neighbouring job, or files larger than the bound),

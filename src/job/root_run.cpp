@@ -112,19 +112,26 @@ void RootRun::check_and_write(const RankWriters& writers, const WrittenSetCheck&
 
 // A disk that fills up during the write (a neighbouring job, or files larger than the least room
 // asked for) costs a wait for room, not the mesh: a failed write publishes nothing, and every
-// rank still holds its part of the mesh, so the files are written again once there is room.
+// rank still holds its part of the mesh, so the files are written again once there is room. The
+// time spent waiting is a stage of its own, room_wait.
 void RootRun::write_with_room(const RankWriters& writers) {
   const MeshCounts counts = written_counts();
   const double since = now_seconds();
-  wait_for_room(job_, counts, since);
+  double waited = wait_for_room(job_, counts, since) ? now_seconds() - since : 0;
   for (;;) {
     try {
       write_result(job_, input_, result_, times_, outputs_, writers);
-      return;
+      break;
     } catch (const OutputError& e) {
+      const double start = now_seconds();
       wait_for_more_room(job_, counts, e.what(), since);
+      waited += now_seconds() - start;
     }
     if (writers.again) writers.again();
+  }
+  if (waited > 0) {
+    times_.push_back({"room_wait", waited, current_rss_mb()});
+    log_stage(times_);
   }
 }
 
