@@ -16,7 +16,6 @@
 #include "stages/check.hpp"
 #include "stages/generate.hpp"
 #include "stages/merge.hpp"
-#include "stages/seam_chain_band.hpp"
 #include "stages/seam_healing.hpp"
 #include "stages/tet_region.hpp"
 #include "stages/topology.hpp"
@@ -284,19 +283,11 @@ TEST(HealSeams, ChainsHealTheSameOneAtATime) {
         const SplitSurface& split = s.prepared.split;
         TetMesh all = weld(split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
         TetMesh one_at_a_time = all;
-        const std::vector<std::vector<int>> chains = seam_chain_planes(all, split, options);
         const SeamStats together = heal_seams(all, input, split, options, here(s.options));
-        EXPECT_EQ(together.chains, static_cast<std::int64_t>(chains.size()));
-        std::vector<ChainParts> parts = chain_parts(one_at_a_time, split, chains, options);
-        std::vector<ChainBand> cut_out;
-        std::vector<HealedChain> healed;
-        for (std::size_t c = 0; c < chains.size(); ++c) {
-          cut_out.push_back(cut_out_chain(one_at_a_time, input, split, chains[c], std::move(parts[c])));
-          healed.push_back(heal_chain(std::move(cut_out.back()), options, here(s.options)));
-          ASSERT_FALSE(healed.back().failure);
-        }
-        put_back_chains(one_at_a_time, cut_out, std::move(healed));
-        several += chains.size() > 1;
+        std::size_t chains = 0;
+        ASSERT_NO_FATAL_FAILURE(heal_chain_by_chain(one_at_a_time, input, split, options, here(s.options), chains));
+        EXPECT_EQ(together.chains, static_cast<std::int64_t>(chains));
+        several += chains > 1;
         EXPECT_EQ(one_at_a_time.points, all.points);
         EXPECT_EQ(tet_set(one_at_a_time.tets), tet_set(all.tets));
         EXPECT_EQ(one_at_a_time.neighbours, compute_neighbours(one_at_a_time.tets));

@@ -7,6 +7,7 @@
 #include "partet/errors.hpp"
 #include "stages/partition.hpp"
 #include "stages/piece_cost.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/validate.hpp"
 
 namespace partet {
@@ -90,6 +91,21 @@ RegionMesher regions_here(const MeshOptions& options) {
   return [options](const std::vector<PieceSurface>& regions) {
     return mesh_pieces_here(regions, PieceRunner(options.tetgen, options.run));
   };
+}
+
+void heal_chain_by_chain(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
+                         const HealOptions& options, const RegionMesher& mesher, std::size_t& chains) {
+  const std::vector<std::vector<int>> planes = seam_chain_planes(mesh, split, options);
+  chains = planes.size();
+  std::vector<ChainParts> parts = chain_parts(mesh, split, planes, options);
+  std::vector<ChainBand> cut_out;
+  std::vector<HealedChain> healed;
+  for (std::size_t c = 0; c < planes.size(); ++c) {
+    cut_out.push_back(cut_out_chain(mesh, input, split, planes[c], std::move(parts[c])));
+    healed.push_back(heal_chain(std::move(cut_out.back()), options, mesher));
+    ASSERT_FALSE(healed.back().failure) << "chain " << c << ": " << healed.back().failure->text();
+  }
+  put_back_chains(mesh, cut_out, std::move(healed));
 }
 
 }  // namespace partet

@@ -9,6 +9,7 @@
 #include "stages/closure.hpp"
 #include "stages/merge.hpp"
 #include "stages/piece.hpp"
+#include "stages/seam_healing.hpp"
 
 namespace partet {
 
@@ -38,5 +39,11 @@ MeshedPieces mesh_pieces_isolated(const SurfaceMesh& input, int k);
 void expect_pieces_come_back(Welder& welder, const std::vector<PieceTetMesh>& results);
 // Meshes the regions of seam healing in this process, one after another.
 RegionMesher regions_here(const MeshOptions& options);
+// Heals `mesh` (a welded band, or the whole welded mesh) chain by chain in chain order, each chain
+// cut out, healed alone and put back (seam_chain_band.hpp); counts the chains in `chains`. A chain
+// that fails is a fatal test failure (the mesh is then as it was): call it in
+// ASSERT_NO_FATAL_FAILURE.
+void heal_chain_by_chain(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
+                         const HealOptions& options, const RegionMesher& mesher, std::size_t& chains);
 
 }  // namespace partet
