@@ -412,8 +412,19 @@ TEST(SeamBand, BandsAndBulksAssembleIntoTheWeldedMesh) {
 // The bulks kept where their pieces were split (a worker rank, in the MPI layer).
 class KeptWhereMeshed : public BulkStore {
  public:
-  // numbers: as the MPI driver's owners, it numbers its bulks where they are (BulkStore::number).
-  explicit KeptWhereMeshed(bool numbers = false) : numbers_(numbers) {}
+  // numbers: as the MPI driver's owners, it numbers its bulks where they are (BulkStore::number);
+  // grows: as they, it grows a band its neighbours' crossings reach with the bulk it keeps.
+  explicit KeptWhereMeshed(bool numbers = false, bool grows = false) : numbers_(numbers), grows_(grows) {}
+  bool grows_bands() const override { return grows_; }
+  PieceBand grow(BandToGrow&& band) override {
+    const int piece = band.index;
+    PieceBand grown = grow_band(std::move(band), take(piece));
+    keep(piece, std::move(grown.bulk));
+    grown.bulk = TetBlock();
+    ++grown_;
+    return grown;
+  }
+  int grown() const { return grown_; }
   void keep(int piece, TetBlock&& bulk) { bulks_[piece] = std::move(bulk); }
   bool put(int, const TetBlock&) override { return false; }
   void number(const std::vector<BulkShare>& shares) override {
@@ -430,7 +441,8 @@ class KeptWhereMeshed : public BulkStore {
   std::size_t size() const { return bulks_.size(); }
 
  private:
-  bool numbers_;
+  bool numbers_, grows_;
+  int grown_ = 0;
   std::size_t shares_ = 0;
   std::map<int, TetBlock> bulks_;
 };
@@ -546,8 +558,11 @@ TEST(SeamBand, BulksNumberedWhereTheyAreKeptGiveTheSameMesh) {
 // Split as each piece arrives (one layer: a piece alone decides its band), the pieces give the same
 // band mesh as split all at once at the end, and the same mesh when joined again; so do the pieces
 // split where they were meshed, their Steiner points numbered from 2^30 there (the closure may
-// still add cap points) and their bulks kept there.
+// still add cap points) and their bulks kept there, whether the bulks a neighbour's crossing
+// reaches come back to grow their bands (`elsewhere`) or the bands grow where the bulks are kept
+// (`grown_there`, as on the MPI driver's owners: no bulk comes back before the assembly).
 TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
+  int grown_there_total = 0;
   for (const char* name : {"torus", "nested"})
     for (const int k : {3, 12})  // 12: thin pieces, whose tets reach from one cap to the other
       for (const bool caps : {false, true}) {
@@ -559,29 +574,41 @@ TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
         BandSpec there = spec;
         there.split_point_count = 1 << 30;
         if (caps) there.end_removed = 1 << 30;
-        KeptWhereMeshed kept;
+        KeptWhereMeshed kept, kept_growing(false, true);
         Welder at_end(split, s.prepared.pieces), on_arrival(split, s.prepared.pieces), elsewhere(split, s.prepared.pieces);
-        on_arrival.split_on_arrival(spec), elsewhere.split_on_arrival(spec);
+        Welder grown_there(split, s.prepared.pieces);
+        on_arrival.split_on_arrival(spec), elsewhere.split_on_arrival(spec), grown_there.split_on_arrival(spec);
         for (std::size_t p = 0; p < s.results.size(); ++p) {
           at_end.add(PieceTetMesh(s.results[p])), on_arrival.add(PieceTetMesh(s.results[p]));
-          PieceBand band = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
-          kept.keep(band.index, std::move(band.bulk));
-          elsewhere.add_split(std::move(band), kept);
+          for (auto [welder, store] : {std::pair{&elsewhere, &kept}, std::pair{&grown_there, &kept_growing}}) {
+            PieceBand band = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
+            store->keep(band.index, std::move(band.bulk));
+            welder->add_split(std::move(band), *store);
+          }
         }
         TetMesh a = at_end.finish_band(split.points, spec), b = on_arrival.finish_band(split.points, spec);
-        TetMesh c = elsewhere.finish_band(split.points, spec);
+        TetMesh c = elsewhere.finish_band(split.points, spec), d = grown_there.finish_band(split.points, spec);
         EXPECT_GT(a.tets.size(), 0u);
-        expect_same_tet_mesh(b, a);
-        expect_same_tet_mesh(c, a);
-        EXPECT_EQ(b.piece, a.piece);
-        EXPECT_EQ(c.piece, a.piece);
+        for (const TetMesh* band : {&b, &c, &d}) {
+          expect_same_tet_mesh(*band, a);
+          EXPECT_EQ(band->piece, a.piece);
+          EXPECT_EQ(band->neighbours, a.neighbours);
+        }
         EXPECT_EQ(on_arrival.bulk_tet_count(), at_end.bulk_tet_count());
         EXPECT_EQ(elsewhere.bulk_tet_count(), at_end.bulk_tet_count());
+        EXPECT_EQ(grown_there.bulk_tet_count(), at_end.bulk_tet_count());
+        EXPECT_EQ(kept_growing.size(), s.results.size());  // no bulk came back to grow a band
+        grown_there_total += kept_growing.grown();
         const TetMesh whole = at_end.assemble(std::move(a));
         expect_same_tet_mesh(on_arrival.assemble(std::move(b)), whole);
         expect_same_tet_mesh(elsewhere.assemble(std::move(c)), whole);
+        const TetMesh assembled = grown_there.assemble(std::move(d));
+        expect_same_tet_mesh(assembled, whole);
+        EXPECT_EQ(assembled.neighbours, whole.neighbours);
         EXPECT_EQ(kept.size(), 0u);  // every bulk came back
+        EXPECT_EQ(kept_growing.size(), 0u);
       }
+  EXPECT_GT(grown_there_total, 0);  // thin pieces: some bands grew where their bulks were kept
 }
 
 // A retry keeps the pieces that did not fail: a piece split where it was meshed comes back whole.

@@ -223,6 +223,53 @@ TEST(Serialize, BandsAndBulksRoundTrip) {
   }
 }
 
+// A band grows where its bulk is kept: the band goes there with its neighbours' crossings, and
+// the band grown there comes back, without the bulk; both as grow_band made them here.
+TEST(Serialize, ABandToGrowAndTheBandGrownRoundTrip) {
+  const Real r = real_pieces();
+  const SplitSurface& split = r.prepared.split;
+  const BandSpec spec{split.input_vertex_count, 1 << 30, split.input_vertex_count,
+                      split.input_vertex_count + static_cast<std::int32_t>(split.cut_vertex_count()), 1};
+  std::vector<PieceBand> pieces;
+  for (std::size_t p = 0; p < r.results.size(); ++p)
+    pieces.push_back(split_where_meshed(PieceTetMesh(r.results[p]), r.prepared.pieces[p].global_ids, spec));
+  ASSERT_GE(pieces.size(), 3u);
+  const PieceBand& middle = pieces[1];
+  BandToGrow sent{1, spec, middle.band, middle.band_steiner, middle.band_tets, pieces[0].crossings};
+  sent.crossings.insert(sent.crossings.end(), pieces[2].crossings.begin(), pieces[2].crossings.end());
+  ASSERT_GT(sent.crossings.size(), 0u);
+  BandToGrow back = deserialize_band_to_grow(serialize_band_to_grow(sent));
+  EXPECT_EQ(back.index, 1);
+  EXPECT_EQ(back.spec.split_point_count, 1 << 30);
+  EXPECT_EQ(back.spec.end_removed, spec.end_removed);
+  EXPECT_EQ(back.spec.layers, 1);
+  EXPECT_TRUE(same_bits(back.band.steiner_points, sent.band.steiner_points));
+  EXPECT_EQ(back.band.tets, sent.band.tets);
+  EXPECT_EQ(back.band.neighbours, sent.band.neighbours);
+  EXPECT_EQ(back.band_steiner, sent.band_steiner);
+  EXPECT_EQ(back.band_tets, sent.band_tets);
+  ASSERT_EQ(back.crossings.size(), sent.crossings.size());
+  for (std::size_t i = 0; i < back.crossings.size(); ++i) {
+    EXPECT_TRUE(back.crossings[i].key == sent.crossings[i].key);
+    EXPECT_EQ(back.crossings[i].depth, sent.crossings[i].depth);
+  }
+  const PieceBand here = grow_band(std::move(sent), TetBlock(middle.bulk));
+  PieceBand there = grow_band(std::move(back), TetBlock(middle.bulk));
+  EXPECT_EQ(here.band.tets.size() + here.bulk.tets.size(), middle.band.tets.size() + middle.bulk.tets.size());
+  there.bulk = TetBlock();
+  const PieceBand grown = deserialize_grown_band(serialize_grown_band(there));
+  EXPECT_EQ(grown.index, 1);
+  EXPECT_TRUE(same_bits(grown.band.steiner_points, here.band.steiner_points));
+  EXPECT_EQ(grown.band.tets, here.band.tets);
+  EXPECT_EQ(grown.band.neighbours, here.band.neighbours);
+  EXPECT_EQ(grown.band_steiner, here.band_steiner);
+  EXPECT_EQ(grown.band_tets, here.band_tets);
+  EXPECT_EQ(grown.bulk_tets, static_cast<std::int64_t>(here.bulk.tets.size()));
+  EXPECT_EQ(grown.bulk_steiner_points, static_cast<std::int64_t>(here.bulk.steiner_points.size()));
+  EXPECT_FALSE(grown.bulk.in);  // the bulk stays where the band grew
+  EXPECT_THROW(serialize_grown_band(here), InternalError);
+}
+
 // The numbering's shares of the kept bulks, as they go to the ranks that keep them.
 TEST(Serialize, BulkSharesRoundTrip) {
   std::vector<BulkShare> sent(3);

@@ -55,8 +55,9 @@ struct RankStats {
   double bulks_kept = 0, bulks_on_disk = 0;  // a worker: bulks it kept until rank 0 took them, those in --scratch
   double bulk_number_seconds = 0;            // a worker: numbering the bulks it kept in memory, before the assembly
   double pieces_from_checkpoint = 0;         // pieces taken from --checkpoint instead of meshed (in `pieces` too)
+  double bands_grown = 0;  // a worker: bands of its pieces grown here by their neighbours' crossings (their bulks stayed)
 };
-constexpr int kRankStatsDoubles = 19;
+constexpr int kRankStatsDoubles = 20;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -123,6 +123,7 @@ std::string report_json(const JobSummary& s) {
                               {"region_seconds", stats.region_seconds},
                               {"bulks_kept", stats.bulks_kept},
                               {"bulks_on_disk", stats.bulks_on_disk},
+                              {"bands_grown", stats.bands_grown},
                               {"bulk_number_seconds", stats.bulk_number_seconds},
                               {"pieces_from_checkpoint", stats.pieces_from_checkpoint},
                               {"bytes_received", stats.bytes_received}});

@@ -30,7 +30,9 @@ constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
 // that meshed them until the welder needs them. Before the assembly rank 0 broadcasts
 // kNumberBulks and the numbering's shares of the kept bulks: each owner numbers its own at once
 // (while rank 0 numbers those it keeps). Then, for each, rank 0 broadcasts kSendBulk and the
-// piece's index, and its owner sends the bulk ("" if it has none). The workers wait for commands
+// piece's index, and its owner sends the bulk ("" if it has none). A band its neighbours' crossings
+// grow grows where the bulk is: rank 0 broadcasts kGrowBand, the piece and its owner, sends the
+// owner the band, and gets the band grown ("" when it could not). The workers wait for commands
 // then.
 class RemoteBulks : public BulkStore {
  public:
@@ -66,6 +68,35 @@ class RemoteBulks : public BulkStore {
       for (auto& links : deserialize_bulk_links(bytes)) all.push_back(std::move(links));
     }
     return all;
+  }
+  bool grows_bands() const override { return true; }
+  PieceBand grow(BandToGrow&& band) override {
+    const int piece = band.index;
+    const auto owner = owners_.find(piece);
+    if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
+    const int rank = owner->second;
+    broadcast(kGrowBand);
+    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
+    bounded([&] { return broadcast_int(rank, 0, job_comm(), collective_limit()); });
+    std::string bytes = serialize_band_to_grow(band);
+    band = BandToGrow();
+    try {
+      {
+        AddSeconds timer{stats_.send_seconds};
+        stats_.bytes_sent +=
+            static_cast<double>(send_bytes(bytes, rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds));
+      }
+      AddSeconds timer{stats_.receive_seconds};
+      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds);
+    } catch (const Stalled&) {
+      abort_job("rank " + std::to_string(rank) + " did not grow the band of piece " + std::to_string(piece) +
+                " within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+    }
+    stats_.bytes_received += static_cast<double>(bytes.size());
+    if (bytes.empty())
+      throw InternalError("rank " + std::to_string(rank) + " could not grow the band of piece " + std::to_string(piece) +
+                          " with the mesh it kept");
+    return deserialize_grown_band(bytes);
   }
   TetBlock take(int piece) override {
     const auto owner = owners_.find(piece);

@@ -95,10 +95,11 @@ class KeptBulks {
   }
   // A numbered bulk taken out (take) and put back, in memory.
   void keep_numbered(int piece, TetBlock&& bulk) { bulks_[piece] = std::move(bulk); }
-  void keep(int piece, TetBlock&& bulk) {
-    stats_.bulks_kept += 1;
+  // A bulk to keep: a piece's first (counted), or one taken out and split again (again).
+  void keep(int piece, TetBlock&& bulk, bool again = false) {
+    if (!again) stats_.bulks_kept += 1;
     if (on_disk_ && on_disk_->put(piece, bulk)) {
-      stats_.bulks_on_disk += 1;
+      if (!again) stats_.bulks_on_disk += 1;
       bulks_.erase(piece);
       return;
     }
@@ -209,6 +210,40 @@ void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+// A worker's side of kGrowBand: the owner of the piece grows its band with the bulk it keeps
+// (grow_band), keeps the new bulk and sends rank 0 the band ("" when it could not).
+void grow_kept_band(KeptBulks& kept, RankStats& stats) {
+  const int piece = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  const int owner = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  if (owner != my_rank()) return;
+  std::string bytes;
+  {
+    AddSeconds timer{stats.receive_seconds};
+    bytes = bounded([] { return recv_bytes(0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); });
+  }
+  stats.bytes_received += static_cast<double>(bytes.size());
+  try {
+    BandToGrow band = deserialize_band_to_grow(bytes);
+    std::string().swap(bytes);
+    std::optional<TetBlock> bulk = kept.take(piece);
+    if (!bulk || band.index != piece) throw InternalError("this rank keeps no mesh of piece " + std::to_string(piece));
+    PieceBand grown = grow_band(std::move(band), std::move(*bulk));
+    kept.keep(piece, std::move(grown.bulk), true);
+    grown.bulk = TetBlock();
+    bytes = serialize_grown_band(grown);
+    stats.bands_grown += 1;
+    log::debug("piece " + std::to_string(piece) + ": its band grew here by its neighbours' crossings to " +
+               std::to_string(grown.band.tets.size()) + " tets");
+  } catch (const std::exception& e) {  // rank 0 gets an empty answer and says so
+    log::error("piece " + std::to_string(piece) + ": its band could not grow here: " + e.what());
+    kept.forget(piece);
+    bytes.clear();
+  }
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent +=
+      static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
 // A worker's side of kNumberBulks: it numbers the bulks it keeps with their shares. Shares it
 // cannot read leave its bulks as they are; rank 0 then numbers them itself.
 void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
@@ -290,6 +325,10 @@ void Worker::mesh_rounds() {
   for (Command command = receive_command(); command != kDone; command = receive_command()) {
     if (command == kSendBulk) {
       send_kept_bulk(kept, stats);
+      continue;
+    }
+    if (command == kGrowBand) {
+      grow_kept_band(kept, stats);
       continue;
     }
     if (command == kNumberBulks) {

@@ -253,6 +253,21 @@ std::size_t tet_block_bytes(const TetBlock& block) {
   return 64 + block.steiner_points.size() * 24 + block.tets.size() * 32 + block.rim.size() * 8;
 }
 
+template <class Archive>
+void save_crossings(Archive& ar, const std::vector<CapCrossing>& crossings) {
+  std::vector<Tet> rows;  // the key's three vertices and the depth
+  rows.reserve(crossings.size());
+  for (const CapCrossing& c : crossings) rows.push_back({c.key.v[0], c.key.v[1], c.key.v[2], c.depth});
+  save_block(ar, rows);
+}
+
+template <class Archive>
+void load_crossings(Archive& ar, std::vector<CapCrossing>& crossings) {
+  std::vector<Tet> rows;
+  load_block(ar, rows);
+  for (const Tet& c : rows) crossings.push_back({FaceKey({c[0], c[1], c[2]}), c[3]});
+}
+
 std::string encode_band(const PieceBand& split, std::string_view prefix) {
   return encode(
       tet_block_bytes(split.band) + 64 + split.band_steiner.size() * 4 + split.band_tets.size() * 4 +
@@ -264,9 +279,7 @@ std::string encode_band(const PieceBand& split, std::string_view prefix) {
         save_tet_block(ar, split.band);
         save_block(ar, split.band_steiner);
         save_block(ar, split.band_tets);
-        std::vector<Tet> crossings;  // the key's three vertices and the depth
-        for (const CapCrossing& c : split.crossings) crossings.push_back({c.key.v[0], c.key.v[1], c.key.v[2], c.depth});
-        save_block(ar, crossings);
+        save_crossings(ar, split.crossings);
         std::vector<Triangle> outside;
         for (const FaceKey& key : split.cap_faces_outside) outside.push_back({key.v[0], key.v[1], key.v[2]});
         save_block(ar, outside);
@@ -284,9 +297,7 @@ PieceBand deserialize_band(std::string_view bytes) {
     load_tet_block(ar, split.band);
     load_block(ar, split.band_steiner);
     load_block(ar, split.band_tets);
-    std::vector<Tet> crossings;
-    load_block(ar, crossings);
-    for (const Tet& c : crossings) split.crossings.push_back({FaceKey({c[0], c[1], c[2]}), c[3]});
+    load_crossings(ar, split.crossings);
     std::vector<Triangle> outside;
     load_block(ar, outside);
     for (const Triangle& t : outside) split.cap_faces_outside.push_back(FaceKey(t));
@@ -330,6 +341,45 @@ std::string serialize_outcome(const PieceOutcome& outcome) {
   if (outcome.failure) return encode_failure(*outcome.failure, head);
   return outcome.band ? encode_band(*outcome.band, head) : encode_result(outcome.result, head);
 }
+
+std::string serialize_band_to_grow(const BandToGrow& band) {
+  return encode(tet_block_bytes(band.band) + 64 + band.band_steiner.size() * 4 + band.band_tets.size() * 4 +
+                    band.crossings.size() * 16,
+                [&](auto& ar) {
+                  const std::int32_t index = band.index;
+                  std::vector<std::int32_t> spec = {band.spec.input_vertex_count, band.spec.split_point_count,
+                                                    band.spec.first_removed, band.spec.end_removed, band.spec.layers};
+                  ar << index;
+                  save_block(ar, spec);
+                  save_tet_block(ar, band.band);
+                  save_block(ar, band.band_steiner);
+                  save_block(ar, band.band_tets);
+                  save_crossings(ar, band.crossings);
+                });
+}
+
+BandToGrow deserialize_band_to_grow(std::string_view bytes) {
+  return decode<BandToGrow>(bytes, [](auto& ar, BandToGrow& band) {
+    std::int32_t index = 0;
+    std::vector<std::int32_t> spec;
+    ar >> index;
+    band.index = index;
+    load_block(ar, spec);
+    if (spec.size() != 5) throw InternalError("a band to grow came without its band's spec");
+    band.spec = BandSpec{spec[0], spec[1], spec[2], spec[3], spec[4]};
+    load_tet_block(ar, band.band);
+    load_block(ar, band.band_steiner);
+    load_block(ar, band.band_tets);
+    load_crossings(ar, band.crossings);
+  });
+}
+
+std::string serialize_grown_band(const PieceBand& grown) {
+  if (grown.bulk.in) throw InternalError("a grown band travels without its bulk");
+  return encode_band(grown, {});
+}
+
+PieceBand deserialize_grown_band(std::string_view bytes) { return deserialize_band(bytes); }
 
 std::string serialize_block(const TetBlock& block) {
   return encode(tet_block_bytes(block), [&](auto& ar) { save_tet_block(ar, block); });

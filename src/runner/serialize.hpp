@@ -77,6 +77,12 @@ void set_reply_figures(std::string& bytes, double seconds, double memory_mb);
 // A bulk on its way to rank 0 from the rank that kept it.
 std::string serialize_block(const TetBlock& block);
 TetBlock deserialize_block(std::string_view bytes);
+// A piece's band for the rank that keeps its bulk to grow (BulkStore::grow), and the band grown
+// there: the piece split again, without its bulk, which stays.
+std::string serialize_band_to_grow(const BandToGrow& band);
+BandToGrow deserialize_band_to_grow(std::string_view bytes);
+std::string serialize_grown_band(const PieceBand& grown);
+PieceBand deserialize_grown_band(std::string_view bytes);
 // The numbering's shares of the bulks a rank keeps, from rank 0 (BulkStore::number).
 std::string serialize_bulk_shares(const std::vector<BulkShare>& shares);
 std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes);

@@ -124,23 +124,43 @@ void Welder::add(PieceTetMesh&& result) {
 void Welder::take_crossings() {
   const std::size_t k = blocks_.size();
   for (std::size_t p = 0; p < k; ++p) {
-    const std::vector<CapCrossing>* from[2] = {p > 0 ? &crossings_[p - 1] : nullptr,
-                                               p + 1 < k ? &crossings_[p + 1] : nullptr};
+    std::vector<CapCrossing> from;  // the lower neighbour's, then the upper's
+    if (p > 0) from = crossings_[p - 1];
+    if (p + 1 < k) from.insert(from.end(), crossings_[p + 1].begin(), crossings_[p + 1].end());
     const std::vector<FaceKey>& outside = bulk_cap_faces_[p];
-    bool grows = false;
-    for (const auto* crossings : from)
-      if (crossings)
-        for (const CapCrossing& c : *crossings)
-          grows = grows || std::binary_search(outside.begin(), outside.end(), c.key);
-    if (!grows) continue;
-    rejoin(p);
-    BandMarks marks(blocks_[p].tets, blocks_[p].neighbours, *split_on_arrival_);
-    for (const auto* crossings : from)
-      if (crossings) marks.enter(*crossings);
-    split_piece(p, marks.take_depth());
+    const bool grows = std::any_of(from.begin(), from.end(), [&](const CapCrossing& c) {
+      return std::binary_search(outside.begin(), outside.end(), c.key);
+    });
+    if (grows) grow_piece(p, std::move(from));
   }
   crossings_.assign(k, {});
   bulk_cap_faces_.assign(k, {});
+}
+
+void Welder::grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings) {
+  BandToGrow band{static_cast<int>(p), *split_on_arrival_, std::move(blocks_[p]), std::move(band_steiner_[p]),
+                  std::move(band_tets_[p]), std::move(crossings)};
+  StoredBulk& stored = stored_[p];
+  PieceBand grown;
+  if (stored.stored && stored.store->grows_bands()) {
+    // The band in the owner's ids and back: the bulk numbers the piece's Steiner points from there.
+    band.spec.split_point_count = stored.first_steiner;
+    move_steiner_ids(band.band.tets, first_steiner_, stored.first_steiner);
+    grown = stored.store->grow(std::move(band));
+    if (grown.index != static_cast<int>(p) || grown.bulk.in)
+      mismatch(static_cast<int>(p), "came back from its band's growth as another piece");
+    move_steiner_ids(grown.band.tets, stored.first_steiner, first_steiner_);
+    stored.tets = static_cast<std::size_t>(grown.bulk_tets);
+    stored.steiner_points = static_cast<std::size_t>(grown.bulk_steiner_points);
+  } else {
+    band.spec.split_point_count = first_steiner_;
+    grown = grow_band(std::move(band), std::move(bulk_here(p)));
+    bulks_[p] = std::move(grown.bulk);
+  }
+  blocks_[p] = std::move(grown.band);
+  band_steiner_[p] = std::move(grown.band_steiner);
+  band_tets_[p] = std::move(grown.band_tets);
+  if (!stored.stored) store_bulk(p);
 }
 
 PieceTetMesh Welder::take_back(int p) {
@@ -287,45 +307,8 @@ std::size_t Welder::bulk_steiner_points(std::size_t p) const {
 }
 
 void Welder::rejoin(std::size_t p) {
-  Block& band = blocks_[p];
   Block& bulk = bulk_here(p);
-  const std::vector<std::int32_t>& band_tets = band_tets_[p];
-  const std::size_t count = band.tets.size() + bulk.tets.size();
-  // Where each bulk tet was: the places the band's tets did not take, in order.
-  std::vector<std::int32_t> bulk_tets;
-  bulk_tets.reserve(bulk.tets.size());
-  for (std::size_t t = 0, next_band = 0; t < count; ++t)
-    if (next_band < band_tets.size() && band_tets[next_band] == static_cast<std::int32_t>(t))
-      ++next_band;
-    else
-      bulk_tets.push_back(static_cast<std::int32_t>(t));
-  Block whole;
-  whole.in = true;
-  whole.tets.resize(count);
-  whole.neighbours.resize(count);
-  auto place = [&](const Block& side, const std::vector<std::int32_t>& at, bool banded) {
-    for (std::size_t i = 0; i < side.tets.size(); ++i) {
-      Tet tet = side.tets[i];
-      if (banded)
-        for (auto& v : tet)
-          if (v >= first_steiner_) v = first_steiner_ + band_steiner_[p][v - first_steiner_];
-      Tet nbs = side.neighbours[i];
-      for (auto& nb : nbs)
-        if (nb >= 0) nb = at[nb];
-      whole.tets[at[i]] = tet;
-      whole.neighbours[at[i]] = nbs;
-    }
-  };
-  place(band, band_tets, true);
-  place(bulk, bulk_tets, false);
-  // The faces between band and bulk (open on both sides): the band's tets and the rim's.
-  std::vector<std::int32_t> across = band_tets;
-  for (auto slot : bulk.rim) across.push_back(bulk_tets[slot / 4]);
-  std::sort(across.begin(), across.end());
-  across.erase(std::unique(across.begin(), across.end()), across.end());
-  connect_open_faces(whole.tets, whole.neighbours, &across);
-  whole.steiner_points = std::move(bulk.steiner_points);
-  band = std::move(whole);
+  blocks_[p] = join_band_and_bulk(std::move(blocks_[p]), std::move(bulk), band_steiner_[p], band_tets_[p], first_steiner_);
   bulk = Block();
   std::vector<std::int32_t>().swap(band_steiner_[p]);
   std::vector<std::int32_t>().swap(band_tets_[p]);

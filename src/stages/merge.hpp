@@ -24,6 +24,13 @@ class BulkStore {
   virtual bool put(int piece, const TetBlock& bulk) = 0;
   // Piece p's bulk as it was put, once. Throws Error when it was lost.
   virtual TetBlock take(int piece) = 0;
+  // Whether a band can grow where this store keeps the bulk (grow), so that the bulk does not
+  // travel: the MPI driver's owners.
+  virtual bool grows_bands() const { return false; }
+  // Grows piece band.index's band with the bulk kept here (grow_band): the piece split again, its
+  // new bulk kept here in place of the old one and not in the result (bulk_tets and
+  // bulk_steiner_points count it). Only when grows_bands.
+  virtual PieceBand grow(BandToGrow&& /*band*/) { throw InternalError("this store cannot grow a band"); }
   // Before the assembly takes them: the numbering's shares of the bulks kept here. A store that
   // can numbers them where they are (number_bulk; the MPI driver's owners, all at once) and gives
   // them back numbered; by default the welder numbers them as they come back.
@@ -108,6 +115,9 @@ class Welder {
   void rejoin(std::size_t p);
   // After pieces were split on arrival: each band grows by the tets its neighbours' crossings reach.
   void take_crossings();
+  // Piece p's band grown by these crossings (grow_band) where its bulk is: by the store that keeps
+  // it when it can, else here.
+  void grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings);
   // Marks the points of piece p's surface as some piece's (on arrival, while its global ids exist).
   void note_surface(std::size_t p);
   // A split piece's band, its Steiner maps, crossings and bulk's open cap faces into place.

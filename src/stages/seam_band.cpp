@@ -171,6 +171,58 @@ PieceBand split_alone(TetBlock&& whole, const BandSpec& spec) {
   return split;
 }
 
+TetBlock join_band_and_bulk(TetBlock&& band, TetBlock&& bulk, const std::vector<std::int32_t>& band_steiner,
+                            const std::vector<std::int32_t>& band_tets, std::int32_t first_steiner) {
+  const std::size_t count = band.tets.size() + bulk.tets.size();
+  // Where each bulk tet was: the places the band's tets did not take, in order.
+  std::vector<std::int32_t> bulk_tets;
+  bulk_tets.reserve(bulk.tets.size());
+  for (std::size_t t = 0, next_band = 0; t < count; ++t)
+    if (next_band < band_tets.size() && band_tets[next_band] == static_cast<std::int32_t>(t))
+      ++next_band;
+    else
+      bulk_tets.push_back(static_cast<std::int32_t>(t));
+  TetBlock whole;
+  whole.in = true;
+  whole.tets.resize(count);
+  whole.neighbours.resize(count);
+  auto place = [&](const TetBlock& side, const std::vector<std::int32_t>& at, bool banded) {
+    for (std::size_t i = 0; i < side.tets.size(); ++i) {
+      Tet tet = side.tets[i];
+      if (banded)
+        for (auto& v : tet)
+          if (v >= first_steiner) v = first_steiner + band_steiner[v - first_steiner];
+      Tet nbs = side.neighbours[i];
+      for (auto& nb : nbs)
+        if (nb >= 0) nb = at[nb];
+      whole.tets[at[i]] = tet;
+      whole.neighbours[at[i]] = nbs;
+    }
+  };
+  place(band, band_tets, true);
+  place(bulk, bulk_tets, false);
+  // The faces between band and bulk (open on both sides): the band's tets and the rim's.
+  std::vector<std::int32_t> across = band_tets;
+  for (auto slot : bulk.rim) across.push_back(bulk_tets[slot / 4]);
+  std::sort(across.begin(), across.end());
+  across.erase(std::unique(across.begin(), across.end()), across.end());
+  connect_open_faces(whole.tets, whole.neighbours, &across);
+  whole.steiner_points = std::move(bulk.steiner_points);
+  band = TetBlock();
+  bulk = TetBlock();
+  return whole;
+}
+
+PieceBand grow_band(BandToGrow&& band, TetBlock&& bulk) {
+  const std::int32_t first_steiner = band.spec.split_point_count;
+  TetBlock whole = join_band_and_bulk(std::move(band.band), std::move(bulk), band.band_steiner, band.band_tets, first_steiner);
+  BandMarks marks(whole.tets, whole.neighbours, band.spec);
+  marks.enter(band.crossings);
+  PieceBand grown = split_by_depth(std::move(whole), marks.take_depth(), first_steiner);
+  grown.index = band.index;
+  return grown;
+}
+
 std::vector<std::vector<std::int8_t>> mark_bands(const std::vector<const std::vector<Tet>*>& tets,
                                                  const std::vector<const std::vector<Tet>*>& neighbours,
                                                  const BandSpec& spec) {

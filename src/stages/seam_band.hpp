@@ -104,6 +104,29 @@ PieceBand split_alone(TetBlock&& whole, const BandSpec& spec);
 // closure is still adding cap points, the final one is not known yet).
 PieceBand split_where_meshed(PieceTetMesh&& result, const std::vector<std::int32_t>& global_ids, const BandSpec& spec);
 
+// A split piece joined again: its band (its Steiner points renumbered from first_steiner, as
+// band_steiner maps them to the piece's) and its bulk, every tet back at its place in the piece
+// (band_tets: the band's), with the neighbours between them restored.
+TetBlock join_band_and_bulk(TetBlock&& band, TetBlock&& bulk, const std::vector<std::int32_t>& band_steiner,
+                            const std::vector<std::int32_t>& band_tets, std::int32_t first_steiner);
+
+// A piece's band as the welder holds it, to grow by the cap faces its neighbours' bands reached:
+// with the bulk, wherever that is kept, it is the piece split again (grow_band).
+struct BandToGrow {
+  int index = 0;
+  BandSpec spec;  // spec.split_point_count: the id the piece's Steiner points start from
+  TetBlock band;  // its Steiner points renumbered (band point b is spec.split_point_count + b)
+  std::vector<std::int32_t> band_steiner, band_tets;  // as PieceBand has them
+  std::vector<CapCrossing> crossings;                 // its neighbours': the lower piece's, then the upper's
+};
+
+// The piece's band grown by its neighbours' crossings, and its bulk without the tets that
+// joined the band: the piece's block joined again, marked anew (its own band, then the
+// crossings) and split. Where the bulk is kept elsewhere this runs there, and only the band
+// travels. (No crossings and cap faces in the result: a band grows once, the crossings reaching
+// only the last layer.)
+PieceBand grow_band(BandToGrow&& band, TetBlock&& bulk);
+
 // Every piece's band in one process, the pieces trading crossings with their neighbours (piece
 // p - 1 and p + 1) until none grows. tets[p] and neighbours[p] are piece p's.
 std::vector<std::vector<std::int8_t>> mark_bands(const std::vector<const std::vector<Tet>*>& tets,

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Meshes INPUT with K pieces on 1, 2 and 4 (oversubscribed) ranks and requires byte-identical
 # output files, each passing `partet check`. With MIN_CHAINS=N in the environment, the seams must
-# form at least N chains (each healed whole on a rank of its own on 2 and 4 ranks).
+# form at least N chains (each healed whole on a rank of its own on 2 and 4 ranks); with
+# MIN_BANDS_GROWN=N, on 2 ranks at least N bands a neighbour's crossing reached must have grown
+# where their bulks were kept (the report's bands_grown: the bulks did not travel).
 # Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE K [partet mesh options...]
 set -euo pipefail
 partet=$1 mpiexec=$2 input=$3 k=$4
@@ -23,4 +25,6 @@ for n in n2 n4; do
 done
 chains=$(/usr/bin/python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['counts']['seam_chains'])" "$work/n2.json")
 if (( chains < ${MIN_CHAINS:-0} )); then echo "FAIL: $chains chains of cuts, expected at least $MIN_CHAINS"; exit 1; fi
-echo "identical output on 1, 2 and 4 ranks (k=$k $*; $chains chains of cuts)"
+grown=$(/usr/bin/python3 -c "import json, sys; print(int(sum(r['bands_grown'] for r in json.load(open(sys.argv[1]))['rank'])))" "$work/n2.json")
+if (( grown < ${MIN_BANDS_GROWN:-0} )); then echo "FAIL: $grown bands grown where their bulks were kept, expected at least $MIN_BANDS_GROWN"; exit 1; fi
+echo "identical output on 1, 2 and 4 ranks (k=$k $*; $chains chains of cuts, $grown bands grown by their owners)"
