@@ -114,6 +114,9 @@ double available_mb_for_check(double measured);
 // disk_poll_seconds. tests/cli/disk_space.sh.
 double free_disk_mb(double measured);
 double disk_poll_seconds(double fallback);
+// PARTET_TEST_DISK_CAPACITY_MB: the size of the output's filesystem (else `measured`; negative:
+// unknown), as rank 0 finds it with the room PARTET_TEST_FREE_DISK_MB sets.
+double disk_capacity_mb(double measured);
 
 // PARTET_TEST_QUOTA_WRITES=N: the first N writes of large files (BufferedFile, any thread) fail
 // with EDQUOT, as when a user's quota runs out during the write (errno then; else 0).

@@ -41,9 +41,28 @@ double least_room_mb(const MeshJob& job, const MeshCounts& counts) {
   return static_cast<double>(least_output_bytes(job.formats, counts)) / 1048576.0;
 }
 
-// The room the output's filesystem has now (negative: not known).
-double free_output_mb(const MeshJob& job) {
-  return test_hooks::free_disk_mb(free_disk_mb(directory_of(job.output_prefix)));
+// The room the output's filesystem has now (negative: not known). A test that sets the free
+// room sets the capacity too, or leaves it unknown.
+DiskRoom output_room(const MeshJob& job) {
+  DiskRoom room = disk_room(directory_of(job.output_prefix));
+  const double measured = room.free_mb;
+  room.free_mb = test_hooks::free_disk_mb(measured);
+  if (room.free_mb != measured) room.capacity_mb = -1;
+  room.capacity_mb = test_hooks::disk_capacity_mb(room.capacity_mb);
+  return room;
+}
+double free_output_mb(const MeshJob& job) { return output_room(job).free_mb; }
+
+// Whether no room that can be made there reaches `needed_mb`: the whole disk is smaller, so a
+// wait for room would last its whole span for nothing.
+bool beyond_capacity(const DiskRoom& room, double needed_mb) {
+  return room.capacity_mb >= 0 && room.capacity_mb < needed_mb;
+}
+
+// What ends a wait that cannot end well.
+std::string whole_disk(const DiskRoom& room, const std::string& where) {
+  return "the disk at " + where + " holds " + megabytes_free(room.capacity_mb) +
+         " in all, so no room can be made there for them";
 }
 
 // What a write that ran out of room (of the disk, or of a quota) says as the mesh waits.
@@ -81,7 +100,8 @@ bool wait_for_room(const MeshJob& job, const MeshCounts& counts, double since) {
   const std::string where = output_directory(job);
   const double limit = job.wait_for_space_minutes * 60;
   for (bool first = true;; first = false) {
-    const double free_mb = free_output_mb(job);
+    const DiskRoom room = output_room(job);
+    const double free_mb = room.free_mb;
     const double waited = now_seconds() - since;
     if (free_mb < 0 || free_mb >= needed_mb) {
       if (!first) log::warning("room at " + where + " after " + wait_span(waited) + ": writing");
@@ -90,6 +110,9 @@ bool wait_for_room(const MeshJob& job, const MeshCounts& counts, double since) {
     const std::string shortfall = where + " has " + megabytes_free(free_mb) + " free, and the files of this mesh (" +
                                   std::to_string(counts.points) + " points, " + std::to_string(counts.tets) +
                                   " tets) take at least " + megabytes_needed(needed_mb) + " as " + format_names(job);
+    if (beyond_capacity(room, needed_mb))
+      throw OutputError(shortfall + "; " + whole_disk(room, where) +
+                        ": nothing was written; write elsewhere (-o) and run again" + rerun_advice(job));
     if (waited >= limit)
       throw OutputError(shortfall + (first ? "" : ", after waiting " + wait_span(waited)) +
                         ": nothing was written; make room there and run again" + rerun_advice(job));
@@ -113,9 +136,14 @@ void wait_for_more_room(const MeshJob& job, const MeshCounts& counts, const std:
   // The failed write's files are gone, so the room now is about the room it had: writing again
   // pays only with more. A quota's room does not show, nor does an unknown filesystem's: then
   // the write is tried again after a minute.
-  const double had_mb = disk_full ? free_output_mb(job) : -1;
+  const DiskRoom room = disk_full ? output_room(job) : DiskRoom();
+  const double had_mb = room.free_mb;
   const double enough_mb = had_mb + std::max(1.0, had_mb / 100);
   const std::string where = output_directory(job);
+  if (had_mb >= 0 && beyond_capacity(room, enough_mb))
+    throw OutputError(error + " (the files of this mesh take more than the " + megabytes_free(had_mb) +
+                      " the write had, and " + whole_disk(room, where) +
+                      ": nothing was written; write elsewhere (-o) and run again" + rerun_advice(job) + ")");
   log::warning(write_out_of_room(error, disk_full, where, had_mb, limit - (start - since)));
   const double poll = test_hooks::disk_poll_seconds(had_mb >= 0 ? 10 : 60);
   for (;;) {

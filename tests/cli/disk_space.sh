@@ -8,6 +8,7 @@
 # 3. a disk that fills up during the meshing: the mesh waits for room, says so, and is written
 #    (and checked) once room is made;
 # 4. still full when --wait-for-space runs out: exit 1, nothing written, the previous mesh kept;
+#    and a disk smaller in all than the files (PARTET_TEST_DISK_CAPACITY_MB): no wait, the same;
 # 5. a quota that runs out during the write (EDQUOT, set by PARTET_TEST_QUOTA_WRITES: the free
 #    space does not show it): the mesh is kept and written again after the pause, the same files.
 # Usage: disk_space.sh PARTET [LAUNCH...]
@@ -26,7 +27,8 @@ run_free() {
   local room=$1
   shift
   if [ ${#launch[@]} -gt 0 ]; then
-    env PARTET_TEST_FREE_DISK_MB="$room" "${launch[@]}" -x PARTET_TEST_FREE_DISK_MB -x PARTET_TEST_QUOTA_WRITES "$partet" mesh "$@"
+    env PARTET_TEST_FREE_DISK_MB="$room" "${launch[@]}" -x PARTET_TEST_FREE_DISK_MB -x PARTET_TEST_QUOTA_WRITES \
+      -x PARTET_TEST_DISK_CAPACITY_MB "$partet" mesh "$@"
   else PARTET_TEST_FREE_DISK_MB="$room" "$partet" mesh "$@"; fi
 }
 kept() { md5sum --quiet -c before.md5 && [ -z "$(ls -A | grep -v -x -e m.node -e m.ele -e m.face -e m.neigh \
@@ -79,6 +81,18 @@ if [ $code = 1 ] && grep -q "error: $work has 0 MB free, .* after waiting 0 s: n
 else
   bad "giving up the wait (exit $code):"; cat log
 fi
+# A disk smaller in all than the files: no room can be made there, so no wait (20 min by default).
+started=$SECONDS
+PARTET_TEST_DISK_CAPACITY_MB=0.1 run_free "1e9,0.000001" in.off -o m --pieces 3 > log 2>&1
+code=$?
+if [ $code = 1 ] && [ $((SECONDS - started)) -lt 120 ] && ! grep -q "waiting up to" log &&
+   grep -q "error: $work has 0 MB free, and the files of this mesh ([0-9]* points, [0-9]* tets) take at least [0-9]* MB as tetgen; the disk at $work holds 0 MB in all, so no room can be made there for them: nothing was written; write elsewhere (-o) and run again, with --checkpoint DIR" log && kept; then
+  ok "a disk smaller than the files: exit 1 at once, nothing written, the previous mesh kept"
+else
+  bad "a disk smaller than the files (exit $code):"; cat log
+fi
+export -n PARTET_TEST_DISK_CAPACITY_MB 2> /dev/null
+
 # 5. The quota runs out during the write: tried again after the pause, then written.
 PARTET_TEST_QUOTA_WRITES=1 run_free 1e9 in.off -o q --pieces 3 > log 2>&1
 code=$?
