@@ -82,6 +82,12 @@ void chain_stop(int rank) {
   if (rank == 1 && injected("worker:stop-on-chain")) ::raise(SIGSTOP);
 }
 
+void grow_stop(int rank) {
+  if (rank == 1 && injected("worker:stop-on-grow")) ::raise(SIGSTOP);
+}
+
+double kept_bulk_seconds(double fallback) { return seconds_or("PARTET_TEST_WORKER_S", fallback); }
+
 void verdict_stop(int rank) {
   if (rank == 1 && injected("worker:stop-before-verdict")) ::raise(SIGSTOP);
 }

@@ -36,7 +36,7 @@ constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
 // then.
 class RemoteBulks : public BulkStore {
  public:
-  explicit RemoteBulks(RankStats& stats) : stats_(stats) {}
+  explicit RemoteBulks(RankStats& stats) : stats_(stats), limit_(test_hooks::kept_bulk_seconds(kWorkerSeconds)) {}
   void owned_by(int piece, int rank) { owners_[piece] = rank; }
   bool put(int, const TetBlock&) override { return false; }  // a bulk split again stays on rank 0
   void number(const std::vector<BulkShare>& shares) override {
@@ -59,10 +59,10 @@ class RemoteBulks : public BulkStore {
     for (int rank = 1; rank < size; ++rank) {
       std::string bytes;
       try {
-        bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds);
+        bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
       } catch (const Stalled&) {
         abort_job("rank " + std::to_string(rank) + " did not send the links of the bulks it keeps within " +
-                  std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+                  std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
       }
       stats_.bytes_received += static_cast<double>(bytes.size());
       for (auto& links : deserialize_bulk_links(bytes)) all.push_back(std::move(links));
@@ -84,13 +84,13 @@ class RemoteBulks : public BulkStore {
       {
         AddSeconds timer{stats_.send_seconds};
         stats_.bytes_sent +=
-            static_cast<double>(send_bytes(bytes, rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds));
+            static_cast<double>(send_bytes(bytes, rank, kTagBulk, job_comm(), kMaxChunk, limit_));
       }
       AddSeconds timer{stats_.receive_seconds};
-      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds);
+      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
     } catch (const Stalled&) {
       abort_job("rank " + std::to_string(rank) + " did not grow the band of piece " + std::to_string(piece) +
-                " within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+                " within " + std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
     }
     stats_.bytes_received += static_cast<double>(bytes.size());
     if (bytes.empty())
@@ -108,10 +108,10 @@ class RemoteBulks : public BulkStore {
     AddSeconds timer{stats_.receive_seconds};
     std::string bytes;
     try {
-      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, kWorkerSeconds);
+      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
     } catch (const Stalled&) {
       abort_job("rank " + std::to_string(rank) + " did not send the mesh of piece " + std::to_string(piece) +
-                " it kept within " + std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+                " it kept within " + std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
     }
     stats_.bytes_received += static_cast<double>(bytes.size());
     if (bytes.empty())
@@ -122,6 +122,7 @@ class RemoteBulks : public BulkStore {
 
  private:
   RankStats& stats_;
+  double limit_;               // how long a rank may take to answer a command on its bulks
   std::map<int, int> owners_;  // piece -> the rank keeping its bulk
 };
 

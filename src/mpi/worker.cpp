@@ -222,6 +222,7 @@ void grow_kept_band(KeptBulks& kept, RankStats& stats) {
     bytes = bounded([] { return recv_bytes(0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); });
   }
   stats.bytes_received += static_cast<double>(bytes.size());
+  test_hooks::grow_stop(my_rank());
   try {
     BandToGrow band = deserialize_band_to_grow(bytes);
     std::string().swap(bytes);

@@ -24,7 +24,10 @@
 #   chain:   rank 1 stops itself once it has said it heals the chain of the seams it was given
 #            (worker:stop-on-chain; a chain's deadline moves on with its heartbeats): rank 0
 #            must name it and the chain once its heartbeats have stopped for 3 s.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain]
+#   grow:    rank 1 stops itself when rank 0 gives it a band to grow with a bulk it keeps
+#            (worker:stop-on-grow; thin pieces, whose neighbours' bands reach into their bulks):
+#            rank 0 must name it and the piece after PARTET_TEST_WORKER_S (3 s here; normally 120 s).
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain|grow]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -41,10 +44,12 @@ case $mode in
   share-oom) fault=worker:share-out-of-memory check_waits=1 ranks=(-n 4 --oversubscribe) ;;
   silent) fault=worker:stop-while-meshing limits=() ;;
   chain) fault=worker:stop-on-chain limits=() ;;
+  grow) fault=worker:stop-on-grow limits=() ;;
 esac
 [ -z "$fault" ] || { export PARTET_INJECT_FAILURE=$fault; inject+=(-x PARTET_INJECT_FAILURE); }
 [ "$check_waits" = 0 ] || { export PARTET_TEST_VERDICT_WAIT_S=3; inject+=(-x PARTET_TEST_VERDICT_WAIT_S); }
 [[ $mode != silent && $mode != chain ]] || { export PARTET_TEST_SILENCE_S=3; inject+=(-x PARTET_TEST_SILENCE_S); }
+[ "$mode" != grow ] || { export PARTET_TEST_WORKER_S=3; inject+=(-x PARTET_TEST_WORKER_S); }
 start=$(date +%s)
 timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
   "${limits[@]}" > "$work/log" 2>&1 &
@@ -81,12 +86,13 @@ case $mode in
   cap) expected="rank 1 has not answered for the cap of plane 0" ;;
   silent) expected="rank 1 has not been heard from for 3 s while meshing piece" ;;
   chain) expected="rank 1 has not been heard from for 3 s while healing seam chain" ;;
+  grow) expected="rank 1 did not grow the band of piece [0-9]+ within 3 s" ;;
   idle) expected="rank 1 has not answered" ;;
   *) expected="rank 1 (has not answered|did not take)" ;;
 esac
 grep -qE "$expected" "$work/log" || fail "no message '$expected'"
 [ "$mode" != share ] || ! grep -q "rank 1 has not" "$work/log" || fail "rank 1 blamed for rank 2's silence"
 [ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
-[[ $mode != silent && $mode != chain ]] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
+[[ $mode != silent && $mode != chain && $mode != grow ]] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 -E "$expected" "$work/log")"
