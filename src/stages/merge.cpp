@@ -148,7 +148,7 @@ void Welder::grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings) {
     move_steiner_ids(band.band.tets, first_steiner_, stored.first_steiner);
     grown = stored.store->grow(std::move(band));
     if (grown.index != static_cast<int>(p) || grown.bulk.in)
-      mismatch(static_cast<int>(p), "came back from its band's growth as another piece");
+      mismatch(static_cast<int>(p), "came back from its band's growth as another piece or with its bulk");
     move_steiner_ids(grown.band.tets, stored.first_steiner, first_steiner_);
     stored.tets = static_cast<std::size_t>(grown.bulk_tets);
     stored.steiner_points = static_cast<std::size_t>(grown.bulk_steiner_points);
