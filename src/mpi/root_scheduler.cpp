@@ -56,64 +56,41 @@ class RemoteBulks : public BulkStore {
     int size = 1;
     MPI_Comm_size(job_comm(), &size);
     std::vector<std::pair<int, BlockLinks>> all;
-    for (int rank = 1; rank < size; ++rank) {
-      std::string bytes;
-      try {
-        bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
-      } catch (const Stalled&) {
-        abort_job("rank " + std::to_string(rank) + " did not send the links of the bulks it keeps within " +
-                  std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
-      }
-      stats_.bytes_received += static_cast<double>(bytes.size());
-      for (auto& links : deserialize_bulk_links(bytes)) all.push_back(std::move(links));
-    }
+    for (int rank = 1; rank < size; ++rank)
+      for (auto& links : deserialize_bulk_links(reply_from(rank, "send the links of the bulks it keeps")))
+        all.push_back(std::move(links));
     return all;
   }
   bool grows_bands() const override { return true; }
   PieceBand grow(BandToGrow&& band) override {
     const int piece = band.index;
-    const auto owner = owners_.find(piece);
-    if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
-    const int rank = owner->second;
+    const int rank = owner_of(piece);
     broadcast(kGrowBand);
     bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
     bounded([&] { return broadcast_int(rank, 0, job_comm(), collective_limit()); });
+    const std::string what = "grow the band of piece " + std::to_string(piece);
     std::string bytes = serialize_band_to_grow(band);
     band = BandToGrow();
     try {
-      {
-        AddSeconds timer{stats_.send_seconds};
-        stats_.bytes_sent +=
-            static_cast<double>(send_bytes(bytes, rank, kTagBulk, job_comm(), kMaxChunk, limit_));
-      }
-      AddSeconds timer{stats_.receive_seconds};
-      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
+      AddSeconds timer{stats_.send_seconds};
+      stats_.bytes_sent += static_cast<double>(send_bytes(bytes, rank, kTagBulk, job_comm(), kMaxChunk, limit_));
     } catch (const Stalled&) {
-      abort_job("rank " + std::to_string(rank) + " did not grow the band of piece " + std::to_string(piece) +
-                " within " + std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
+      silent(rank, what);
     }
-    stats_.bytes_received += static_cast<double>(bytes.size());
+    AddSeconds timer{stats_.receive_seconds};
+    bytes = reply_from(rank, what);
     if (bytes.empty())
       throw InternalError("rank " + std::to_string(rank) + " could not grow the band of piece " + std::to_string(piece) +
                           " with the mesh it kept");
     return deserialize_grown_band(bytes);
   }
   TetBlock take(int piece) override {
-    const auto owner = owners_.find(piece);
-    if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
-    const int rank = owner->second;
-    owners_.erase(owner);
+    const int rank = owner_of(piece);
+    owners_.erase(piece);
     broadcast(kSendBulk);
     bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
     AddSeconds timer{stats_.receive_seconds};
-    std::string bytes;
-    try {
-      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
-    } catch (const Stalled&) {
-      abort_job("rank " + std::to_string(rank) + " did not send the mesh of piece " + std::to_string(piece) +
-                " it kept within " + std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
-    }
-    stats_.bytes_received += static_cast<double>(bytes.size());
+    const std::string bytes = reply_from(rank, "send the mesh of piece " + std::to_string(piece) + " it kept");
     if (bytes.empty())
       throw InternalError("rank " + std::to_string(rank) + " no longer keeps the mesh of piece " +
                           std::to_string(piece));
@@ -121,6 +98,27 @@ class RemoteBulks : public BulkStore {
   }
 
  private:
+  int owner_of(int piece) const {
+    const auto owner = owners_.find(piece);
+    if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
+    return owner->second;
+  }
+  // Ends the job: `rank` did not do `what` within the wait on kept bulks.
+  [[noreturn]] void silent(int rank, const std::string& what) const {
+    abort_job("rank " + std::to_string(rank) + " did not " + what + " within " +
+              std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
+  }
+  // What `rank` sends back on kTagBulk; silent for longer than limit_, it ends the job.
+  std::string reply_from(int rank, const std::string& what) {
+    std::string bytes;
+    try {
+      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
+    } catch (const Stalled&) {
+      silent(rank, what);
+    }
+    stats_.bytes_received += static_cast<double>(bytes.size());
+    return bytes;
+  }
   RankStats& stats_;
   double limit_;               // how long a rank may take to answer a command on its bulks
   std::map<int, int> owners_;  // piece -> the rank keeping its bulk
