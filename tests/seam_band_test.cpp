@@ -20,6 +20,7 @@
 #include "stages/merge.hpp"
 #include "stages/seam_band.hpp"
 #include "stages/seam_chain_band.hpp"
+#include "stages/seam_chains.hpp"
 #include "stages/seam_healing.hpp"
 #include "stages/spread_mesh.hpp"
 #include "stages/topology.hpp"
@@ -609,6 +610,84 @@ TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
         EXPECT_EQ(kept_growing.size(), 0u);
       }
   EXPECT_GT(grown_there_total, 0);  // thin pieces: some bands grew where their bulks were kept
+}
+
+// The chains can be found from what each piece's band part tells (its parts, the vertices to
+// remove in each, its open cap faces: band_part_links, issue 22) without the welded band: the
+// same chains as on the welded band and as on the whole welded mesh, whether the pieces were
+// split at the end, or where they were meshed with their bands grown there. Thin pieces (k=12)
+// chain neighbouring cuts; healed caps chain the cuts of wide pieces.
+TEST(SeamBand, TheBandPartsLinksGiveTheChainsOfTheWeldedBand) {
+  std::size_t most_chains = 0, longest_chain = 0;
+  for (const char* name : {"sphere", "torus", "genus3", "nested"})
+    for (const int k : {3, 5, 12})
+      for (const int layers : {0, 2})
+        for (const bool caps : {false, true}) {
+          if (layers > 0 && !caps) continue;  // (a quality bound heals the caps)
+          SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + " layers=" + std::to_string(layers) +
+                       (caps ? " caps" : " cuts"));
+          const SurfaceMesh input = generate_surface(name, 1500);
+          const MeshedPieces s = mesh_pieces_in_batch(input, k);
+          const SplitSurface& split = s.prepared.split;
+          const HealOptions options{caps, layers, false};
+          const BandSpec spec = band_spec(split, caps, layers + 1);
+          const TetMesh whole = weld(split, s.prepared.pieces, std::vector<PieceTetMesh>(s.results));
+          const std::vector<std::vector<int>> chains = seam_chain_planes(whole, split, options);
+          Welder at_end(split, s.prepared.pieces);
+          for (const auto& result : s.results) at_end.add(PieceTetMesh(result));
+          const TetMesh band = at_end.finish_band(split.points, spec);
+          EXPECT_EQ(seam_chain_planes(band, split, options), chains);
+          EXPECT_EQ(seam_chain_planes(at_end.take_band_links(), split, options), chains);
+          if (layers == 0) {  // one layer: split where meshed, grown where kept
+            BandSpec there = spec;
+            there.split_point_count = 1 << 30;
+            if (caps) there.end_removed = 1 << 30;
+            KeptWhereMeshed kept(false, true);
+            Welder grown_there(split, s.prepared.pieces);
+            grown_there.split_on_arrival(spec);
+            for (std::size_t p = 0; p < s.results.size(); ++p) {
+              PieceBand split_piece =
+                  split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
+              kept.keep(split_piece.index, std::move(split_piece.bulk));
+              grown_there.add_split(std::move(split_piece), kept);
+            }
+            grown_there.finish_band(split.points, spec);
+            EXPECT_EQ(seam_chain_planes(grown_there.take_band_links(), split, options), chains);
+          }
+          most_chains = std::max(most_chains, chains.size());
+          for (const auto& chain : chains) longest_chain = std::max(longest_chain, chain.size());
+        }
+  EXPECT_GE(most_chains, 5u);
+  EXPECT_GE(longest_chain, 3u);
+}
+
+// On the generated inputs the parts that meet across a cap also share a cut's vertices, so the
+// joins across caps seldom decide there; here they do: two pieces' parts hold the vertices of
+// different groups and meet only through a cap face, which joins their chains.
+TEST(SeamBand, BandPartsMeetingAcrossACapJoinTheirChains) {
+  const FaceKey cap_face(Triangle{20, 21, 22}), other(Triangle{20, 21, 23});
+  const std::int32_t first = 10;
+  const std::vector<int> group{0, 0, 1, 1, 2};  // of vertices 10..14
+  BandPartLinks lower, upper;
+  lower.removed = {{10, 11}, {14}};
+  lower.cap_faces = {{cap_face, 0}};
+  upper.removed = {{12, 13}};
+  upper.cap_faces = {{cap_face, 0}};
+  SeamChains chains = seam_chains({lower, upper}, first, group, 3);
+  EXPECT_EQ(chains.count, 2);
+  EXPECT_EQ(chains.of_group, (std::vector<int>{0, 0, 1}));
+  upper.cap_faces = {{other, 0}};  // no face in common
+  chains = seam_chains({lower, upper}, first, group, 3);
+  EXPECT_EQ(chains.count, 3);
+  EXPECT_EQ(chains.of_group, (std::vector<int>{0, 1, 2}));
+  // A part with no vertex to remove links the parts on either side of it.
+  BandPartLinks middle;
+  middle.removed = {{}};
+  middle.cap_faces = {{other, 0}, {cap_face, 0}};
+  std::sort(middle.cap_faces.begin(), middle.cap_faces.end());
+  lower.cap_faces = {{cap_face, 0}};
+  chains = seam_chains({lower, middle, upper}, first, group, 3);
+  EXPECT_EQ(chains.of_group, (std::vector<int>{0, 0, 1}));
 }
 
 // A retry keeps the pieces that did not fail: a piece split where it was meshed comes back whole.

@@ -436,14 +436,15 @@ SeamStats chains_stats(const std::vector<HealedChain>& healed) {
   return stats;
 }
 
-// Heals the band chain by chain (seam_chain_band.hpp): each chain is cut out of the band, healed
+// Heals the band chain by chain (seam_chain_band.hpp), the chains found from the links of the
+// pieces' band parts (the welder's): each chain is cut out of the band, healed
 // (on a rank of its own when there are several), and put back, so the band is the same however
 // many ranks healed it. Throws the MeshingError of the first chain that failed; the band is then
 // as it was.
-SeamStats heal_band_by_chains(TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
-                              const HealOptions& options, RegionMeshers& meshers) {
+SeamStats heal_band_by_chains(TetMesh& band, const std::vector<BandPartLinks>& band_parts, const SurfaceMesh& input,
+                              const SplitSurface& split, const HealOptions& options, RegionMeshers& meshers) {
   StepClock clock;
-  const std::vector<std::vector<int>> planes = seam_chain_planes(band, split, options);
+  const std::vector<std::vector<int>> planes = seam_chain_planes(band_parts, split, options);
   std::vector<ChainParts> parts = chain_parts(band, split, planes, options);
   clock.lap("chains");
   std::vector<ChainBand> chains(planes.size());  // what stays here of each: its ids and tets in the band
@@ -480,7 +481,7 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& w
   HealOptions on_band = options;
   on_band.drop_points = false;
   try {
-    stats = heal_band_by_chains(band, input, split, on_band, meshers);
+    stats = heal_band_by_chains(band, welder.take_band_links(), input, split, on_band, meshers);
     const double start = now_seconds();
     if (spread && welder.keeps_bulks_elsewhere()) {
       *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours));

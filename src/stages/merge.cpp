@@ -342,6 +342,8 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
     }
   }
   band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
+  band_links_.clear();
+  for (const Block& block : blocks_) band_links_.push_back(band_part_links(block, spec));
   TetMesh band = weld_blocks(std::move(split_points), blocks_);
   band_used_before_ = used_vertices<bool>(band.points.size(), band.tets);
   return band;

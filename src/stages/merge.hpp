@@ -8,6 +8,7 @@
 #include "stages/assembly_numbering.hpp"
 #include "stages/piece.hpp"
 #include "stages/seam_band.hpp"
+#include "stages/seam_chains.hpp"
 #include "stages/spread_mesh.hpp"
 
 namespace partet {
@@ -83,6 +84,9 @@ class Welder {
   // numbered as the whole welded mesh would be, except that only the bands' Steiner points follow
   // the split surface's. Its tets are the bands' in piece order.
   TetMesh finish_band(std::vector<Point3> split_points, BandSpec spec);
+  // After finish_band, once: the links of each piece's band (band_part_links), which give the
+  // chains (seam_chain_planes) without the welded band.
+  std::vector<BandPartLinks> take_band_links() { return std::move(band_links_); }
   // After the band was healed with its points kept: the mesh of every bulk in piece order, then
   // the healed band, joined across the caps and the bands' edges. Points: the split surface's,
   // every piece's Steiner points in piece order, then those healing added; those no tet uses are
@@ -157,6 +161,7 @@ class Welder {
   // in the piece of each band tet (to rejoin it, until finish_band).
   std::vector<std::vector<std::int32_t>> band_steiner_;
   std::vector<std::vector<std::int32_t>> band_tets_;
+  std::vector<BandPartLinks> band_links_;  // per piece, from finish_band
   // Bits, not bytes: they live from the pieces' arrival until the assembly.
   std::vector<bool> referenced_;        // per split point: some piece's surface has it
   std::vector<bool> band_used_before_;  // per point of the band mesh finish_band made: a band tet uses it

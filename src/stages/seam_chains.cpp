@@ -32,38 +32,26 @@ std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, con
   return band;
 }
 
-}  // namespace
-
-SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int groups, int reach) {
-  const std::vector<std::int32_t> band = band_tets(mesh, first, group, reach);
-  auto position = [&](std::int32_t t) {
-    auto it = std::lower_bound(band.begin(), band.end(), t);
-    return it != band.end() && *it == t ? static_cast<std::int32_t>(it - band.begin()) : -1;
-  };
-  // The band's parts joined through faces...
-  DisjointSets parts(0, band.size());
-  for (std::size_t i = 0; i < band.size(); ++i)
-    for (auto nb : mesh.neighbours[band[i]])
-      if (nb >= 0 && nb < band[i]) {
-        const std::int32_t at = position(nb);
-        if (at >= 0) parts.join(static_cast<std::int32_t>(i), at);
-      }
-  // ...join the groups with vertices in them (a group may lie in several: a cut's loops).
+// The chains of the groups whose vertices lie in the parts `parts` joins: removed(i, add) calls
+// add(v) for each vertex v to remove in part i (a group may lie in several parts: a cut's loops).
+template <class ForEachRemoved>
+SeamChains join_groups(DisjointSets& parts, std::int32_t first, const std::vector<int>& group, int groups,
+                       const ForEachRemoved& removed) {
   DisjointSets joined(0, static_cast<std::size_t>(groups));
-  std::vector<int> group_of_part(band.size(), -1);
+  std::vector<int> group_of_part(parts.size(), -1);
   std::vector<char> present(static_cast<std::size_t>(groups), 0);
-  for (std::size_t i = 0; i < band.size(); ++i) {
-    const TetRemoved found(mesh.tets[band[i]], first, group);
-    for (int j = 0; j < found.count; ++j) {
-      const int g = found.group[j];
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    removed(i, [&](std::int32_t v) {
+      const std::int64_t at = static_cast<std::int64_t>(v) - first;
+      if (at < 0 || at >= static_cast<std::int64_t>(group.size()) || group[at] < 0) return;
+      const int g = group[at];
       present[g] = 1;
       int& seen = group_of_part[parts.find(static_cast<std::int32_t>(i))];
       if (seen < 0)
         seen = g;
       else
         joined.join(g, seen);
-    }
-  }
+    });
   SeamChains chains;
   chains.of_group.assign(static_cast<std::size_t>(groups), -1);
   std::vector<int> number(static_cast<std::size_t>(groups), -1);
@@ -74,6 +62,86 @@ SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vecto
     chains.of_group[g] = n;
   }
   return chains;
+}
+
+}  // namespace
+
+SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int groups, int reach) {
+  const std::vector<std::int32_t> band = band_tets(mesh, first, group, reach);
+  auto position = [&](std::int32_t t) {
+    auto it = std::lower_bound(band.begin(), band.end(), t);
+    return it != band.end() && *it == t ? static_cast<std::int32_t>(it - band.begin()) : -1;
+  };
+  // The band's parts joined through faces, then the groups with vertices in them.
+  DisjointSets parts(0, band.size());
+  for (std::size_t i = 0; i < band.size(); ++i)
+    for (auto nb : mesh.neighbours[band[i]])
+      if (nb >= 0 && nb < band[i]) {
+        const std::int32_t at = position(nb);
+        if (at >= 0) parts.join(static_cast<std::int32_t>(i), at);
+      }
+  return join_groups(parts, first, group, groups, [&](std::size_t i, const auto& add) {
+    for (auto v : mesh.tets[band[i]]) add(v);
+  });
+}
+
+BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec) {
+  const std::size_t n = band.tets.size();
+  DisjointSets joined(0, n);
+  for (std::size_t t = 0; t < n; ++t)
+    for (auto nb : band.neighbours[t])
+      if (nb >= 0 && nb < static_cast<std::int32_t>(t)) joined.join(static_cast<std::int32_t>(t), nb);
+  // Parts numbered in the order of their first tet.
+  std::vector<std::int32_t> part(n, -1), number(n, -1);
+  BandPartLinks links;
+  for (std::size_t t = 0; t < n; ++t) {
+    std::int32_t& p = number[joined.find(static_cast<std::int32_t>(t))];
+    if (p < 0) p = static_cast<std::int32_t>(links.removed.size()), links.removed.emplace_back();
+    part[t] = p;
+  }
+  auto removed = [&](std::int32_t v) { return v >= spec.first_removed && v < spec.end_removed; };
+  auto on_planes = [&](std::int32_t v) { return v >= spec.input_vertex_count && v < spec.split_point_count; };
+  for (std::size_t t = 0; t < n; ++t) {
+    const Tet& tet = band.tets[t];
+    for (auto v : tet)
+      if (removed(v)) links.removed[part[t]].push_back(v);
+    for (int j = 0; j < 4; ++j) {
+      if (band.neighbours[t][j] >= 0) continue;
+      const Triangle face = outward_face(tet, j);
+      if (on_planes(face[0]) && on_planes(face[1]) && on_planes(face[2]))
+        links.cap_faces.emplace_back(FaceKey(face), part[t]);
+    }
+  }
+  for (auto& vertices : links.removed) {
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  }
+  std::sort(links.cap_faces.begin(), links.cap_faces.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  return links;
+}
+
+SeamChains seam_chains(const std::vector<BandPartLinks>& pieces, std::int32_t first, const std::vector<int>& group,
+                       int groups) {
+  // Every piece's parts in one numbering, joined where two pieces have the same cap face.
+  std::vector<std::size_t> offset(pieces.size() + 1, 0);
+  for (std::size_t p = 0; p < pieces.size(); ++p) offset[p + 1] = offset[p] + pieces[p].removed.size();
+  std::vector<std::pair<FaceKey, std::int32_t>> faces;
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    for (const auto& [key, part] : pieces[p].cap_faces)
+      faces.emplace_back(key, static_cast<std::int32_t>(offset[p] + static_cast<std::size_t>(part)));
+  std::sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  DisjointSets parts(0, offset.back());
+  for (std::size_t i = 1; i < faces.size(); ++i)
+    if (faces[i].first == faces[i - 1].first) parts.join(faces[i].second, faces[i - 1].second);
+  std::vector<std::size_t> piece_of(offset.back());
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    std::fill(piece_of.begin() + static_cast<std::ptrdiff_t>(offset[p]),
+              piece_of.begin() + static_cast<std::ptrdiff_t>(offset[p + 1]), p);
+  return join_groups(parts, first, group, groups, [&](std::size_t i, const auto& add) {
+    const std::size_t p = piece_of[i];
+    for (auto v : pieces[p].removed[i - offset[p]]) add(v);
+  });
 }
 
 }  // namespace partet

@@ -7,9 +7,12 @@
 // seam be healed on its own, by the ranks that hold it.
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "partet/mesh_types.hpp"
+#include "stages/seam_band.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 
@@ -24,5 +27,24 @@ struct SeamChains {
 // (seam_band_spec's layers): the band path sees exactly these tets, so the chains found on the
 // band are those found on the whole mesh. `groups` is the number of groups.
 SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int groups, int reach);
+
+// What one piece's band part tells of the chains, wherever it is kept: its parts joined through
+// faces within the piece, the vertices to remove each holds, and the open faces on the planes
+// each has. A neighbouring piece's band part with the same face is joined to it across the cap,
+// so these are all that the chains need of the band (issue 22: a chain can be found, and
+// healed, without the welded band).
+struct BandPartLinks {
+  std::vector<std::vector<std::int32_t>> removed;           // per part: its vertices to remove, ascending
+  std::vector<std::pair<FaceKey, std::int32_t>> cap_faces;  // open faces on the planes and their parts, by key
+};
+
+// The links of a piece's band part (its tets in global ids, neighbours within the part); the
+// vertices to remove are spec's [first_removed, end_removed).
+BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec);
+
+// The chains of every piece's band part (by piece), as seam_chains finds them on the welded band
+// of depth `reach` = spec.layers: the groups as there.
+SeamChains seam_chains(const std::vector<BandPartLinks>& pieces, std::int32_t first, const std::vector<int>& group,
+                       int groups);
 
 }  // namespace partet

@@ -402,13 +402,15 @@ struct RemovedGroups {
   std::vector<int> chain_of_plane;  // -1: no vertex of its chain is left
 };
 
-RemovedGroups removed_groups(const TetMesh& mesh, const Removed& all, const HealOptions& options) {
+// find_chains(group_left, groups): the chains, on the mesh or on the band parts' links.
+template <class FindChains>
+RemovedGroups removed_groups(const Removed& all, const FindChains& find_chains) {
   const std::vector<int> group_of_plane = groups_of_planes(all.split);
   RemovedGroups r;
   r.group_left.resize(all.size());
   for (std::size_t v = 0; v < r.group_left.size(); ++v) r.group_left[v] = group_of_plane[all.plane_of(all.id(v))];
   const int groups = group_of_plane.empty() ? 0 : group_of_plane.back() + 1;
-  r.chains = seam_chains(mesh, all.first, r.group_left, groups, options.layers + 1);
+  r.chains = find_chains(r.group_left, groups);
   r.chain_of_plane.resize(group_of_plane.size());
   for (std::size_t p = 0; p < group_of_plane.size(); ++p) r.chain_of_plane[p] = r.chains.of_group[group_of_plane[p]];
   return r;
@@ -453,7 +455,9 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   SeamStats stats;
   Removed all = removed_vertices(split, options);
   const FragmentParents parent_of = fragment_parents(split);
-  RemovedGroups groups = removed_groups(mesh, all, options);
+  RemovedGroups groups = removed_groups(all, [&](const std::vector<int>& group, int count) {
+    return seam_chains(mesh, all.first, group, count, options.layers + 1);
+  });
   all.chain_of_plane = &groups.chain_of_plane;
   std::vector<int>& group_left = groups.group_left;
   // The piece array marks re-meshed tets (-1), so the figures count each tet once even when a
@@ -487,14 +491,31 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
   return stats;
 }
 
-std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
-                                               const HealOptions& options) {
-  const Removed all = removed_vertices(split, options);
-  const RemovedGroups groups = removed_groups(mesh, all, options);
+namespace {
+
+std::vector<std::vector<int>> planes_of_chains(const RemovedGroups& groups) {
   std::vector<std::vector<int>> planes(static_cast<std::size_t>(groups.chains.count));
   for (std::size_t p = 0; p < groups.chain_of_plane.size(); ++p)
     if (groups.chain_of_plane[p] >= 0) planes[groups.chain_of_plane[p]].push_back(static_cast<int>(p));
   return planes;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
+                                               const HealOptions& options) {
+  const Removed all = removed_vertices(split, options);
+  return planes_of_chains(removed_groups(all, [&](const std::vector<int>& group, int count) {
+    return seam_chains(mesh, all.first, group, count, options.layers + 1);
+  }));
+}
+
+std::vector<std::vector<int>> seam_chain_planes(const std::vector<BandPartLinks>& band_parts,
+                                               const SplitSurface& split, const HealOptions& options) {
+  const Removed all = removed_vertices(split, options);
+  return planes_of_chains(removed_groups(all, [&](const std::vector<int>& group, int count) {
+    return seam_chains(band_parts, all.first, group, count);
+  }));
 }
 
 BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options) {

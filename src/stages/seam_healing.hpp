@@ -14,6 +14,8 @@
 
 namespace partet {
 
+struct BandPartLinks;  // seam_chains.hpp
+
 struct SeamStats {
   std::int64_t cut_vertices_removed = 0;  // vertices partitioning put on input edges
   std::int64_t cap_points_removed = 0;    // the caps' interior points (when healing)
@@ -60,6 +62,10 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
 // (seam_chain_band.hpp) heals as it does among the others.
 std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
                                                const HealOptions& options);
+// The same from the links of every piece's band part (by piece; band_part_links), made with
+// seam_band_spec(split, options): no welded band is needed.
+std::vector<std::vector<int>> seam_chain_planes(const std::vector<BandPartLinks>& band_parts,
+                                               const SplitSurface& split, const HealOptions& options);
 
 // The band healing with these options needs (seam_band.hpp): the stars of the vertices it
 // removes, grown by the layers its first round adds and one more, so that a later round's region
