@@ -82,8 +82,8 @@ void chain_stop(int rank) {
   if (rank == 1 && injected("worker:stop-on-chain")) ::raise(SIGSTOP);
 }
 
-void grow_stop(int rank) {
-  if (rank == 1 && injected("worker:stop-on-grow")) ::raise(SIGSTOP);
+void kept_bulk_stop(int rank, const char* command) {
+  if (rank == 1 && injected((std::string("worker:stop-on-") + command).c_str())) ::raise(SIGSTOP);
 }
 
 double kept_bulk_seconds(double fallback) { return seconds_or("PARTET_TEST_WORKER_S", fallback); }

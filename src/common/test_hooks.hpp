@@ -29,9 +29,10 @@ void cap_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-on-chain": rank 1 stops itself (SIGSTOP) once it has told
 // rank 0 that it heals the chain of the seams it was given, so it falls silent mid-chain.
 void chain_stop(int rank);
-// PARTET_INJECT_FAILURE="worker:stop-on-grow": rank 1 stops itself (SIGSTOP) when it is given a
-// band to grow with a bulk it keeps, so rank 0 waits for a band that never comes back.
-void grow_stop(int rank);
+// PARTET_INJECT_FAILURE="worker:stop-on-COMMAND": rank 1 stops itself (SIGSTOP) when rank 0 asks
+// it for something of the bulks it keeps, so rank 0 waits for an answer that never comes. COMMAND:
+// "grow" (a band to grow with its bulk), "take" (a bulk to send back), "links" (its bulks' links).
+void kept_bulk_stop(int rank, const char* command);
 // PARTET_TEST_WORKER_S=S: how long rank 0 waits for a rank to answer a command on the bulks it
 // keeps (send one, its links, grow a band; else fallback).
 double kept_bulk_seconds(double fallback);

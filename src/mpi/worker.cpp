@@ -200,6 +200,7 @@ void send_kept_bulk(KeptBulks& kept, RankStats& stats) {
   try {
     std::optional<TetBlock> bulk = kept.take(piece);
     if (!bulk) return;  // another rank's
+    test_hooks::kept_bulk_stop(my_rank(), "take");
     bytes = serialize_block(*bulk);
   } catch (const std::exception& e) {  // not read back from scratch: rank 0 gets an empty answer and says so
     log::error(e.what());
@@ -222,7 +223,7 @@ void grow_kept_band(KeptBulks& kept, RankStats& stats) {
     bytes = bounded([] { return recv_bytes(0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); });
   }
   stats.bytes_received += static_cast<double>(bytes.size());
-  test_hooks::grow_stop(my_rank());
+  test_hooks::kept_bulk_stop(my_rank(), "grow");
   try {
     BandToGrow band = deserialize_band_to_grow(bytes);
     std::string().swap(bytes);
@@ -260,6 +261,7 @@ void number_kept_bulks(KeptBulks& kept, RankStats& stats) {
 // A worker's side of kLinkBulks: the links of every bulk it keeps, numbered (they stay here).
 void send_bulk_links(KeptBulks& kept, RankStats& stats) {
   const std::int32_t input_vertices = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  test_hooks::kept_bulk_stop(my_rank(), "links");
   std::vector<std::pair<int, BlockLinks>> links;
   try {
     for (int piece : kept.pieces()) {
