@@ -2,11 +2,74 @@
 
 #include <algorithm>
 #include <numeric>
+#include <type_traits>
+#include <utility>
 
 #include "partet/errors.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
+namespace {
+
+// A block's links in ascending order of their keys, sorted where the block is (on its owner),
+// so that matching the blocks' faces needs no copy of them all (for_each_shared_face).
+void sort_by_key(BlockLinks& links) {
+  std::vector<std::uint32_t> order(links.keys.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return links.keys[a] < links.keys[b]; });
+  auto permute = [&](auto& values) {
+    std::remove_reference_t<decltype(values)> sorted;
+    sorted.reserve(values.size());
+    for (auto i : order) sorted.push_back(values[i]);
+    values.swap(sorted);
+  };
+  permute(links.keys);
+  permute(links.component);
+  permute(links.face);
+}
+
+// Calls shared(a, i, b, j) for each open face two blocks share: key i of block a and key j of
+// block b (a <= b). A merge of the blocks' ascending keys: no copy of them all, which as one
+// sorted array was most of rank 0's peak at the end (docs/benchmarks.md).
+template <class Shared>
+void for_each_shared_face(const std::vector<BlockLinks>& blocks, const Shared& shared) {
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (!std::is_sorted(blocks[b].keys.begin(), blocks[b].keys.end()))
+      throw InternalError("the links of a block of the spread mesh are not in order");
+  using Head = std::pair<std::uint32_t, std::size_t>;  // block, position in its keys
+  auto key = [&](const Head& h) -> const std::array<std::int64_t, 3>& { return blocks[h.first].keys[h.second]; };
+  auto later = [&](const Head& x, const Head& y) { return key(y) < key(x) || (key(y) == key(x) && y.first < x.first); };
+  std::vector<Head> heads;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (!blocks[b].keys.empty()) heads.emplace_back(static_cast<std::uint32_t>(b), 0);
+  std::make_heap(heads.begin(), heads.end(), later);
+  auto pop = [&] {
+    std::pop_heap(heads.begin(), heads.end(), later);
+    Head h = heads.back();
+    heads.pop_back();
+    if (h.second + 1 < blocks[h.first].keys.size()) {
+      heads.emplace_back(h.first, h.second + 1);
+      std::push_heap(heads.begin(), heads.end(), later);
+    }
+    return h;
+  };
+  bool pending = false;  // `last` is a face not yet matched
+  Head last{};
+  while (!heads.empty()) {
+    const Head h = pop();
+    if (pending && key(h) == key(last)) {
+      if (!heads.empty() && key(heads.front()) == key(h))
+        throw InternalError("three open faces of the spread mesh are one triangle");
+      shared(last.first, last.second, h.first, h.second);
+      pending = false;
+    } else {
+      last = h;
+      pending = true;
+    }
+  }
+}
+
+}  // namespace
 
 BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const std::vector<Tet>& neighbours,
                        bool every_open_face, std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
@@ -34,6 +97,7 @@ BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const 
       links.component.push_back(label[t]);
       links.face.push_back(4 * t + static_cast<std::uint64_t>(j));
     }
+  sort_by_key(links);
   return links;
 }
 
@@ -43,18 +107,10 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
   std::vector<std::size_t> node_base(blocks.size() + 1, 0);
   for (std::size_t b = 0; b < blocks.size(); ++b) node_base[b + 1] = node_base[b] + blocks[b].first_tet.size();
   DisjointSets sets(0, node_base.back());
-  struct Link {
-    std::array<std::int64_t, 3> key;
-    std::int32_t node;
-    bool operator<(const Link& o) const { return key < o.key; }
-  };
-  std::vector<Link> links;
-  for (std::size_t b = 0; b < blocks.size(); ++b)
-    for (std::size_t i = 0; i < blocks[b].keys.size(); ++i)
-      links.push_back({blocks[b].keys[i], static_cast<std::int32_t>(node_base[b] + blocks[b].component[i])});
-  std::sort(links.begin(), links.end());
-  for (std::size_t i = 1; i < links.size(); ++i)
-    if (links[i].key == links[i - 1].key) sets.join(links[i].node, links[i - 1].node);
+  for_each_shared_face(blocks, [&](std::size_t a, std::size_t i, std::size_t b, std::size_t j) {
+    sets.join(static_cast<std::int32_t>(node_base[a] + blocks[a].component[i]),
+              static_cast<std::int32_t>(node_base[b] + blocks[b].component[j]));
+  });
   // Each solid's first row: the least of its components' first rows.
   std::vector<std::int64_t> first(node_base.back(), INT64_MAX);
   for (std::size_t b = 0; b < blocks.size(); ++b)
@@ -77,29 +133,14 @@ std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockL
 
 std::vector<std::vector<FaceAcross>> faces_across_blocks(const std::vector<BlockLinks>& blocks,
                                                          const std::vector<std::int64_t>& first_row) {
-  struct Side {
-    std::array<std::int64_t, 3> key;
-    std::uint32_t block;
-    std::uint64_t face;
-    bool operator<(const Side& o) const { return key < o.key; }
-  };
-  std::vector<Side> sides;
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    if (blocks[b].face.size() != blocks[b].keys.size()) throw InternalError("a block's links name no faces");
-    for (std::size_t i = 0; i < blocks[b].keys.size(); ++i)
-      sides.push_back({blocks[b].keys[i], static_cast<std::uint32_t>(b), blocks[b].face[i]});
-  }
-  std::sort(sides.begin(), sides.end());
+  for (const BlockLinks& block : blocks)
+    if (block.face.size() != block.keys.size()) throw InternalError("a block's links name no faces");
   std::vector<std::vector<FaceAcross>> across(blocks.size());
-  for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
-    const Side &a = sides[i], &b = sides[i + 1];
-    if (!(a.key == b.key)) continue;
-    if (i + 2 < sides.size() && sides[i + 2].key == a.key)
-      throw InternalError("three open faces of the spread mesh are one triangle");
-    across[a.block].push_back({a.face, first_row[b.block] + static_cast<std::int64_t>(b.face / 4)});
-    across[b.block].push_back({b.face, first_row[a.block] + static_cast<std::int64_t>(a.face / 4)});
-    ++i;
-  }
+  for_each_shared_face(blocks, [&](std::size_t a, std::size_t i, std::size_t b, std::size_t j) {
+    const std::uint64_t face_a = blocks[a].face[i], face_b = blocks[b].face[j];
+    across[a].push_back({face_a, first_row[b] + static_cast<std::int64_t>(face_b / 4)});
+    across[b].push_back({face_b, first_row[a] + static_cast<std::int64_t>(face_a / 4)});
+  });
   for (auto& faces : across) std::sort(faces.begin(), faces.end());
   return across;
 }

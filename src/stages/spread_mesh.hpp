@@ -21,7 +21,7 @@ namespace partet {
 // A block's connected components and the open faces it may share with another block.
 struct BlockLinks {
   std::vector<std::int32_t> first_tet;            // per component, its first tet (ascending)
-  std::vector<std::array<std::int64_t, 3>> keys;  // open faces, in the mesh's ids ascending
+  std::vector<std::array<std::int64_t, 3>> keys;  // open faces, in the mesh's ids ascending; keys ascending
   std::vector<std::int32_t> component;            // per key: its tet's component
   std::vector<std::uint64_t> face;                // per key: the face, as 4 * tet + j
 };
@@ -36,7 +36,8 @@ struct FaceAcross {
 };
 
 // The components of a block's tets across its own neighbours, numbered by first tet (label per
-// tet), and its open faces (keyed by the mesh's ids of their points, through ids): all of them
+// tet), and its open faces (keyed by the mesh's ids of their points, through ids; in order of
+// their keys, so that the blocks' faces are matched without a copy of them all): all of them
 // when every_open_face, else those another block can share, the faces with a point that is no
 // input vertex (ids from input_vertices on: cap faces) and the rim's faces (4 * tet + j).
 BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const std::vector<Tet>& neighbours,
