@@ -112,7 +112,7 @@ TEST(Weld, SizesPastInt32AreRefusedWithTheirReason) {
 // them, and its ids name the mesh's points, here past 2^31.
 TEST(Weld, ABulkNumberedPastTwoToThe31PointsKeepsCompactIds) {
   BulkNumbering share;
-  share.split_points = 10, share.dropped_split = {3};
+  share.split_points = 10, share.dropped_split = std::make_shared<const std::vector<std::int32_t>>(std::vector<std::int32_t>{3});
   share.first_steiner = std::int64_t{3} << 31, share.dropped_steiner = {1};
   EXPECT_EQ(share.kept_split(), 9);
   // As the rank that split the piece numbered it: its Steiner point i is 20 + i.

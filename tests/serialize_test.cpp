@@ -275,11 +275,14 @@ TEST(Serialize, BulkSharesRoundTrip) {
   std::vector<BulkShare> sent(3);
   sent[0] = {4, 1 << 30, BulkNumbering{}};
   sent[0].numbering.split_points = 1000, sent[0].numbering.first_steiner = 1990;
-  sent[0].numbering.dropped_split = {3, 700, 999};
+  const auto dropped_split = std::make_shared<const std::vector<std::int32_t>>(std::vector<std::int32_t>{3, 700, 999});
+  sent[0].numbering.dropped_split = dropped_split;
   sent[0].numbering.dropped_steiner = {0, 5};
   sent[1] = {0, 1000, BulkNumbering{}};
   sent[1].numbering.split_points = 1000, sent[1].numbering.first_steiner = 997;
+  sent[1].numbering.dropped_split = std::make_shared<const std::vector<std::int32_t>>(*dropped_split);  // a copy
   sent[2].piece = 65535;
+  sent[2].numbering.dropped_split = dropped_split;
   const std::vector<BulkShare> back = deserialize_bulk_shares(serialize_bulk_shares(sent));
   ASSERT_EQ(back.size(), sent.size());
   for (std::size_t i = 0; i < sent.size(); ++i) {
@@ -287,10 +290,14 @@ TEST(Serialize, BulkSharesRoundTrip) {
     EXPECT_EQ(back[i].first_steiner, sent[i].first_steiner);
     EXPECT_EQ(back[i].numbering.split_points, sent[i].numbering.split_points);
     EXPECT_EQ(back[i].numbering.first_steiner, sent[i].numbering.first_steiner);
-    EXPECT_EQ(back[i].numbering.dropped_split, sent[i].numbering.dropped_split);
+    EXPECT_EQ(*back[i].numbering.dropped_split, *dropped_split);
     EXPECT_EQ(back[i].numbering.dropped_steiner, sent[i].numbering.dropped_steiner);
   }
+  // The list travels once and is held once.
+  EXPECT_EQ(back[0].numbering.dropped_split, back[2].numbering.dropped_split);
   EXPECT_TRUE(deserialize_bulk_shares(serialize_bulk_shares({})).empty());
+  sent[1].numbering.dropped_split = std::make_shared<const std::vector<std::int32_t>>();
+  EXPECT_THROW(serialize_bulk_shares(sent), InternalError);
 }
 
 // A spread mesh's messages: the links of the bulks a rank keeps, and where every bulk's rows are.

@@ -389,13 +389,19 @@ TetBlock deserialize_block(std::string_view bytes) {
   return decode<TetBlock>(bytes, [](auto& ar, TetBlock& block) { load_tet_block(ar, block); });
 }
 
+// The split surface's points that go are the same for every bulk: they travel once.
 std::string serialize_bulk_shares(const std::vector<BulkShare>& shares) {
-  return encode(64 + shares.size() * 64, [&](auto& ar) {
+  static const std::vector<std::int32_t> none;
+  const std::vector<std::int32_t>& dropped_split = shares.empty() ? none : *shares[0].numbering.dropped_split;
+  for (const BulkShare& s : shares)
+    if (*s.numbering.dropped_split != dropped_split)
+      throw InternalError("the bulks' shares of the numbering drop different split points");
+  return encode(64 + 4 * dropped_split.size() + shares.size() * 64, [&](auto& ar) {
     const std::uint64_t count = shares.size();
     ar << count;
+    save_block(ar, dropped_split);
     for (const BulkShare& s : shares) {
       ar << s.piece << s.first_steiner << s.numbering.split_points << s.numbering.first_steiner;
-      save_block(ar, s.numbering.dropped_split);
       save_block(ar, s.numbering.dropped_steiner);
     }
   });
@@ -405,10 +411,13 @@ std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes) {
   return decode<std::vector<BulkShare>>(bytes, [](auto& ar, std::vector<BulkShare>& shares) {
     std::uint64_t count = 0;
     ar >> count;
+    std::vector<std::int32_t> dropped_split;
+    load_block(ar, dropped_split);
+    const auto shared = std::make_shared<const std::vector<std::int32_t>>(std::move(dropped_split));
     shares.resize(count);
     for (BulkShare& s : shares) {
       ar >> s.piece >> s.first_steiner >> s.numbering.split_points >> s.numbering.first_steiner;
-      load_block(ar, s.numbering.dropped_split);
+      s.numbering.dropped_split = shared;
       load_block(ar, s.numbering.dropped_steiner);
     }
   });

@@ -59,6 +59,8 @@ AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& heale
   if (!std::is_sorted(dropped_.begin(), dropped_.end()))
     throw InternalError("a band's Steiner points are not in their piece's order");
   kept_ = welded_ - static_cast<std::int64_t>(dropped_.size());
+  const auto split_end = std::lower_bound(dropped_.begin(), dropped_.end(), split_points_);
+  dropped_split_ = std::make_shared<const std::vector<std::int32_t>>(dropped_.begin(), split_end);
 }
 
 std::int64_t AssemblyNumbering::of_welded(std::int64_t w) const {
@@ -71,10 +73,9 @@ BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
   BulkNumbering bulk;
   bulk.split_points = split_points_;
   const std::int64_t first = welded_steiner(p, 0), end = welded_steiner(p + 1, 0);
-  const auto split_end = std::lower_bound(dropped_.begin(), dropped_.end(), split_points_);
   const auto from = std::lower_bound(dropped_.begin(), dropped_.end(), first);
   const auto to = std::lower_bound(dropped_.begin(), dropped_.end(), end);
-  bulk.dropped_split.assign(dropped_.begin(), split_end);
+  bulk.dropped_split = dropped_split_;
   for (auto it = from; it != to; ++it) bulk.dropped_steiner.push_back(static_cast<std::int32_t>(*it - first));
   // Every Steiner point of the piece before its first that stays goes: that one lands where the
   // piece's first would.
@@ -83,8 +84,8 @@ BulkNumbering AssemblyNumbering::for_bulk(std::size_t p) const {
 }
 
 std::int32_t BulkNumbering::split_kept_below(std::int32_t n) const {
-  return n - static_cast<std::int32_t>(std::lower_bound(dropped_split.begin(), dropped_split.end(), n) -
-                                       dropped_split.begin());
+  return n - static_cast<std::int32_t>(std::lower_bound(dropped_split->begin(), dropped_split->end(), n) -
+                                       dropped_split->begin());
 }
 
 void number_bulk(TetBlock& bulk, const BulkNumbering& share, std::int32_t first_steiner) {
@@ -116,7 +117,7 @@ std::int32_t BulkNumbering::searched(std::int32_t v) const {
     if (below != dropped.end() && *below == i) return -1;
     return i - static_cast<std::int32_t>(below - dropped.begin());
   };
-  if (v < split_points) return shifted(dropped_split, v);
+  if (v < split_points) return shifted(*dropped_split, v);
   const std::int32_t i = shifted(dropped_steiner, v - split_points);
   return i < 0 ? -1 : kept_split() + i;
 }
