@@ -394,7 +394,7 @@ std::string serialize_bulk_shares(const std::vector<BulkShare>& shares) {
   static const std::vector<std::int32_t> none;
   const std::vector<std::int32_t>& dropped_split = shares.empty() ? none : *shares[0].numbering.dropped_split;
   for (const BulkShare& s : shares)
-    if (*s.numbering.dropped_split != dropped_split)
+    if (s.numbering.dropped_split != shares[0].numbering.dropped_split && *s.numbering.dropped_split != dropped_split)
       throw InternalError("the bulks' shares of the numbering drop different split points");
   return encode(64 + 4 * dropped_split.size() + shares.size() * 64, [&](auto& ar) {
     const std::uint64_t count = shares.size();
