@@ -11,20 +11,17 @@ BandMarks::BandMarks(const std::vector<Tet>& tets, const std::vector<Tet>& neigh
     : neighbours_(neighbours), layers_(spec.layers), depth_(tets.size(), -1) {
   if (spec.layers < 0 || spec.layers > 100)
     throw InternalError("a seam band of " + std::to_string(spec.layers) + " layers");
-  auto removed = [&](std::int32_t v) { return v >= spec.first_removed && v < spec.end_removed; };
-  // On a cut plane: split points that are not input vertices (no plane passes through one).
-  auto on_planes = [&](std::int32_t v) { return v >= spec.input_vertex_count && v < spec.split_point_count; };
   std::vector<std::int32_t> seeds;
   for (std::size_t t = 0; t < tets.size(); ++t) {
     const Tet& tet = tets[t];
-    if (removed(tet[0]) || removed(tet[1]) || removed(tet[2]) || removed(tet[3])) {
+    if (spec.removes(tet[0]) || spec.removes(tet[1]) || spec.removes(tet[2]) || spec.removes(tet[3])) {
       depth_[t] = 0;
       seeds.push_back(static_cast<std::int32_t>(t));
     }
     for (int j = 0; j < 4; ++j) {
       if (neighbours[t][j] >= 0) continue;
       const Triangle face = outward_face(tet, j);
-      if (on_planes(face[0]) && on_planes(face[1]) && on_planes(face[2]))
+      if (spec.on_planes(face[0]) && spec.on_planes(face[1]) && spec.on_planes(face[2]))
         cap_faces_.push_back({FaceKey(face), static_cast<std::int32_t>(t)});
     }
   }

@@ -24,6 +24,9 @@ struct BandSpec {
   std::int32_t split_point_count = 0;
   std::int32_t first_removed = 0, end_removed = 0;
   int layers = 1;
+  bool removes(std::int32_t v) const { return v >= first_removed && v < end_removed; }
+  // On a cut plane: split points that are not input vertices (no plane passes through one).
+  bool on_planes(std::int32_t v) const { return v >= input_vertex_count && v < split_point_count; }
 };
 
 // A cap face a piece's band reached: its key in global ids and the layer of the tet reaching it.

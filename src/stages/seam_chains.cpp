@@ -86,29 +86,20 @@ SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vecto
 }
 
 BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec) {
-  const std::size_t n = band.tets.size();
-  DisjointSets joined(0, n);
-  for (std::size_t t = 0; t < n; ++t)
-    for (auto nb : band.neighbours[t])
-      if (nb >= 0 && nb < static_cast<std::int32_t>(t)) joined.join(static_cast<std::int32_t>(t), nb);
   // Parts numbered in the order of their first tet.
-  std::vector<std::int32_t> part(n, -1), number(n, -1);
+  std::vector<std::int32_t> part;
+  const std::int32_t parts = label_tet_regions(
+      band.neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, part);
   BandPartLinks links;
-  for (std::size_t t = 0; t < n; ++t) {
-    std::int32_t& p = number[joined.find(static_cast<std::int32_t>(t))];
-    if (p < 0) p = static_cast<std::int32_t>(links.removed.size()), links.removed.emplace_back();
-    part[t] = p;
-  }
-  auto removed = [&](std::int32_t v) { return v >= spec.first_removed && v < spec.end_removed; };
-  auto on_planes = [&](std::int32_t v) { return v >= spec.input_vertex_count && v < spec.split_point_count; };
-  for (std::size_t t = 0; t < n; ++t) {
+  links.removed.resize(static_cast<std::size_t>(parts));
+  for (std::size_t t = 0; t < band.tets.size(); ++t) {
     const Tet& tet = band.tets[t];
     for (auto v : tet)
-      if (removed(v)) links.removed[part[t]].push_back(v);
+      if (spec.removes(v)) links.removed[part[t]].push_back(v);
     for (int j = 0; j < 4; ++j) {
       if (band.neighbours[t][j] >= 0) continue;
       const Triangle face = outward_face(tet, j);
-      if (on_planes(face[0]) && on_planes(face[1]) && on_planes(face[2]))
+      if (spec.on_planes(face[0]) && spec.on_planes(face[1]) && spec.on_planes(face[2]))
         links.cap_faces.emplace_back(FaceKey(face), part[t]);
     }
   }
