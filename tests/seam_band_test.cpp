@@ -612,6 +612,21 @@ TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
   EXPECT_GT(grown_there_total, 0);  // thin pieces: some bands grew where their bulks were kept
 }
 
+// Each piece split where it was meshed (one layer), its Steiner points numbered from 2^30 there
+// and its bulk kept there by `kept` (whose bands grow there), added to `welder`.
+void add_split_where_meshed(Welder& welder, KeptWhereMeshed& kept, const MeshedPieces& s, const BandSpec& spec,
+                            bool caps) {
+  BandSpec there = spec;
+  there.split_point_count = 1 << 30;
+  if (caps) there.end_removed = 1 << 30;
+  welder.split_on_arrival(spec);
+  for (std::size_t p = 0; p < s.results.size(); ++p) {
+    PieceBand piece = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
+    kept.keep(piece.index, std::move(piece.bulk));
+    welder.add_split(std::move(piece), kept);
+  }
+}
+
 // The chains can be found from what each piece's band part tells (its parts, the vertices to
 // remove in each, its open cap faces: band_part_links, issue 22) without the welded band: the
 // same chains as on the welded band and as on the whole welded mesh, whether the pieces were
@@ -637,28 +652,92 @@ TEST(SeamBand, TheBandPartsLinksGiveTheChainsOfTheWeldedBand) {
           for (const auto& result : s.results) at_end.add(PieceTetMesh(result));
           const TetMesh band = at_end.finish_band(split.points, spec);
           EXPECT_EQ(seam_chain_planes(band, split, options), chains);
-          EXPECT_EQ(seam_chain_planes(at_end.take_band_links(), split, options), chains);
+          EXPECT_EQ(seam_chain_plan(at_end.take_band_links(), split, options).planes, chains);
           if (layers == 0) {  // one layer: split where meshed, grown where kept
-            BandSpec there = spec;
-            there.split_point_count = 1 << 30;
-            if (caps) there.end_removed = 1 << 30;
             KeptWhereMeshed kept(false, true);
             Welder grown_there(split, s.prepared.pieces);
-            grown_there.split_on_arrival(spec);
-            for (std::size_t p = 0; p < s.results.size(); ++p) {
-              PieceBand split_piece =
-                  split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
-              kept.keep(split_piece.index, std::move(split_piece.bulk));
-              grown_there.add_split(std::move(split_piece), kept);
-            }
+            add_split_where_meshed(grown_there, kept, s, spec, caps);
             grown_there.finish_band(split.points, spec);
-            EXPECT_EQ(seam_chain_planes(grown_there.take_band_links(), split, options), chains);
+            EXPECT_EQ(seam_chain_plan(grown_there.take_band_links(), split, options).planes, chains);
           }
           most_chains = std::max(most_chains, chains.size());
           for (const auto& chain : chains) longest_chain = std::max(longest_chain, chain.size());
         }
   EXPECT_GE(most_chains, 5u);
   EXPECT_GE(longest_chain, 3u);
+}
+
+void expect_same_chain(const ChainBand& welded, const ChainBand& cut) {
+  EXPECT_EQ(welded.planes, cut.planes);
+  EXPECT_EQ(welded.global_ids, cut.global_ids);
+  EXPECT_EQ(welded.band_tets, cut.band_tets);
+  EXPECT_EQ(welded.mesh.points, cut.mesh.points);
+  EXPECT_EQ(welded.mesh.tets, cut.mesh.tets);
+  EXPECT_EQ(welded.mesh.neighbours, cut.mesh.neighbours);
+  EXPECT_EQ(welded.mesh.piece, cut.mesh.piece);
+  EXPECT_EQ(welded.input.triangles, cut.input.triangles);
+  EXPECT_EQ(welded.split.input_vertex_count, cut.split.input_vertex_count);
+  EXPECT_EQ(welded.split.cut_vertex_plane, cut.split.cut_vertex_plane);
+  EXPECT_EQ(welded.split.cap_point_plane, cut.split.cap_point_plane);
+  EXPECT_EQ(welded.split.triangles, cut.split.triangles);
+  EXPECT_EQ(welded.split.parent, cut.split.parent);
+}
+
+// Each chain can be welded from its pieces' shares of it (chain_share: each piece's band part
+// cut by the chains of its parts, as the links plan them; issue 22, item 2: the owners of the
+// band parts can send these to the rank that heals the chain): the chain is the one cut out of
+// the welded band, point for point and tet for tet, whatever the order of the shares, whether
+// the pieces were split at the end or where they were meshed with their bands grown there; and
+// the chains hold every tet of the band.
+TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
+  std::size_t most_shares = 0;
+  for (const char* name : {"sphere", "torus", "genus3", "nested"})
+    for (const int k : {3, 12})
+      for (const int layers : {0, 2})
+        for (const bool caps : {false, true})
+          for (const bool where_meshed : {false, true}) {
+            if ((layers > 0 && !caps) || (where_meshed && layers > 0)) continue;
+            SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + " layers=" + std::to_string(layers) +
+                         (caps ? " caps" : " cuts") + (where_meshed ? " split where meshed" : ""));
+            const SurfaceMesh input = generate_surface(name, 1500);
+            const MeshedPieces s = mesh_pieces_in_batch(input, k);
+            const SplitSurface& split = s.prepared.split;
+            const HealOptions options{caps, layers, false};
+            const BandSpec spec = band_spec(split, caps, layers + 1);
+            KeptWhereMeshed kept(false, true);
+            Welder welder(split, s.prepared.pieces);
+            if (where_meshed) {
+              add_split_where_meshed(welder, kept, s, spec, caps);
+            } else {
+              for (const auto& result : s.results) welder.add(PieceTetMesh(result));
+            }
+            welder.split_bands(spec);
+            const SeamChainPlan plan = seam_chain_plan(welder.take_band_links(), split, options);
+            const std::vector<BandPartPlace> places = welder.band_part_places();
+            std::vector<std::vector<ChainShare>> shares(plan.planes.size());
+            for (std::size_t p = 0; p < places.size(); ++p) {
+              const BandPartChains in_chains = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
+              for (std::size_t i = 0; i < in_chains.chains.size(); ++i) {
+                const int c = in_chains.chains[i];
+                shares.at(static_cast<std::size_t>(c))
+                    .push_back(chain_share(welder.band_part(p), c, in_chains.tets[i], places[p], split.points));
+              }
+            }
+            TetMesh band = welder.weld_bands(split.points);
+            std::vector<ChainParts> parts = chain_parts(band, split, plan.planes, options);
+            const std::vector<std::vector<std::int32_t>> triangles = chain_split_triangles(split, plan.planes);
+            std::size_t in_chains = 0;
+            for (std::size_t c = 0; c < plan.planes.size(); ++c) {
+              most_shares = std::max(most_shares, shares[c].size());
+              std::reverse(shares[c].begin(), shares[c].end());  // (any order)
+              const ChainBand cut = cut_out_chain(band, input, split, plan.planes[c], std::move(parts[c]));
+              const ChainBand welded = weld_chain(std::move(shares[c]), input, split, plan.planes[c], triangles[c]);
+              expect_same_chain(welded, cut);
+              in_chains += cut.band_tets.size();
+            }
+            EXPECT_EQ(in_chains, band.tets.size());
+          }
+  EXPECT_GE(most_shares, 3u);  // a chain over several pieces
 }
 
 // On the generated inputs the parts that meet across a cap also share a cut's vertices, so the
@@ -734,14 +813,14 @@ TEST(SeamBand, ARegionFailingInTheBandHealsOverTheWholeMesh) {
   PreparedPieces prepared = s.prepared;
   Welder welder(prepared.split, prepared.pieces);
   for (const auto& result : s.results) welder.add(PieceTetMesh(result));
-  TetMesh band = weld_bands(welder, prepared, s.options);
+  split_bands(welder, prepared, s.options);
   int batches = 0;
   BatchScheduler failing([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
     std::vector<PieceOutcome> outcomes = mesh_pieces_here(regions, PieceRunner(tetgen, s.options.run));
     if (++batches <= 4) outcomes.front().failure = Failure(FailureKind::changed_boundary, -1, {}, "refused by the test");
     return outcomes;
   });
-  const MeshResult result = finish_mesh(input, s.prepared, welder, std::move(band), s.options, failing);
+  const MeshResult result = finish_mesh(input, prepared, welder, s.options, failing);
   EXPECT_GE(batches, 5);
   EXPECT_EQ(result.seam.cut_vertices_removed, s.prepared.split.cut_vertex_count());
   EXPECT_GT(result.seam.tets_in, 0);

@@ -436,52 +436,89 @@ SeamStats chains_stats(const std::vector<HealedChain>& healed) {
   return stats;
 }
 
+// The welder's band parts by chain: where each chain's tets are, piece by piece.
+struct BandByChains {
+  SeamChainPlan plan;
+  std::vector<BandPartPlace> places;   // by piece
+  std::vector<BandPartChains> pieces;  // by piece
+  std::vector<std::vector<std::int32_t>> split_triangles;  // by chain
+  std::vector<std::size_t> tets;                           // by chain
+
+  BandByChains(Welder& welder, const SplitSurface& split, const HealOptions& options)
+      : plan(seam_chain_plan(welder.take_band_links(), split, options)),
+        places(welder.band_part_places()),
+        split_triangles(chain_split_triangles(split, plan.planes)),
+        tets(plan.planes.size(), 0) {
+    for (std::size_t p = 0; p < places.size(); ++p) {
+      pieces.push_back(band_part_chains(welder.band_part(p), plan.chain_of_part[p]));
+      for (std::size_t i = 0; i < pieces[p].chains.size(); ++i) tets[pieces[p].chains[i]] += pieces[p].tets[i].size();
+    }
+  }
+  // Chain c welded from its pieces' shares.
+  ChainBand chain(const Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
+                  const std::vector<Point3>& split_points) const {
+    std::vector<ChainShare> shares;
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      const auto& chains = pieces[p].chains;
+      const auto it = std::lower_bound(chains.begin(), chains.end(), static_cast<int>(c));
+      if (it == chains.end() || *it != static_cast<int>(c)) continue;
+      shares.push_back(chain_share(welder.band_part(p), static_cast<int>(c),
+                                   pieces[p].tets[static_cast<std::size_t>(it - chains.begin())], places[p], split_points));
+    }
+    return weld_chain(std::move(shares), input, split, plan.planes[c], split_triangles[c]);
+  }
+};
+
 // Heals the band chain by chain (seam_chain_band.hpp), the chains found from the links of the
-// pieces' band parts (the welder's): each chain is cut out of the band, healed
-// (on a rank of its own when there are several), and put back, so the band is the same however
-// many ranks healed it. Throws the MeshingError of the first chain that failed; the band is then
-// as it was.
-SeamStats heal_band_by_chains(TetMesh& band, const std::vector<BandPartLinks>& band_parts, const SurfaceMesh& input,
-                              const SplitSurface& split, const HealOptions& options, RegionMeshers& meshers) {
+// pieces' band parts (the welder's): each chain is welded from its pieces' shares, healed (on a
+// rank of its own when there are several), and put back into the band, which is welded once no
+// chain needs the parts; so the band is the same however many ranks healed it. Throws the
+// MeshingError of the first chain that failed; `band` is then as welded.
+SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points, TetMesh& band,
+                              const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
+                              RegionMeshers& meshers) {
   StepClock clock;
-  const std::vector<std::vector<int>> planes = seam_chain_planes(band_parts, split, options);
-  std::vector<ChainParts> parts = chain_parts(band, split, planes, options);
+  const BandByChains by_chains(welder, split, options);
+  const std::size_t count = by_chains.plan.planes.size();
   clock.lap("chains");
-  std::vector<ChainBand> chains(planes.size());  // what stays here of each: its ids and tets in the band
+  std::vector<ChainBand> chains(count);  // what stays here of each: its ids and tets in the band
   // The largest chains first, so that no rank is left with a large one at the end.
-  std::vector<std::size_t> order(planes.size());
+  std::vector<std::size_t> order(count);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return parts[a].tets.size() > parts[b].tets.size(); });
+                   [&](std::size_t a, std::size_t b) { return by_chains.tets[a] > by_chains.tets[b]; });
   const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
     const std::size_t i = order[j];
-    ChainBand chain = cut_out_chain(band, input, split, planes[i], std::move(parts[i]));
+    ChainBand chain = by_chains.chain(welder, i, input, split, split_points);
     chains[i].global_ids = chain.global_ids;
     chains[i].band_tets = chain.band_tets;
     return chain;
   };
-  std::vector<HealedChain> in_order = meshers.heal_chains(planes.size(), cut_out, options);
-  std::vector<HealedChain> healed(planes.size());
+  std::vector<HealedChain> in_order = meshers.heal_chains(count, cut_out, options);
+  std::vector<HealedChain> healed(count);
   for (std::size_t j = 0; j < in_order.size(); ++j) healed[order[j]] = std::move(in_order[j]);
   clock.lap("healing");
+  band = welder.weld_bands(std::move(split_points));
+  clock.lap("weld");
   const SeamStats stats = chains_stats(healed);
   put_back_chains(band, chains, std::move(healed));
   clock.lap("put back");
-  log::debug("seam healing by " + std::to_string(planes.size()) + " chains of cuts: " + clock.steps);
+  log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps);
   return stats;
 }
 
 // 5. Heals the band alone; a part that failed (other than by running out of time or refining
 // without end) may have needed to grow past the band's edge, so the seams heal over the whole
 // mesh, as far as they need to grow.
-TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& welder, TetMesh&& band,
-                  const HealOptions& options, RegionMeshers& meshers, SeamStats& stats,
+TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, std::vector<Point3>&& split_points,
+                  Welder& welder, const HealOptions& options, RegionMeshers& meshers, SeamStats& stats,
                   std::shared_ptr<SpreadMesh>* spread, bool spread_neighbours) {
-  const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + band.tets.size());
+  const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + welder.band_tet_count());
   HealOptions on_band = options;
   on_band.drop_points = false;
+  TetMesh band;
   try {
-    stats = heal_band_by_chains(band, welder.take_band_links(), input, split, on_band, meshers);
+    stats = heal_band_by_chains(welder, std::move(split_points), band, input, split, on_band, meshers);
     const double start = now_seconds();
     if (spread && welder.keeps_bulks_elsewhere()) {
       *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours));
@@ -502,6 +539,7 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, Welder& w
       throw;
     log::debug(std::string("seam healing goes on over the whole mesh: ") + error.what());
   }
+  if (band.points.empty()) band = welder.weld_bands(std::move(split_points));  // (failed before the chains healed)
   TetMesh mesh = welder.assemble(std::move(band), false);
   stats = heal_seams(mesh, input, split, options, meshers.seams());
   stats.tets_out = std::count(mesh.piece.begin(), mesh.piece.end(), -1);
@@ -546,26 +584,25 @@ bool leaves_spread(const MeshOptions& options, std::size_t tets) {
 
 }  // namespace
 
-MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, Welder& welder, TetMesh&& band,
-                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times) {
+MeshResult finish_mesh(const SurfaceMesh& input, PreparedPieces& prepared, Welder& welder, const MeshOptions& options,
+                       PieceScheduler& scheduler, StageTimes* times) {
   StageTimer timer(times);
   MeshResult result;
   RegionMeshers meshers(options, scheduler);
-  const bool spread = leaves_spread(options, band.tets.size() + welder.bulk_tet_count());
-  result.mesh = heal_band(input, prepared.split, welder, std::move(band), heal_options(options), meshers,
-                          result.seam, spread ? &result.spread : nullptr, options.spread_neighbours);
+  const bool spread = leaves_spread(options, welder.band_tet_count() + welder.bulk_tet_count());
+  result.mesh = heal_band(input, prepared.split, std::move(prepared.split.points), welder, heal_options(options),
+                          meshers, result.seam, spread ? &result.spread : nullptr, options.spread_neighbours);
   timer.lap("seam_healing");
   finish_healed(input, prepared, options, meshers, timer, result);
   return result;
 }
 
-TetMesh weld_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& options) {
+void split_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& options) {
   const BandSpec spec = seam_band_spec(prepared.split, heal_options(options));
   for (PieceSurface& piece : prepared.pieces) std::vector<std::int32_t>().swap(piece.global_ids);
-  TetMesh band = welder.finish_band(std::move(prepared.split.points), spec);
-  log::debug("seam bands: " + std::to_string(band.tets.size()) + " of " +
-             std::to_string(band.tets.size() + welder.bulk_tet_count()) + " tets");
-  return band;
+  welder.split_bands(spec);
+  log::debug("seam bands: " + std::to_string(welder.band_tet_count()) + " of " +
+             std::to_string(welder.band_tet_count() + welder.bulk_tet_count()) + " tets");
 }
 
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, std::vector<PieceTetMesh>&& results,
@@ -574,12 +611,12 @@ MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared,
   PreparedPieces bands = prepared;  // its split's points move into the band mesh
   MeshedAttempt attempt(options, bands);
   for (auto& result : results) attempt.welder.add(std::move(result));
-  TetMesh band = weld_bands(attempt.welder, bands, options);
+  split_bands(attempt.welder, bands, options);
   timer.lap("merge");
   BatchScheduler here([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
     return mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
   });
-  MeshResult result = finish_mesh(input, prepared, attempt.welder, std::move(band), options, here, times);
+  MeshResult result = finish_mesh(input, bands, attempt.welder, options, here, times);
   attempt.note_bulks(result);
   return result;
 }
@@ -663,10 +700,9 @@ MeshResult mesh_keeping_triangles(const SurfaceMesh& input, const MeshOptions& o
           last.reset();
           continue;
         }
-        TetMesh band = weld_bands(attempt.welder, prepared, attempt_options);
+        split_bands(attempt.welder, prepared, attempt_options);
         timer.lap("merge");
-        MeshResult result =
-            finish_mesh(input, prepared, attempt.welder, std::move(band), attempt_options, scheduler, times);
+        MeshResult result = finish_mesh(input, prepared, attempt.welder, attempt_options, scheduler, times);
         result.retries = plan.take_records();
         result.merge_seconds_overlapped = attempt.weld_seconds;
         attempt.note_bulks(result);

@@ -213,12 +213,13 @@ class BatchScheduler : public PieceScheduler {
 // parallel).
 MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, TetMesh&& welded,
                        const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
-// 4. Welds the pieces' bands alone (seam_band.hpp), every piece in: the pieces' global ids go, and
-// the split's points move into the band mesh.
-TetMesh weld_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& options);
-// 5. Heal the seams on the band alone, then join it to the bulks the welder kept.
-MeshResult finish_mesh(const SurfaceMesh& input, const PreparedPieces& prepared, Welder& welder, TetMesh&& band,
-                       const MeshOptions& options, PieceScheduler& scheduler, StageTimes* times = nullptr);
+// 4. Splits the pieces into their band parts and bulks (seam_band.hpp), every piece in: the
+// pieces' global ids go.
+void split_bands(Welder& welder, PreparedPieces& prepared, const MeshOptions& options);
+// 5. Heal the seams on the band alone, each chain welded from its pieces' band parts, then join
+// the band to the bulks the welder kept. The split's points move into the band mesh.
+MeshResult finish_mesh(const SurfaceMesh& input, PreparedPieces& prepared, Welder& welder, const MeshOptions& options,
+                       PieceScheduler& scheduler, StageTimes* times = nullptr);
 
 // Whether a mesh that may stay on its ranks is assembled after all, to be checked in memory
 // (MeshOptions::assemble_if_available_bytes): when this process has the bytes it needs, and the

@@ -315,6 +315,11 @@ void Welder::rejoin(std::size_t p) {
 }
 
 TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
+  split_bands(spec);
+  return weld_bands(std::move(split_points));
+}
+
+void Welder::split_bands(BandSpec spec) {
   for (std::size_t p = 0; p < blocks_.size(); ++p)
     if (!blocks_[p].in) mismatch(static_cast<int>(p), "is missing");
   spec.split_point_count = first_steiner_;
@@ -322,12 +327,6 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
       (spec.layers != split_on_arrival_->layers || spec.first_removed != split_on_arrival_->first_removed ||
        spec.end_removed != split_on_arrival_->end_removed))
     throw InternalError("the pieces were split on arrival for other bands");
-  std::size_t steiner_total = 0;
-  for (std::size_t p = 0; p < blocks_.size(); ++p)
-    steiner_total += bulks_[p].in ? bulk_steiner_points(p) : blocks_[p].steiner_points.size();
-  // Room for every piece's Steiner points, which the assembly adds: growing the array then would
-  // copy every point while the old array still exists (270 MB at 22.1M input faces).
-  reserve_with_room(split_points, split_points.size() + steiner_total);
   if (all_split()) {
     take_crossings();
   } else {
@@ -344,6 +343,32 @@ TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
   band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
   band_links_.clear();
   for (const Block& block : blocks_) band_links_.push_back(band_part_links(block, spec));
+}
+
+std::size_t Welder::band_tet_count() const {
+  std::size_t tets = 0;
+  for (const Block& block : blocks_) tets += block.tets.size();
+  return tets;
+}
+
+std::vector<BandPartPlace> Welder::band_part_places() const {
+  std::vector<BandPartPlace> places;
+  std::int32_t tets = 0, steiner_points = 0;
+  for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    places.push_back({pieces_[p].index, tets, first_steiner_, first_steiner_ + steiner_points});
+    tets += static_cast<std::int32_t>(blocks_[p].tets.size());
+    steiner_points += static_cast<std::int32_t>(blocks_[p].steiner_points.size());
+  }
+  return places;
+}
+
+TetMesh Welder::weld_bands(std::vector<Point3> split_points) {
+  if (!all_split()) throw InternalError("the welder welds the bands only after split_bands");
+  std::size_t steiner_total = 0;
+  for (std::size_t p = 0; p < blocks_.size(); ++p) steiner_total += bulk_steiner_points(p);
+  // Room for every piece's Steiner points, which the assembly adds: growing the array then would
+  // copy every point while the old array still exists (270 MB at 22.1M input faces).
+  reserve_with_room(split_points, split_points.size() + steiner_total);
   TetMesh band = weld_blocks(std::move(split_points), blocks_);
   band_used_before_ = used_vertices<bool>(band.points.size(), band.tets);
   return band;

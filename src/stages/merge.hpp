@@ -84,8 +84,16 @@ class Welder {
   // numbered as the whole welded mesh would be, except that only the bands' Steiner points follow
   // the split surface's. Its tets are the bands' in piece order.
   TetMesh finish_band(std::vector<Point3> split_points, BandSpec spec);
-  // After finish_band, once: the links of each piece's band (band_part_links), which give the
-  // chains (seam_chain_planes) without the welded band.
+  // finish_band in two steps: the pieces split into their band parts and bulks (the band parts
+  // then grown, their links made), then the band parts welded into the band mesh.
+  void split_bands(BandSpec spec);
+  TetMesh weld_bands(std::vector<Point3> split_points);
+  // Between the two: piece p's band part (its Steiner point b is split_point_count + b), and where
+  // each piece's band part goes in the welded band (chain_share).
+  const TetBlock& band_part(std::size_t p) const { return blocks_.at(p); }
+  std::vector<BandPartPlace> band_part_places() const;
+  // After split_bands, once: the links of each piece's band (band_part_links), which give the
+  // chains (seam_chain_plan) without the welded band.
   std::vector<BandPartLinks> take_band_links() { return std::move(band_links_); }
   // After the band was healed with its points kept: the mesh of every bulk in piece order, then
   // the healed band, joined across the caps and the bands' edges. Points: the split surface's,
@@ -107,8 +115,10 @@ class Welder {
   SpreadMesh spread(TetMesh&& healed_band, bool faces_across = true);
   // Whether an owner's store keeps a bulk (the pieces were split where they were meshed).
   bool keeps_bulks_elsewhere() const;
-  // The tets the bulks hold (after finish_band).
+  // The tets the bulks hold (after finish_band, or split_bands); the tets the band parts hold
+  // (after split_bands, before weld_bands).
   std::size_t bulk_tet_count() const;
+  std::size_t band_tet_count() const;
 
  private:
   using Block = TetBlock;

@@ -89,6 +89,14 @@ struct PieceBand {
   std::int64_t bulk_tets = 0, bulk_steiner_points = 0;  // the bulk's, also once it is elsewhere
 };
 
+// Where a piece's band part goes in the welded band (Welder::finish_band): the band's id of its
+// first tet, and the ids of its first Steiner point in the part and in the band.
+struct BandPartPlace {
+  int piece = 0;
+  std::int32_t first_tet = 0;
+  std::int32_t steiner_from = 0, steiner_to = 0;
+};
+
 // A piece's mesh in global ids: its surface points through global_ids, its Steiner point s as
 // first_steiner + s. Frees the result's arrays.
 TetBlock in_global_ids(PieceTetMesh&& result, const std::vector<std::int32_t>& global_ids, std::int32_t first_steiner);

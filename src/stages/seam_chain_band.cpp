@@ -6,6 +6,7 @@
 
 #include "common/stage_timer.hpp"
 #include "partet/errors.hpp"
+#include "stages/seam_chains.hpp"
 #include "stages/topology.hpp"
 
 namespace partet {
@@ -99,18 +100,122 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
   }
 }
 
-// The split triangles of each chain.
-void chain_triangles(const SplitSurface& split, const std::vector<int>& chain_of_plane, std::vector<ChainParts>& parts) {
+// The shares' points, merged by id, into the chain's points (global_ids, mesh.points).
+void weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
+  std::vector<std::pair<std::int32_t, const Point3*>> points;
+  for (const ChainShare& share : shares)
+    for (std::size_t i = 0; i < share.point_ids.size(); ++i) points.emplace_back(share.point_ids[i], &share.points[i]);
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [id, point] : points)
+    if (chain.global_ids.empty() || chain.global_ids.back() != id) {
+      chain.global_ids.push_back(id);
+      chain.mesh.points.push_back(*point);
+    }
+}
+
+// The shares' tets, in band order, in the chain's ids; joined across the caps where two pieces'
+// shares meet, as the welded band joins them.
+void weld_tets(const std::vector<ChainShare>& shares, ChainBand& chain) {
+  for (const ChainShare& share : shares) {
+    if (!chain.band_tets.empty() && !share.band_tets.empty() && share.band_tets.front() <= chain.band_tets.back())
+      throw InternalError("two shares of a seam chain hold the same tets of the band");
+    const auto first = static_cast<std::int32_t>(chain.mesh.tets.size());
+    chain.band_tets.insert(chain.band_tets.end(), share.band_tets.begin(), share.band_tets.end());
+    for (std::size_t t = 0; t < share.tets.size(); ++t) {
+      Tet local, across = share.neighbours[t];
+      for (int j = 0; j < 4; ++j) {
+        local[j] = local_id(chain.global_ids, share.tets[t][j]);
+        if (across[j] >= 0) across[j] += first;
+      }
+      chain.mesh.tets.push_back(local);
+      chain.mesh.neighbours.push_back(across);
+    }
+    chain.mesh.piece.resize(chain.mesh.tets.size(), share.piece);
+  }
+  connect_open_faces(chain.mesh.tets, chain.mesh.neighbours, nullptr);
+}
+
+}  // namespace
+
+std::vector<std::vector<std::int32_t>> chain_split_triangles(const SplitSurface& split,
+                                                             const std::vector<std::vector<int>>& chains) {
+  const std::vector<int> chain_of_plane = chain_of_planes(split, chains);
+  std::vector<std::vector<std::int32_t>> triangles(chains.size());
   for (std::size_t t = 0; t < split.triangles.size(); ++t) {
     const Triangle& f = split.triangles[t];
     const auto cut = std::find_if(f.begin(), f.end(), [&](std::int32_t v) { return split.is_cut_vertex(v); });
     if (cut == f.end()) continue;
     const int chain = chain_of_plane[split.cut_vertex_plane[*cut - split.input_vertex_count]];
-    if (chain >= 0) parts[chain].split_triangles.push_back(static_cast<std::int32_t>(t));
+    if (chain >= 0) triangles[chain].push_back(static_cast<std::int32_t>(t));
   }
+  return triangles;
 }
 
-}  // namespace
+BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& chain_of_part) {
+  const std::vector<std::int32_t> part = band_part_labels(band);
+  BandPartChains chains;
+  for (const int chain : chain_of_part)
+    if (chain >= 0) chains.chains.push_back(chain);
+  std::sort(chains.chains.begin(), chains.chains.end());
+  chains.chains.erase(std::unique(chains.chains.begin(), chains.chains.end()), chains.chains.end());
+  chains.tets.resize(chains.chains.size());
+  for (std::size_t t = 0; t < band.tets.size(); ++t) {
+    const int chain = chain_of_part.at(static_cast<std::size_t>(part[t]));
+    if (chain < 0) continue;
+    const auto at = std::lower_bound(chains.chains.begin(), chains.chains.end(), chain) - chains.chains.begin();
+    chains.tets[static_cast<std::size_t>(at)].push_back(static_cast<std::int32_t>(t));
+  }
+  return chains;
+}
+
+ChainShare chain_share(const TetBlock& band, int chain, const std::vector<std::int32_t>& tets,
+                       const BandPartPlace& place, const std::vector<Point3>& split_points) {
+  ChainShare share;
+  share.chain = chain;
+  share.piece = place.piece;
+  auto band_id = [&](std::int32_t v) { return v >= place.steiner_from ? v - place.steiner_from + place.steiner_to : v; };
+  // A tet's neighbours are in its part, so in its share.
+  auto at = [&](std::int32_t t) {
+    if (t < 0) return std::int32_t{-1};
+    const auto it = std::lower_bound(tets.begin(), tets.end(), t);
+    if (it == tets.end() || *it != t) throw InternalError("a seam chain's share lacks a tet its part joins");
+    return static_cast<std::int32_t>(it - tets.begin());
+  };
+  for (const std::int32_t t : tets) {
+    share.band_tets.push_back(place.first_tet + t);
+    Tet tet, across;
+    for (int j = 0; j < 4; ++j) {
+      tet[j] = band_id(band.tets[t][j]);
+      across[j] = at(band.neighbours[t][j]);
+    }
+    share.tets.push_back(tet);
+    share.neighbours.push_back(across);
+    share.point_ids.insert(share.point_ids.end(), tet.begin(), tet.end());
+  }
+  std::sort(share.point_ids.begin(), share.point_ids.end());
+  share.point_ids.erase(std::unique(share.point_ids.begin(), share.point_ids.end()), share.point_ids.end());
+  share.points.reserve(share.point_ids.size());
+  for (const std::int32_t id : share.point_ids)
+    share.points.push_back(id < place.steiner_to ? split_points.at(static_cast<std::size_t>(id))
+                                                 : band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to)));
+  return share;
+}
+
+ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
+                     const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles) {
+  for (const ChainShare& share : shares)
+    if (share.chain != shares.front().chain) throw InternalError("a seam chain was welded from shares of several chains");
+  std::sort(shares.begin(), shares.end(), [](const ChainShare& a, const ChainShare& b) {
+    return a.band_tets.empty() || (!b.band_tets.empty() && a.band_tets.front() < b.band_tets.front());
+  });
+  ChainBand chain;
+  chain.planes = planes;
+  weld_points(shares, chain);
+  weld_tets(shares, chain);
+  shares.clear();
+  cut_out_split(split, input, split_triangles, chain);
+  return chain;
+}
 
 std::vector<ChainParts> chain_parts(const TetMesh& band, const SplitSurface& split,
                                     const std::vector<std::vector<int>>& chains, const HealOptions& options) {
@@ -138,7 +243,8 @@ std::vector<ChainParts> chain_parts(const TetMesh& band, const SplitSurface& spl
   std::vector<ChainParts> parts(chains.size());
   for (std::size_t t = 0; t < label.size(); ++t)
     if (label[t] >= 0) parts[label[t]].tets.push_back(static_cast<std::int32_t>(t));
-  chain_triangles(split, chain_of_plane, parts);
+  std::vector<std::vector<std::int32_t>> triangles = chain_split_triangles(split, chains);
+  for (std::size_t c = 0; c < parts.size(); ++c) parts[c].split_triangles = std::move(triangles[c]);
   return parts;
 }
 

@@ -1,9 +1,10 @@
-// A chain's band (internal header): the part of the welded band that one chain of cuts heals
-// (seam_chains.hpp), cut out with ids of its own and with what its healing reads of the input
-// and of the split surface, so that it can heal anywhere (on a rank of its own); and the band
-// with the healed chains put back. The ids keep their order (a chain's points are numbered by
-// their ids in the band, ascending), so a chain heals as it would in the band: its regions reach
-// TetGen as the same surfaces.
+// A chain's band (internal header): the part of the band that one chain of cuts heals
+// (seam_chains.hpp), welded from its pieces' shares of their band parts (or cut out of the welded
+// band) with ids of its own and with what its healing reads of the input and of the split
+// surface, so that it can heal anywhere (on a rank of its own); and the band with the healed
+// chains put back. The ids keep their order (a chain's points are numbered by their ids in the
+// band, ascending), so a chain heals as it would in the band: its regions reach TetGen as the
+// same surfaces.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -37,9 +38,47 @@ struct ChainParts {
 std::vector<ChainParts> chain_parts(const TetMesh& band, const SplitSurface& split,
                                     const std::vector<std::vector<int>>& chains, const HealOptions& options);
 
-// The chain of these planes and parts (chain_parts), cut out of `band`.
+// The chain of these planes and parts (chain_parts), cut out of `band`: what weld_chain gives
+// without the welded band (the tests compare them).
 ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
                         const std::vector<int>& planes, ChainParts&& parts);
+
+// The split triangles of each chain (the planes of whole chains): those with a cut vertex on its
+// planes, ascending.
+std::vector<std::vector<std::int32_t>> chain_split_triangles(const SplitSurface& split,
+                                                             const std::vector<std::vector<int>>& chains);
+
+// One piece's tets in one chain, cut out of its band part wherever that is kept, in the welded
+// band's ids: what the piece gives the rank that heals the chain (issue 22).
+struct ChainShare {
+  int chain = -1;
+  int piece = 0;
+  std::vector<std::int32_t> band_tets;  // the band's ids of its tets, ascending
+  std::vector<Tet> tets;                // in the band's ids
+  std::vector<Tet> neighbours;          // within the share, -1 elsewhere
+  std::vector<std::int32_t> point_ids;  // the band's ids of the points its tets use, ascending
+  std::vector<Point3> points;           // their coordinates
+};
+
+// A piece's band part's tets by chain (chain_of_part: the piece's SeamChainPlan::chain_of_part):
+// the chains it has tets in, ascending, and those tets, ascending.
+struct BandPartChains {
+  std::vector<int> chains;
+  std::vector<std::vector<std::int32_t>> tets;  // by place in `chains`
+};
+BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& chain_of_part);
+
+// The share of chain `chain` of a piece's band part (Welder::band_part), whose tets in it are
+// `tets` (ascending: BandPartChains), `place` where the part goes in the band
+// (Welder::band_part_places), split_points the split surface's points (the piece's own do).
+ChainShare chain_share(const TetBlock& band, int chain, const std::vector<std::int32_t>& tets,
+                       const BandPartPlace& place, const std::vector<Point3>& split_points);
+
+// The chain of these planes welded from its pieces' shares (in any order) and its split
+// triangles (chain_split_triangles): the chain cut_out_chain cuts out of the welded band, without
+// the welded band. Throws InternalError when the shares are of several chains or overlap.
+ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
+                     const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles);
 
 // A chain healed, wherever that was: in its ids, its points then new_points.
 struct HealedChain {

@@ -34,9 +34,10 @@ std::vector<std::int32_t> band_tets(const TetMesh& mesh, std::int32_t first, con
 
 // The chains of the groups whose vertices lie in the parts `parts` joins: removed(i, add) calls
 // add(v) for each vertex v to remove in part i (a group may lie in several parts: a cut's loops).
+// With chain_of_part, also the chain of each part (-1: no vertex to remove where it is joined).
 template <class ForEachRemoved>
 SeamChains join_groups(DisjointSets& parts, std::int32_t first, const std::vector<int>& group, int groups,
-                       const ForEachRemoved& removed) {
+                       const ForEachRemoved& removed, std::vector<int>* chain_of_part = nullptr) {
   DisjointSets joined(0, static_cast<std::size_t>(groups));
   std::vector<int> group_of_part(parts.size(), -1);
   std::vector<char> present(static_cast<std::size_t>(groups), 0);
@@ -60,6 +61,13 @@ SeamChains join_groups(DisjointSets& parts, std::int32_t first, const std::vecto
     int& n = number[joined.find(g)];
     if (n < 0) n = chains.count++;
     chains.of_group[g] = n;
+  }
+  if (chain_of_part) {
+    chain_of_part->assign(parts.size(), -1);
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      const int g = group_of_part[parts.find(static_cast<std::int32_t>(i))];
+      if (g >= 0) (*chain_of_part)[i] = chains.of_group[g];
+    }
   }
   return chains;
 }
@@ -85,13 +93,16 @@ SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vecto
   });
 }
 
-BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec) {
-  // Parts numbered in the order of their first tet.
+std::vector<std::int32_t> band_part_labels(const TetBlock& band) {
   std::vector<std::int32_t> part;
-  const std::int32_t parts = label_tet_regions(
-      band.neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, part);
+  label_tet_regions(band.neighbours, [](std::size_t) { return true; }, [](std::size_t, int) { return true; }, part);
+  return part;
+}
+
+BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec) {
+  const std::vector<std::int32_t> part = band_part_labels(band);
   BandPartLinks links;
-  links.removed.resize(static_cast<std::size_t>(parts));
+  links.removed.resize(part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1));
   for (std::size_t t = 0; t < band.tets.size(); ++t) {
     const Tet& tet = band.tets[t];
     for (auto v : tet)
@@ -129,10 +140,18 @@ SeamChains seam_chains(const std::vector<BandPartLinks>& pieces, std::int32_t fi
   for (std::size_t p = 0; p < pieces.size(); ++p)
     std::fill(piece_of.begin() + static_cast<std::ptrdiff_t>(offset[p]),
               piece_of.begin() + static_cast<std::ptrdiff_t>(offset[p + 1]), p);
-  return join_groups(parts, first, group, groups, [&](std::size_t i, const auto& add) {
-    const std::size_t p = piece_of[i];
-    for (auto v : pieces[p].removed[i - offset[p]]) add(v);
-  });
+  std::vector<int> chain_of_part;
+  SeamChains chains = join_groups(
+      parts, first, group, groups,
+      [&](std::size_t i, const auto& add) {
+        const std::size_t p = piece_of[i];
+        for (auto v : pieces[p].removed[i - offset[p]]) add(v);
+      },
+      &chain_of_part);
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    chains.of_part.emplace_back(chain_of_part.begin() + static_cast<std::ptrdiff_t>(offset[p]),
+                                chain_of_part.begin() + static_cast<std::ptrdiff_t>(offset[p + 1]));
+  return chains;
 }
 
 }  // namespace partet

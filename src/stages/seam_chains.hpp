@@ -20,6 +20,8 @@ struct SeamChains {
   std::vector<int> of_group;  // chain of each group, numbered in the order of their lowest group;
                               // -1 for a group with no vertex left
   int count = 0;
+  // Found from the band parts' links: by piece, the chain of each of its parts (-1: none).
+  std::vector<std::vector<int>> of_part;
 };
 
 // The chains of the groups of the vertices [first, first + group.size()) still to remove
@@ -41,9 +43,13 @@ struct BandPartLinks {
 // The links of a piece's band part (its tets in global ids, neighbours within the part); the
 // vertices to remove are spec's [first_removed, end_removed).
 BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec);
+// The part of each tet of a piece's band part, as band_part_links numbers them (in the order of
+// their first tet).
+std::vector<std::int32_t> band_part_labels(const TetBlock& band);
 
 // The chains of every piece's band part (by piece), as seam_chains finds them on the welded band
-// of depth `reach` = spec.layers: the groups as there.
+// of depth `reach` = spec.layers: the groups as there, and the chain of each part (of_part).
+// Each part lies in one chain: a chain is whole where its tets are joined through faces.
 SeamChains seam_chains(const std::vector<BandPartLinks>& pieces, std::int32_t first, const std::vector<int>& group,
                        int groups);
 

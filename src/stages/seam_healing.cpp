@@ -510,12 +510,15 @@ std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const Split
   }));
 }
 
-std::vector<std::vector<int>> seam_chain_planes(const std::vector<BandPartLinks>& band_parts,
-                                               const SplitSurface& split, const HealOptions& options) {
+SeamChainPlan seam_chain_plan(const std::vector<BandPartLinks>& band_parts, const SplitSurface& split,
+                              const HealOptions& options) {
   const Removed all = removed_vertices(split, options);
-  return planes_of_chains(removed_groups(all, [&](const std::vector<int>& group, int count) {
-    return seam_chains(band_parts, all.first, group, count);
-  }));
+  RemovedGroups groups = removed_groups(
+      all, [&](const std::vector<int>& group, int count) { return seam_chains(band_parts, all.first, group, count); });
+  SeamChainPlan plan;
+  plan.planes = planes_of_chains(groups);
+  plan.chain_of_part = std::move(groups.chains.of_part);
+  return plan;
 }
 
 BandSpec seam_band_spec(const SplitSurface& split, const HealOptions& options) {

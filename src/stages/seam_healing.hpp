@@ -63,9 +63,15 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
 std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
                                                const HealOptions& options);
 // The same from the links of every piece's band part (by piece; band_part_links), made with
-// seam_band_spec(split, options): no welded band is needed.
-std::vector<std::vector<int>> seam_chain_planes(const std::vector<BandPartLinks>& band_parts,
-                                               const SplitSurface& split, const HealOptions& options);
+// seam_band_spec(split, options): no welded band is needed. Also says where each chain's tets
+// are: by piece, the chain of each part of its band part (-1: none), so that a chain can be
+// welded from its pieces' shares (chain_share, weld_chain).
+struct SeamChainPlan {
+  std::vector<std::vector<int>> planes;         // by chain
+  std::vector<std::vector<int>> chain_of_part;  // by piece, then part
+};
+SeamChainPlan seam_chain_plan(const std::vector<BandPartLinks>& band_parts, const SplitSurface& split,
+                              const HealOptions& options);
 
 // The band healing with these options needs (seam_band.hpp): the stars of the vertices it
 // removes, grown by the layers its first round adds and one more, so that a later round's region
