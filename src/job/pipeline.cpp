@@ -443,6 +443,7 @@ struct BandByChains {
   std::vector<BandPartChains> pieces;  // by piece
   std::vector<std::vector<std::int32_t>> split_triangles;  // by chain
   std::vector<std::size_t> tets;                           // by chain
+  bool covers_band = false;  // every tet of the band parts is in a chain
 
   BandByChains(Welder& welder, const SplitSurface& split, const HealOptions& options)
       : plan(seam_chain_plan(welder.take_band_links(), split, options)),
@@ -453,6 +454,7 @@ struct BandByChains {
       pieces.push_back(band_part_chains(welder.band_part(p), plan.chain_of_part[p]));
       for (std::size_t i = 0; i < pieces[p].chains.size(); ++i) tets[pieces[p].chains[i]] += pieces[p].tets[i].size();
     }
+    covers_band = std::accumulate(tets.begin(), tets.end(), std::size_t{0}) == welder.band_tet_count();
   }
   // Chain c welded from its pieces' shares.
   ChainBand chain(const Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
@@ -470,10 +472,10 @@ struct BandByChains {
 };
 
 // Heals the band chain by chain (seam_chain_band.hpp), the chains found from the links of the
-// pieces' band parts (the welder's): each chain is welded from its pieces' shares, healed (on a
-// rank of its own when there are several), and put back into the band, which is welded once no
-// chain needs the parts; so the band is the same however many ranks healed it. Throws the
-// MeshingError of the first chain that failed; `band` is then as welded.
+// pieces' band parts (the welder's): each chain is welded from its pieces' shares and healed (on
+// a rank of its own when there are several); the healed chains make the band, which is never
+// welded when they hold all its tets; so the band is the same however many ranks healed it.
+// Throws the MeshingError of the first chain that failed; `band` is then as welded.
 SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points, TetMesh& band,
                               const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
                               RegionMeshers& meshers) {
@@ -498,10 +500,17 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   std::vector<HealedChain> healed(count);
   for (std::size_t j = 0; j < in_order.size(); ++j) healed[order[j]] = std::move(in_order[j]);
   clock.lap("healing");
-  band = welder.weld_bands(std::move(split_points));
-  clock.lap("weld");
-  const SeamStats stats = chains_stats(healed);
-  put_back_chains(band, chains, std::move(healed));
+  const bool failed = std::any_of(healed.begin(), healed.end(), [](const HealedChain& c) { return c.failure; });
+  SeamStats stats;
+  if (failed || !by_chains.covers_band) {  // (the band as welded for the whole mesh, or its tets outside the chains)
+    band = welder.weld_bands(std::move(split_points));
+    stats = chains_stats(healed);
+    put_back_chains(band, chains, std::move(healed));
+  } else {
+    band = welder.band_points(std::move(split_points));
+    stats = chains_stats(healed);
+    add_healed_chains(band, chains, std::move(healed));
+  }
   clock.lap("put back");
   log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps);
   return stats;

@@ -362,15 +362,36 @@ std::vector<BandPartPlace> Welder::band_part_places() const {
   return places;
 }
 
-TetMesh Welder::weld_bands(std::vector<Point3> split_points) {
+void Welder::reserve_for_assembly(std::vector<Point3>& split_points) const {
   if (!all_split()) throw InternalError("the welder welds the bands only after split_bands");
   std::size_t steiner_total = 0;
   for (std::size_t p = 0; p < blocks_.size(); ++p) steiner_total += bulk_steiner_points(p);
   // Room for every piece's Steiner points, which the assembly adds: growing the array then would
   // copy every point while the old array still exists (270 MB at 22.1M input faces).
   reserve_with_room(split_points, split_points.size() + steiner_total);
+}
+
+TetMesh Welder::weld_bands(std::vector<Point3> split_points) {
+  reserve_for_assembly(split_points);
   TetMesh band = weld_blocks(std::move(split_points), blocks_);
   band_used_before_ = used_vertices<bool>(band.points.size(), band.tets);
+  return band;
+}
+
+TetMesh Welder::band_points(std::vector<Point3> split_points) {
+  reserve_for_assembly(split_points);
+  TetMesh band;
+  band.points = std::move(split_points);
+  const std::vector<BandPartPlace> places = band_part_places();
+  for (std::size_t p = 0; p < blocks_.size(); ++p)
+    band.points.insert(band.points.end(), blocks_[p].steiner_points.begin(), blocks_[p].steiner_points.end());
+  band_used_before_.assign(band.points.size(), false);
+  for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    for (const Tet& tet : blocks_[p].tets)
+      for (const std::int32_t v : tet)
+        band_used_before_[v >= places[p].steiner_from ? v - places[p].steiner_from + places[p].steiner_to : v] = true;
+    blocks_[p] = Block();
+  }
   return band;
 }
 

@@ -88,6 +88,10 @@ class Welder {
   // then grown, their links made), then the band parts welded into the band mesh.
   void split_bands(BandSpec spec);
   TetMesh weld_bands(std::vector<Point3> split_points);
+  // Instead of weld_bands, once every chain was welded from the band parts (BandPartChains,
+  // chain_share): the band mesh's points alone, numbered as weld_bands numbers them, for the
+  // healed chains to fill (add_healed_chains). The band parts go.
+  TetMesh band_points(std::vector<Point3> split_points);
   // Between the two: piece p's band part (its Steiner point b is split_point_count + b), and where
   // each piece's band part goes in the welded band (chain_share).
   const TetBlock& band_part(std::size_t p) const { return blocks_.at(p); }
@@ -123,6 +127,8 @@ class Welder {
  private:
   using Block = TetBlock;
   TetMesh weld_blocks(std::vector<Point3> split_points, std::vector<Block>& blocks) const;
+  // Before the band mesh takes the split's points: room for every Steiner point the assembly adds.
+  void reserve_for_assembly(std::vector<Point3>& split_points) const;
   // Splits piece p's block (blocks_[p]) into its band (left in blocks_[p]) and its bulk (bulks_[p]).
   void split_piece(std::size_t p, const std::vector<std::int8_t>& depth);
   // Piece p's band and bulk joined again into its block as it was added.

@@ -293,6 +293,12 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
     }
   band.tets.resize(kept);
   if (pieces) band.piece.resize(kept);
+  add_healed_chains(band, chains, std::move(healed));
+}
+
+void add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
+  if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
+  const bool pieces = band.piece.size() == band.tets.size();
   for (std::size_t c = 0; c < chains.size(); ++c) {
     const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
     HealedChain& chain = healed[c];

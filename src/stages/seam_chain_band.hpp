@@ -99,6 +99,10 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
 // healing added follow the band's, chain after chain, as heal_seams numbers them. The tets are
 // then in order_band_tets' order.
 void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
+// The same into a band of points alone (Welder::band_points) when the chains hold every tet of
+// the band (each tet of a band part is in the chain of its part, or in the one chain -1's share
+// makes, put back unhealed).
+void add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
 
 // Orders a healed band's tets by their vertices (and neighbours to match): the band is then the
 // same whether it healed in one piece or chain by chain, on one rank or on several.
