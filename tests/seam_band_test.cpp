@@ -725,8 +725,9 @@ void expect_same_chain(const ChainBand& welded, const ChainBand& cut) {
 // cut by the chains of its parts, as the links plan them; issue 22, item 2: the owners of the
 // band parts can send these to the rank that heals the chain): the chain is the one cut out of
 // the welded band, point for point and tet for tet, whatever the order of the shares, whether
-// the pieces were split at the end or where they were meshed with their bands grown there; and
-// the chains hold every tet of the band.
+// the pieces were split at the end or where they were meshed with their bands grown there (their
+// links made there too, as they are made from the band part here); and the chains hold every tet
+// of the band.
 TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
   std::size_t most_shares = 0;
   for (const char* name : {"sphere", "torus", "genus3", "nested"})
@@ -750,8 +751,14 @@ TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
               for (const auto& result : s.results) welder.add(PieceTetMesh(result));
             }
             welder.split_bands(spec);
-            const SeamChainPlan plan = seam_chain_plan(welder.take_band_links(), split, options);
+            const std::vector<BandPartLinks> links = welder.take_band_links();
+            const SeamChainPlan plan = seam_chain_plan(links, split, options);
             const std::vector<BandPartPlace> places = welder.band_part_places();
+            for (std::size_t p = 0; p < places.size(); ++p) {  // made where split (and grown) as here
+              const BandPartLinks here = band_part_links(welder.band_part(p), spec);
+              EXPECT_EQ(links[p].removed, here.removed);
+              EXPECT_TRUE(links[p].cap_faces == here.cap_faces);
+            }
             std::vector<std::vector<ChainShare>> shares(plan.planes.size());
             for (std::size_t p = 0; p < places.size(); ++p) {
               const BandPartChains in_chains = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);

@@ -173,7 +173,17 @@ TEST(Serialize, TaskCarriesTheSplitOrder) {
   EXPECT_FALSE(none);
 }
 
-// A piece split where it was meshed: its band travels (the bulk stays), and a bulk travels back.
+// A band part's links, made where it was split, travel with it.
+void expect_same_links(const std::optional<BandPartLinks>& back, const std::optional<BandPartLinks>& sent) {
+  ASSERT_TRUE(sent);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->removed, sent->removed);
+  EXPECT_TRUE(back->cap_faces == sent->cap_faces);
+  EXPECT_GT(sent->cap_faces.size(), 0u);
+}
+
+// A piece split where it was meshed: its band travels (the bulk stays), with its links, and a
+// bulk travels back.
 TEST(Serialize, BandsAndBulksRoundTrip) {
   const Real r = real_pieces();
   const SplitSurface& split = r.prepared.split;
@@ -208,6 +218,10 @@ TEST(Serialize, BandsAndBulksRoundTrip) {
     ASSERT_EQ(band.cap_faces_outside.size(), sent.cap_faces_outside.size());
     for (std::size_t i = 0; i < band.cap_faces_outside.size(); ++i)
       EXPECT_TRUE(band.cap_faces_outside[i] == sent.cap_faces_outside[i]);
+    expect_same_links(band.links, sent.links);
+    PieceOutcome no_links = outcome;
+    no_links.band->links.reset();
+    EXPECT_FALSE(deserialize_outcome(serialize_outcome(no_links)).band->links);
     EXPECT_EQ(band.bulk_tets, static_cast<std::int64_t>(sent.bulk.tets.size()));
     EXPECT_EQ(band.bulk_steiner_points, static_cast<std::int64_t>(sent.bulk.steiner_points.size()));
     EXPECT_TRUE(band.bulk.tets.empty());  // the bulk stays where it was split
@@ -266,6 +280,7 @@ TEST(Serialize, ABandToGrowAndTheBandGrownRoundTrip) {
   EXPECT_EQ(grown.band_tets, here.band_tets);
   EXPECT_EQ(grown.bulk_tets, static_cast<std::int64_t>(here.bulk.tets.size()));
   EXPECT_EQ(grown.bulk_steiner_points, static_cast<std::int64_t>(here.bulk.steiner_points.size()));
+  expect_same_links(grown.links, here.links);
   EXPECT_FALSE(grown.bulk.in);  // the bulk stays where the band grew
   EXPECT_THROW(serialize_grown_band(here), InternalError);
 }

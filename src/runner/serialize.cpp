@@ -268,6 +268,53 @@ void load_crossings(Archive& ar, std::vector<CapCrossing>& crossings) {
   for (const Tet& c : rows) crossings.push_back({FaceKey({c[0], c[1], c[2]}), c[3]});
 }
 
+// A band part's links, when made: the vertices to remove by part (counts, then all of them), and
+// the cap faces' keys with their parts.
+template <class Archive>
+void save_links(Archive& ar, const std::optional<BandPartLinks>& links) {
+  const std::int32_t made = links ? 1 : 0;
+  ar << made;
+  if (!links) return;
+  std::vector<std::int32_t> counts, removed;
+  for (const auto& part : links->removed) {
+    counts.push_back(static_cast<std::int32_t>(part.size()));
+    removed.insert(removed.end(), part.begin(), part.end());
+  }
+  std::vector<Tet> faces;
+  faces.reserve(links->cap_faces.size());
+  for (const auto& [key, part] : links->cap_faces) faces.push_back({key.v[0], key.v[1], key.v[2], part});
+  save_block(ar, counts);
+  save_block(ar, removed);
+  save_block(ar, faces);
+}
+
+template <class Archive>
+void load_links(Archive& ar, std::optional<BandPartLinks>& links) {
+  std::int32_t made = 0;
+  ar >> made;
+  links.reset();
+  if (!made) return;
+  std::vector<std::int32_t> counts, removed;
+  std::vector<Tet> faces;
+  load_block(ar, counts);
+  load_block(ar, removed);
+  load_block(ar, faces);
+  links.emplace();
+  std::size_t at = 0;
+  for (const std::int32_t count : counts) {
+    if (count < 0 || removed.size() - at < static_cast<std::size_t>(count))
+      throw InternalError("a band part's links hold fewer vertices than they count");
+    links->removed.emplace_back(removed.begin() + static_cast<std::ptrdiff_t>(at),
+                                removed.begin() + static_cast<std::ptrdiff_t>(at + static_cast<std::size_t>(count)));
+    at += static_cast<std::size_t>(count);
+  }
+  for (const Tet& f : faces) {
+    if (f[3] < 0 || static_cast<std::size_t>(f[3]) >= counts.size())
+      throw InternalError("a band part's cap face names a part it does not have");
+    links->cap_faces.emplace_back(FaceKey(Triangle{f[0], f[1], f[2]}), f[3]);
+  }
+}
+
 std::string encode_band(const PieceBand& split, std::string_view prefix) {
   return encode(
       tet_block_bytes(split.band) + 64 + split.band_steiner.size() * 4 + split.band_tets.size() * 4 +
@@ -283,6 +330,7 @@ std::string encode_band(const PieceBand& split, std::string_view prefix) {
         std::vector<Triangle> outside;
         for (const FaceKey& key : split.cap_faces_outside) outside.push_back({key.v[0], key.v[1], key.v[2]});
         save_block(ar, outside);
+        save_links(ar, split.links);
       },
       prefix);
 }
@@ -301,6 +349,7 @@ PieceBand deserialize_band(std::string_view bytes) {
     std::vector<Triangle> outside;
     load_block(ar, outside);
     for (const Triangle& t : outside) split.cap_faces_outside.push_back(FaceKey(t));
+    load_links(ar, split.links);
   });
 }
 

@@ -88,7 +88,8 @@ Welder::Welder(const SplitSurface& split, const std::vector<PieceSurface>& piece
       band_steiner_(pieces.size()),
       band_tets_(pieces.size()),
       crossings_(pieces.size()),
-      bulk_cap_faces_(pieces.size()) {}
+      bulk_cap_faces_(pieces.size()),
+      made_links_(pieces.size()) {}
 
 void Welder::split_on_arrival(const BandSpec& spec) {
   if (spec.layers > 1) return;
@@ -160,6 +161,7 @@ void Welder::grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings) {
   blocks_[p] = std::move(grown.band);
   band_steiner_[p] = std::move(grown.band_steiner);
   band_tets_[p] = std::move(grown.band_tets);
+  made_links_[p] = std::move(grown.links);
   if (!stored.stored) store_bulk(p);
 }
 
@@ -273,6 +275,7 @@ void Welder::install_band(std::size_t p, PieceBand&& split) {
   band_tets_[p] = std::move(split.band_tets);
   crossings_[p] = std::move(split.crossings);
   bulk_cap_faces_[p] = std::move(split.cap_faces_outside);
+  made_links_[p] = std::move(split.links);
 }
 
 void Welder::store_bulk(std::size_t p) {
@@ -312,6 +315,7 @@ void Welder::rejoin(std::size_t p) {
   bulk = Block();
   std::vector<std::int32_t>().swap(band_steiner_[p]);
   std::vector<std::int32_t>().swap(band_tets_[p]);
+  made_links_[p].reset();
 }
 
 TetMesh Welder::finish_band(std::vector<Point3> split_points, BandSpec spec) {
@@ -342,7 +346,10 @@ void Welder::split_bands(BandSpec spec) {
   }
   band_tets_.assign(blocks_.size(), {});  // no piece goes back now (8 MB at 22.1M input faces)
   band_links_.clear();
-  for (const Block& block : blocks_) band_links_.push_back(band_part_links(block, spec));
+  for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    band_links_.push_back(made_links_[p] ? std::move(*made_links_[p]) : band_part_links(blocks_[p], spec));
+    made_links_[p].reset();
+  }
 }
 
 std::size_t Welder::band_tet_count() const {

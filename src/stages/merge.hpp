@@ -178,6 +178,8 @@ class Welder {
   std::vector<std::vector<std::int32_t>> band_steiner_;
   std::vector<std::vector<std::int32_t>> band_tets_;
   std::vector<BandPartLinks> band_links_;  // per piece, from finish_band
+  // Per piece: its band's links, made where it was split or grown (on its owner), until split_bands.
+  std::vector<std::optional<BandPartLinks>> made_links_;
   // Bits, not bytes: they live from the pieces' arrival until the assembly.
   std::vector<bool> referenced_;        // per split point: some piece's surface has it
   std::vector<bool> band_used_before_;  // per point of the band mesh finish_band made: a band tet uses it

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "partet/errors.hpp"
+#include "stages/seam_chains.hpp"
 
 namespace partet {
 
@@ -165,6 +166,7 @@ PieceBand split_alone(TetBlock&& whole, const BandSpec& spec) {
   PieceBand split = split_by_depth(std::move(whole), marks.take_depth(), spec.split_point_count);
   split.crossings = std::move(crossings);
   split.cap_faces_outside = std::move(outside);
+  split.links = band_part_links(split.band, spec);
   return split;
 }
 
@@ -216,6 +218,7 @@ PieceBand grow_band(BandToGrow&& band, TetBlock&& bulk) {
   BandMarks marks(whole.tets, whole.neighbours, band.spec);
   marks.enter(band.crossings);
   PieceBand grown = split_by_depth(std::move(whole), marks.take_depth(), first_steiner);
+  grown.links = band_part_links(grown.band, band.spec);
   grown.index = band.index;
   return grown;
 }

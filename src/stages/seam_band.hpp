@@ -8,6 +8,8 @@
 // The Welder (merge.hpp) splits the pieces and welds the bands alone.
 #pragma once
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "common/point_ids.hpp"
@@ -75,6 +77,16 @@ struct TetBlock {
   std::vector<std::uint64_t> rim;  // a bulk's faces towards its band (4 * tet + j)
 };
 
+// What one piece's band part tells of the chains, wherever it is kept: its parts joined through
+// faces within the piece, the vertices to remove each holds, and the open faces on the planes
+// each has. A neighbouring piece's band part with the same face is joined to it across the cap,
+// so these are all that the chains need of the band (issue 22: a chain can be found, and
+// healed, without the welded band). seam_chains.hpp makes and joins them.
+struct BandPartLinks {
+  std::vector<std::vector<std::int32_t>> removed;           // per part: its vertices to remove, ascending
+  std::vector<std::pair<FaceKey, std::int32_t>> cap_faces;  // open faces on the planes and their parts, by key
+};
+
 // A piece's mesh split into its band and its bulk. Split where the piece was meshed (one layer:
 // the piece alone decides its band), the bulk stays there and the rest travels to the welder.
 struct PieceBand {
@@ -86,6 +98,7 @@ struct PieceBand {
   std::vector<std::int32_t> band_tets;     // per band tet: its place in the piece
   std::vector<CapCrossing> crossings;      // BandMarks::crossings
   std::vector<FaceKey> cap_faces_outside;  // BandMarks::cap_faces_outside
+  std::optional<BandPartLinks> links;      // its band's (band_part_links), made where it was split
   std::int64_t bulk_tets = 0, bulk_steiner_points = 0;  // the bulk's, also once it is elsewhere
 };
 

@@ -30,18 +30,9 @@ struct SeamChains {
 // band are those found on the whole mesh. `groups` is the number of groups.
 SeamChains seam_chains(const TetMesh& mesh, std::int32_t first, const std::vector<int>& group, int groups, int reach);
 
-// What one piece's band part tells of the chains, wherever it is kept: its parts joined through
-// faces within the piece, the vertices to remove each holds, and the open faces on the planes
-// each has. A neighbouring piece's band part with the same face is joined to it across the cap,
-// so these are all that the chains need of the band (issue 22: a chain can be found, and
-// healed, without the welded band).
-struct BandPartLinks {
-  std::vector<std::vector<std::int32_t>> removed;           // per part: its vertices to remove, ascending
-  std::vector<std::pair<FaceKey, std::int32_t>> cap_faces;  // open faces on the planes and their parts, by key
-};
-
 // The links of a piece's band part (its tets in global ids, neighbours within the part); the
-// vertices to remove are spec's [first_removed, end_removed).
+// vertices to remove are spec's [first_removed, end_removed). Made where the part is split or
+// grown (split_alone, grow_band: on the rank that keeps its bulk), as they name no Steiner point.
 BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec);
 // The part of each tet of a piece's band part, as band_part_links numbers them (in the order of
 // their first tet).
