@@ -104,7 +104,7 @@ TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, cons
     const BandPartChains in_chains = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
     for (std::size_t i = 0; i < in_chains.chains.size(); ++i)
       shares.at(static_cast<std::size_t>(in_chains.chains[i]))
-          .push_back(chain_share(welder.band_part(p), in_chains.chains[i], in_chains.tets[i], places[p], split.points));
+          .push_back(chain_share(welder.band_part(p), in_chains, i, places[p], split.points));
   }
   std::vector<ChainBand> chains;
   std::vector<HealedChain> healed;
@@ -765,7 +765,7 @@ TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
               for (std::size_t i = 0; i < in_chains.chains.size(); ++i) {
                 const int c = in_chains.chains[i];
                 shares.at(static_cast<std::size_t>(c))
-                    .push_back(chain_share(welder.band_part(p), c, in_chains.tets[i], places[p], split.points));
+                    .push_back(chain_share(welder.band_part(p), in_chains, i, places[p], split.points));
               }
             }
             TetMesh band = welder.weld_bands(split.points);

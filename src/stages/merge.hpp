@@ -182,7 +182,7 @@ class Welder {
   std::vector<std::optional<BandPartLinks>> made_links_;
   // Bits, not bytes: they live from the pieces' arrival until the assembly.
   std::vector<bool> referenced_;        // per split point: some piece's surface has it
-  std::vector<bool> band_used_before_;  // per point of the band mesh finish_band made: a band tet uses it
+  std::vector<bool> band_used_before_;  // per point of the band mesh (weld_bands, band_points): a band tet uses it
   // Per piece split on arrival: the cap faces its band reached, and its bulk's open cap faces.
   std::vector<std::vector<CapCrossing>> crossings_;
   std::vector<std::vector<FaceKey>> bulk_cap_faces_;

@@ -113,9 +113,26 @@ void weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
     }
 }
 
+// The chain's open faces on the planes (their three points are cut vertices or caps' points),
+// 4 * tet + j: the only faces two pieces' shares can meet at.
+std::vector<std::uint64_t> open_faces_on_planes(const ChainBand& chain, const SplitRanges& ranges) {
+  std::vector<char> on_planes(chain.global_ids.size());
+  for (std::size_t v = 0; v < on_planes.size(); ++v)
+    on_planes[v] = chain.global_ids[v] >= ranges.first_cut && chain.global_ids[v] < ranges.end_caps;
+  std::vector<std::uint64_t> faces;
+  for (std::size_t t = 0; t < chain.mesh.tets.size(); ++t)
+    for (int j = 0; j < 4; ++j) {
+      if (chain.mesh.neighbours[t][j] >= 0) continue;
+      const Tet& tet = chain.mesh.tets[t];
+      const bool on = on_planes[tet[(j + 1) % 4]] && on_planes[tet[(j + 2) % 4]] && on_planes[tet[(j + 3) % 4]];
+      if (on) faces.push_back(4 * static_cast<std::uint64_t>(t) + static_cast<std::uint64_t>(j));
+    }
+  return faces;
+}
+
 // The shares' tets, in band order, in the chain's ids; joined across the caps where two pieces'
 // shares meet, as the welded band joins them.
-void weld_tets(const std::vector<ChainShare>& shares, ChainBand& chain) {
+void weld_tets(const std::vector<ChainShare>& shares, const SplitRanges& ranges, ChainBand& chain) {
   for (const ChainShare& share : shares) {
     if (!chain.band_tets.empty() && !share.band_tets.empty() && share.band_tets.front() <= chain.band_tets.back())
       throw InternalError("two shares of a seam chain hold the same tets of the band");
@@ -132,7 +149,7 @@ void weld_tets(const std::vector<ChainShare>& shares, ChainBand& chain) {
     }
     chain.mesh.piece.resize(chain.mesh.tets.size(), share.piece);
   }
-  connect_open_faces(chain.mesh.tets, chain.mesh.neighbours, nullptr);
+  connect_faces(chain.mesh.tets, chain.mesh.neighbours, open_faces_on_planes(chain, ranges));
 }
 
 }  // namespace
@@ -159,34 +176,36 @@ BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& ch
   std::sort(chains.chains.begin(), chains.chains.end());
   chains.chains.erase(std::unique(chains.chains.begin(), chains.chains.end()), chains.chains.end());
   chains.tets.resize(chains.chains.size());
+  chains.at.assign(band.tets.size(), -1);
   for (std::size_t t = 0; t < band.tets.size(); ++t) {
     const int chain = chain_of_part.at(static_cast<std::size_t>(part[t]));
     if (chain < 0) continue;
     const auto at = std::lower_bound(chains.chains.begin(), chains.chains.end(), chain) - chains.chains.begin();
-    chains.tets[static_cast<std::size_t>(at)].push_back(static_cast<std::int32_t>(t));
+    std::vector<std::int32_t>& tets = chains.tets[static_cast<std::size_t>(at)];
+    chains.at[t] = static_cast<std::int32_t>(tets.size());
+    tets.push_back(static_cast<std::int32_t>(t));
   }
   return chains;
 }
 
-ChainShare chain_share(const TetBlock& band, int chain, const std::vector<std::int32_t>& tets,
+ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
                        const BandPartPlace& place, const std::vector<Point3>& split_points) {
+  const std::vector<std::int32_t>& tets = in_chains.tets.at(i);
   ChainShare share;
-  share.chain = chain;
+  share.chain = in_chains.chains.at(i);
   share.piece = place.piece;
   auto band_id = [&](std::int32_t v) { return v >= place.steiner_from ? v - place.steiner_from + place.steiner_to : v; };
-  // A tet's neighbours are in its part, so in its share.
-  auto at = [&](std::int32_t t) {
-    if (t < 0) return std::int32_t{-1};
-    const auto it = std::lower_bound(tets.begin(), tets.end(), t);
-    if (it == tets.end() || *it != t) throw InternalError("a seam chain's share lacks a tet its part joins");
-    return static_cast<std::int32_t>(it - tets.begin());
-  };
+  share.band_tets.reserve(tets.size());
+  share.tets.reserve(tets.size());
+  share.neighbours.reserve(tets.size());
+  share.point_ids.reserve(4 * tets.size());
   for (const std::int32_t t : tets) {
     share.band_tets.push_back(place.first_tet + t);
     Tet tet, across;
     for (int j = 0; j < 4; ++j) {
       tet[j] = band_id(band.tets[t][j]);
-      across[j] = at(band.neighbours[t][j]);
+      const std::int32_t nb = band.neighbours[t][j];
+      across[j] = nb >= 0 ? in_chains.at[nb] : -1;  // (a neighbour is in the tet's part, so in its share)
     }
     share.tets.push_back(tet);
     share.neighbours.push_back(across);
@@ -205,13 +224,14 @@ ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input,
                      const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles) {
   for (const ChainShare& share : shares)
     if (share.chain != shares.front().chain) throw InternalError("a seam chain was welded from shares of several chains");
-  std::sort(shares.begin(), shares.end(), [](const ChainShare& a, const ChainShare& b) {
-    return a.band_tets.empty() || (!b.band_tets.empty() && a.band_tets.front() < b.band_tets.front());
-  });
+  shares.erase(std::remove_if(shares.begin(), shares.end(), [](const ChainShare& s) { return s.band_tets.empty(); }),
+               shares.end());
+  std::sort(shares.begin(), shares.end(),
+            [](const ChainShare& a, const ChainShare& b) { return a.band_tets.front() < b.band_tets.front(); });
   ChainBand chain;
   chain.planes = planes;
   weld_points(shares, chain);
-  weld_tets(shares, chain);
+  weld_tets(shares, SplitRanges(split), chain);
   shares.clear();
   cut_out_split(split, input, split_triangles, chain);
   return chain;

@@ -65,13 +65,14 @@ struct ChainShare {
 struct BandPartChains {
   std::vector<int> chains;
   std::vector<std::vector<std::int32_t>> tets;  // by place in `chains`
+  std::vector<std::int32_t> at;                 // per tet of the part: its place in its chain's tets
 };
 BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& chain_of_part);
 
-// The share of chain `chain` of a piece's band part (Welder::band_part), whose tets in it are
-// `tets` (ascending: BandPartChains), `place` where the part goes in the band
-// (Welder::band_part_places), split_points the split surface's points (the piece's own do).
-ChainShare chain_share(const TetBlock& band, int chain, const std::vector<std::int32_t>& tets,
+// The share of the i-th chain of `in_chains` (band_part_chains) of a piece's band part
+// (Welder::band_part); `place` where the part goes in the band (Welder::band_part_places),
+// split_points the split surface's points (the piece's own do).
+ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
                        const BandPartPlace& place, const std::vector<Point3>& split_points);
 
 // The chain of these planes welded from its pieces' shares (in any order) and its split

@@ -30,22 +30,28 @@ std::vector<Tet> compute_neighbours(const std::vector<Tet>& tets) {
 
 void connect_open_faces(const std::vector<Tet>& tets, std::vector<Tet>& neighbours,
                         const std::vector<std::int32_t>* candidates) {
-  struct OpenFace {
-    FaceKey key;
-    std::uint64_t slot;  // 4 * tet + j
-    bool operator<(const OpenFace& o) const { return key < o.key || (key == o.key && slot < o.slot); }
-  };
-  std::vector<OpenFace> open;
+  std::vector<std::uint64_t> faces;
   auto collect = [&](std::size_t t) {
     for (int j = 0; j < 4; ++j)
-      if (neighbours[t][j] < 0)
-        open.push_back({FaceKey(outward_face(tets[t], j)), 4 * static_cast<std::uint64_t>(t) + j});
+      if (neighbours[t][j] < 0) faces.push_back(4 * static_cast<std::uint64_t>(t) + j);
   };
   if (candidates) {
     for (auto t : *candidates) collect(static_cast<std::size_t>(t));
   } else {
     for (std::size_t t = 0; t < tets.size(); ++t) collect(t);
   }
+  connect_faces(tets, neighbours, faces);
+}
+
+void connect_faces(const std::vector<Tet>& tets, std::vector<Tet>& neighbours, const std::vector<std::uint64_t>& faces) {
+  struct OpenFace {
+    FaceKey key;
+    std::uint64_t slot;  // 4 * tet + j
+    bool operator<(const OpenFace& o) const { return key < o.key || (key == o.key && slot < o.slot); }
+  };
+  std::vector<OpenFace> open;
+  open.reserve(faces.size());
+  for (const std::uint64_t slot : faces) open.push_back({FaceKey(outward_face(tets[slot / 4], slot % 4)), slot});
   std::sort(open.begin(), open.end());
   for (std::size_t i = 0; i < open.size();) {
     std::size_t e = i + 1;

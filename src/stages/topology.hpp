@@ -75,6 +75,8 @@ std::vector<Tet> compute_neighbours(const std::vector<Tet>& tets);
 // InternalError when more than two open faces are the same triangle.
 void connect_open_faces(const std::vector<Tet>& tets, std::vector<Tet>& neighbours,
                         const std::vector<std::int32_t>* candidates = nullptr);
+// The same for these open faces alone (4 * tet + j each).
+void connect_faces(const std::vector<Tet>& tets, std::vector<Tet>& neighbours, const std::vector<std::uint64_t>& faces);
 
 // Labels connected sets of tets: every tet with include(t) gets the label of its region; a
 // region grows from tet t across face j when crosses(t, j) and the neighbour is included.
