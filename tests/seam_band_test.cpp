@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <deque>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -12,11 +13,13 @@
 #include "io/mesh_formats.hpp"
 #include "io/read_surface.hpp"
 #include "job/pipeline.hpp"
+#include "runner/serialize.hpp"
 #include "stage_batches.hpp"
 #include "stage_helpers.hpp"
 #include "test_support.hpp"
 #include "stages/check.hpp"
 #include "stages/generate.hpp"
+#include "stages/kept_band_parts.hpp"
 #include "stages/merge.hpp"
 #include "stages/seam_band.hpp"
 #include "stages/seam_chain_band.hpp"
@@ -452,17 +455,51 @@ TEST(SeamBand, BandsAndBulksAssembleIntoTheWeldedMesh) {
 class KeptWhereMeshed : public BulkStore {
  public:
   // numbers: as the MPI driver's owners, it numbers its bulks where they are (BulkStore::number);
-  // grows: as they, it grows a band its neighbours' crossings reach with the bulk it keeps.
-  explicit KeptWhereMeshed(bool numbers = false, bool grows = false) : numbers_(numbers), grows_(grows) {}
+  // grows: as they, it grows a band its neighbours' crossings reach with the bulk it keeps;
+  // keeps_bands: as they, it keeps the band parts too (keep_band), grows them where they are and
+  // cuts the chains' shares of them. What travels between the ranks goes through its messages.
+  explicit KeptWhereMeshed(bool numbers = false, bool grows = false, bool keeps_bands = false)
+      : numbers_(numbers), grows_(grows), keeps_bands_(keeps_bands) {}
   bool grows_bands() const override { return grows_; }
-  PieceBand grow(BandToGrow&& band) override {
+  PieceBand grow(BandToGrow&& sent) override {
+    BandToGrow band = deserialize_band_to_grow(serialize_band_to_grow(sent));
     const int piece = band.index;
+    if (band.band_kept) bands_.fill(band);
     PieceBand grown = grow_band(std::move(band), take(piece));
     keep(piece, std::move(grown.bulk));
     grown.bulk = TetBlock();
+    if (keeps_bands_) bands_.keep(grown);
     ++grown_;
-    return grown;
+    return deserialize_grown_band(serialize_grown_band(grown));
   }
+  // A piece's band part kept here, when this store keeps them.
+  void keep_band(PieceBand& split) {
+    if (keeps_bands_) bands_.keep(split);
+  }
+  PieceBand take_band(int piece) override {
+    ++bands_taken_;
+    return deserialize_grown_band(serialize_grown_band(bands_.take(piece)));
+  }
+  int bands_taken() const { return bands_taken_; }
+  void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) override {
+    cut_ = std::deque<std::pair<int, std::vector<ChainShare>>>();
+    std::vector<BandPartPlan> plans_there;
+    std::vector<int> order_there;
+    deserialize_share_plan(serialize_share_plan(plans, order), plans_there, order_there);
+    bands_.cut_shares(plans_there, order_there, [&](int chain, std::vector<ChainShare>&& shares) {
+      cut_.emplace_back(chain, deserialize_chain_shares(serialize_chain_shares(shares)));
+    });
+  }
+  std::vector<ChainShare> shares(int chain) override {
+    const auto it = std::find_if(cut_.begin(), cut_.end(), [&](const auto& c) { return c.first == chain; });
+    if (it == cut_.end()) return {};
+    EXPECT_TRUE(it == cut_.begin()) << "chain " << chain << " asked for out of order";
+    std::vector<ChainShare> shares = std::move(it->second);
+    cut_.erase(it);
+    ++shares_given_;
+    return shares;
+  }
+  int shares_given() const { return shares_given_; }
   int grown() const { return grown_; }
   void keep(int piece, TetBlock&& bulk) { bulks_[piece] = std::move(bulk); }
   bool put(int, const TetBlock&) override { return false; }
@@ -480,7 +517,10 @@ class KeptWhereMeshed : public BulkStore {
   std::size_t size() const { return bulks_.size(); }
 
  private:
-  bool numbers_, grows_;
+  bool numbers_, grows_, keeps_bands_;
+  KeptBandParts bands_;
+  std::deque<std::pair<int, std::vector<ChainShare>>> cut_;  // by chain, in the order given
+  int bands_taken_ = 0, shares_given_ = 0;
   int grown_ = 0;
   std::size_t shares_ = 0;
   std::map<int, TetBlock> bulks_;
@@ -652,15 +692,21 @@ TEST(SeamBand, PiecesSplitOnArrivalGiveTheBandsSplitAtTheEnd) {
 
 // Each piece split where it was meshed (one layer), its Steiner points numbered from 2^30 there
 // and its bulk kept there by `kept` (whose bands grow there), added to `welder`.
+// (every_other_here: the even pieces are added whole and split on arrival, as rank 0's own.)
 void add_split_where_meshed(Welder& welder, KeptWhereMeshed& kept, const MeshedPieces& s, const BandSpec& spec,
-                            bool caps) {
+                            bool caps, bool every_other_here = false) {
   BandSpec there = spec;
   there.split_point_count = 1 << 30;
   if (caps) there.end_removed = 1 << 30;
   welder.split_on_arrival(spec);
   for (std::size_t p = 0; p < s.results.size(); ++p) {
+    if (every_other_here && p % 2 == 0) {
+      welder.add(PieceTetMesh(s.results[p]));
+      continue;
+    }
     PieceBand piece = split_where_meshed(PieceTetMesh(s.results[p]), s.prepared.pieces[p].global_ids, there);
     kept.keep(piece.index, std::move(piece.bulk));
+    kept.keep_band(piece);
     welder.add_split(std::move(piece), kept);
   }
 }
@@ -873,6 +919,60 @@ TEST(SeamBand, ARegionFailingInTheBandHealsOverTheWholeMesh) {
             static_cast<std::int64_t>(welded) - result.seam.tets_in + result.seam.tets_out);
   EXPECT_EQ(result.mesh.neighbours, compute_neighbours(result.mesh.tets));
   EXPECT_TRUE(check_mesh(input, result.mesh).ok());
+}
+
+// Band parts kept where their pieces were split (the MPI driver's owners, issue 22): the pipeline
+// welds each chain from the shares their store cuts and never takes a band part back, and the
+// mesh is the one healed from the band parts here. When a region keeps failing, the band parts
+// come back to be welded (the seams heal on over the whole mesh) and the mesh is still the same.
+TEST(SeamBand, BandPartsKeptWhereTheirPiecesWereSplitHealIntoTheSameMesh) {
+  int most_shares = 0;
+  for (const char* name : {"torus", "genus3", "nested"})
+    for (const int k : {3, 12})
+      for (const bool caps : {false, true})
+        for (const int failing : {0, 4})
+          for (const bool every_other_here : {false, true}) {
+          if (failing > 0 && (k != 3 || caps)) continue;
+          SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (caps ? " caps" : " cuts") +
+                       (failing ? " failing" : "") + (every_other_here ? " every other piece here" : ""));
+          const SurfaceMesh input = generate_surface(name, 1500);
+          const MeshedPieces s = mesh_pieces_in_batch(input, k);
+          MeshOptions options = s.options;
+          options.heal = caps ? Heal::on : Heal::off;
+          auto heal = [&](bool keeps_bands, int& bands_taken, int& shares_given) {
+            PreparedPieces prepared = s.prepared;
+            KeptWhereMeshed kept(false, true, keeps_bands);
+            Welder welder(prepared.split, prepared.pieces);
+            add_split_where_meshed(welder, kept, s, seam_band_spec(prepared.split, HealOptions{caps, 0}), caps,
+                                   every_other_here);
+            split_bands(welder, prepared, options);
+            int batches = 0;
+            BatchScheduler meshers([&](const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
+              std::vector<PieceOutcome> outcomes = mesh_pieces_here(regions, PieceRunner(tetgen, options.run));
+              if (++batches <= failing)
+                outcomes.front().failure = Failure(FailureKind::changed_boundary, -1, {}, "refused by the test");
+              return outcomes;
+            });
+            MeshResult result = finish_mesh(input, prepared, welder, options, meshers);
+            bands_taken = kept.bands_taken(), shares_given = kept.shares_given();
+            return result;
+          };
+          int taken_here = 0, given_here = 0, taken = 0, given = 0;
+          const MeshResult here = heal(false, taken_here, given_here);
+          const MeshResult kept = heal(true, taken, given);
+          EXPECT_EQ(given_here, 0);
+          EXPECT_GT(given, 0);
+          // (failing: every band part kept there back, to weld the band)
+          EXPECT_EQ(taken, failing ? (every_other_here ? k / 2 : k) : 0);
+          most_shares = std::max(most_shares, given);
+          EXPECT_EQ(kept.mesh.points, here.mesh.points);
+          EXPECT_EQ(kept.mesh.tets, here.mesh.tets);
+          EXPECT_EQ(kept.mesh.neighbours, here.mesh.neighbours);
+          EXPECT_EQ(kept.mesh.piece, here.mesh.piece);
+          EXPECT_EQ(kept.seam.tets_in, here.seam.tets_in);
+          EXPECT_TRUE(check_mesh(input, kept.mesh).ok());
+        }
+  EXPECT_GE(most_shares, 3);
 }
 
 }  // namespace

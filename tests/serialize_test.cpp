@@ -179,7 +179,9 @@ void expect_same_links(const std::optional<BandPartLinks>& back, const std::opti
   ASSERT_TRUE(back);
   EXPECT_EQ(back->removed, sent->removed);
   EXPECT_TRUE(back->cap_faces == sent->cap_faces);
+  EXPECT_EQ(back->tets, sent->tets);
   EXPECT_GT(sent->cap_faces.size(), 0u);
+  EXPECT_EQ(sent->tets.size(), sent->removed.size());
 }
 
 // A piece split where it was meshed: its band travels (the bulk stays), with its links, and a
@@ -222,6 +224,24 @@ TEST(Serialize, BandsAndBulksRoundTrip) {
     PieceOutcome no_links = outcome;
     no_links.band->links.reset();
     EXPECT_FALSE(deserialize_outcome(serialize_outcome(no_links)).band->links);
+    EXPECT_FALSE(band.band_kept);
+    // Its band part kept there: the tets stay, what the welder needs of them travels.
+    PieceOutcome kept_there = outcome;
+    KeptBandParts parts;
+    parts.keep(*kept_there.band);
+    const PieceBand kept = *deserialize_outcome(serialize_outcome(kept_there)).band;
+    EXPECT_TRUE(kept.band_kept);
+    EXPECT_EQ(kept.band_tet_count, static_cast<std::int64_t>(sent.band.tets.size()));
+    EXPECT_EQ(kept.band_split_points, kept_there.band->band_split_points);
+    EXPECT_GT(kept.band_split_points.size(), 0u);
+    EXPECT_TRUE(kept.band.tets.empty());
+    EXPECT_TRUE(kept.band_tets.empty());
+    EXPECT_TRUE(same_bits(kept.band.steiner_points, sent.band.steiner_points));
+    EXPECT_EQ(kept.band_steiner, sent.band_steiner);
+    const PieceBand given_back = parts.take(kept.index);
+    EXPECT_EQ(given_back.band.tets, sent.band.tets);
+    EXPECT_EQ(given_back.band.neighbours, sent.band.neighbours);
+    EXPECT_EQ(given_back.band_tets, sent.band_tets);
     EXPECT_EQ(band.bulk_tets, static_cast<std::int64_t>(sent.bulk.tets.size()));
     EXPECT_EQ(band.bulk_steiner_points, static_cast<std::int64_t>(sent.bulk.steiner_points.size()));
     EXPECT_TRUE(band.bulk.tets.empty());  // the bulk stays where it was split
@@ -252,7 +272,11 @@ TEST(Serialize, ABandToGrowAndTheBandGrownRoundTrip) {
   BandToGrow sent{1, spec, middle.band, middle.band_steiner, middle.band_tets, pieces[0].crossings};
   sent.crossings.insert(sent.crossings.end(), pieces[2].crossings.begin(), pieces[2].crossings.end());
   ASSERT_GT(sent.crossings.size(), 0u);
+  BandToGrow kept_there = sent;
+  kept_there.band_kept = true;
+  EXPECT_TRUE(deserialize_band_to_grow(serialize_band_to_grow(kept_there)).band_kept);
   BandToGrow back = deserialize_band_to_grow(serialize_band_to_grow(sent));
+  EXPECT_FALSE(back.band_kept);
   EXPECT_EQ(back.index, 1);
   EXPECT_EQ(back.spec.split_point_count, 1 << 30);
   EXPECT_EQ(back.spec.end_removed, spec.end_removed);
@@ -283,6 +307,48 @@ TEST(Serialize, ABandToGrowAndTheBandGrownRoundTrip) {
   expect_same_links(grown.links, here.links);
   EXPECT_FALSE(grown.bulk.in);  // the bulk stays where the band grew
   EXPECT_THROW(serialize_grown_band(here), InternalError);
+}
+
+// The plan of the band parts a rank keeps goes to it, and their shares of a chain come back.
+TEST(Serialize, TheSharePlanAndAChainsSharesRoundTrip) {
+  std::vector<BandPartPlan> plans(2);
+  plans[0] = {BandPartPlace{3, 100, 1 << 30, 5000}, {2, -1, 0}};
+  plans[1] = {BandPartPlace{65535, 0, 7, 7}, {}};
+  const std::vector<int> order{2, 0, 1};
+  std::vector<BandPartPlan> plans_back;
+  std::vector<int> order_back;
+  deserialize_share_plan(serialize_share_plan(plans, order), plans_back, order_back);
+  EXPECT_EQ(order_back, order);
+  ASSERT_EQ(plans_back.size(), plans.size());
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    EXPECT_EQ(plans_back[i].place.piece, plans[i].place.piece);
+    EXPECT_EQ(plans_back[i].place.first_tet, plans[i].place.first_tet);
+    EXPECT_EQ(plans_back[i].place.steiner_from, plans[i].place.steiner_from);
+    EXPECT_EQ(plans_back[i].place.steiner_to, plans[i].place.steiner_to);
+    EXPECT_EQ(plans_back[i].chain_of_part, plans[i].chain_of_part);
+  }
+  std::vector<ChainShare> shares(2);
+  shares[0].chain = 4, shares[0].piece = 9;
+  shares[0].band_tets = {10, 11};
+  shares[0].tets = {{{1, 2, 3, 5000}}, {{1, 2, 5000, 5001}}};
+  shares[0].neighbours = {{{-1, -1, 1, -1}}, {{-1, 0, -1, -1}}};
+  shares[0].point_ids = {1, 2, 3, 5000, 5001};
+  shares[0].points = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0.1, -2.5e300, 3}, {4, 5, 6}};
+  shares[1].chain = 4, shares[1].piece = 10;
+  const std::vector<ChainShare> back = deserialize_chain_shares(serialize_chain_shares(shares));
+  ASSERT_EQ(back.size(), shares.size());
+  for (std::size_t i = 0; i < shares.size(); ++i) {
+    EXPECT_EQ(back[i].chain, shares[i].chain);
+    EXPECT_EQ(back[i].piece, shares[i].piece);
+    EXPECT_EQ(back[i].band_tets, shares[i].band_tets);
+    EXPECT_EQ(back[i].tets, shares[i].tets);
+    EXPECT_EQ(back[i].neighbours, shares[i].neighbours);
+    EXPECT_EQ(back[i].point_ids, shares[i].point_ids);
+    EXPECT_TRUE(same_bits(back[i].points, shares[i].points));
+  }
+  EXPECT_TRUE(deserialize_chain_shares(serialize_chain_shares({})).empty());
+  shares[0].neighbours.pop_back();
+  EXPECT_THROW(deserialize_chain_shares(serialize_chain_shares(shares)), InternalError);
 }
 
 // The numbering's shares of the kept bulks, as they go to the ranks that keep them.

@@ -86,6 +86,10 @@ void kept_bulk_stop(int rank, const char* command) {
   if (rank == 1 && injected((std::string("worker:stop-on-") + command).c_str())) ::raise(SIGSTOP);
 }
 
+void kept_shares_failure(int rank) {
+  if (rank == 1 && injected("worker:shares-error")) throw InternalError("injected failure to cut the shares");
+}
+
 double kept_bulk_seconds(double fallback) { return seconds_or("PARTET_TEST_WORKER_S", fallback); }
 
 void verdict_stop(int rank) {

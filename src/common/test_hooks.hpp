@@ -2,7 +2,8 @@
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/spread_output.sh, tests/mpi/stopped_rank.sh (its verdict, cap and silent modes
 // too), tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh,
-// tests/mpi/check_tetgen_ranks.sh (also check_failure), tests/mpi/cap_failure.sh.
+// tests/mpi/check_tetgen_ranks.sh (also check_failure), tests/mpi/cap_failure.sh,
+// tests/mpi/shares_failure.sh.
 #pragma once
 #include <cstddef>
 
@@ -31,8 +32,12 @@ void cap_stop(int rank);
 void chain_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-on-COMMAND": rank 1 stops itself (SIGSTOP) when rank 0 asks
 // it for something of the bulks it keeps, so rank 0 waits for an answer that never comes. COMMAND:
-// "grow" (a band to grow with its bulk), "take" (a bulk to send back), "links" (its bulks' links).
+// "grow" (a band to grow with its bulk), "take" (a bulk to send back), "links" (its bulks' links),
+// "shares" (the seam chains' shares of its band parts).
 void kept_bulk_stop(int rank, const char* command);
+// PARTET_INJECT_FAILURE="worker:shares-error": rank 1 cannot cut the seam chains' shares of the
+// band parts it keeps (an InternalError), so every chain it has a share of fails.
+void kept_shares_failure(int rank);
 // PARTET_TEST_WORKER_S=S: how long rank 0 waits for a rank to answer a command on the bulks it
 // keeps (send one, its links, grow a band; else fallback).
 double kept_bulk_seconds(double fallback);

@@ -436,30 +436,41 @@ SeamStats chains_stats(const std::vector<HealedChain>& healed) {
   return stats;
 }
 
-// The welder's band parts by chain: where each chain's tets are, piece by piece.
+// The welder's band parts by chain: where each chain's tets are, piece by piece (those kept where
+// their pieces were split cut there, into the shares the welder gets from their stores).
 struct BandByChains {
   SeamChainPlan plan;
   std::vector<BandPartPlace> places;   // by piece
-  std::vector<BandPartChains> pieces;  // by piece
+  std::vector<BandPartChains> pieces;  // by piece, of the band parts here
   std::vector<std::vector<std::int32_t>> split_triangles;  // by chain
   std::vector<std::size_t> tets;                           // by chain
+  std::vector<int> order;    // the chains, largest first, so that no rank is left with a large one at the end
   bool covers_band = false;  // every tet of the band parts is in a chain
 
-  BandByChains(Welder& welder, const SplitSurface& split, const HealOptions& options)
-      : plan(seam_chain_plan(welder.take_band_links(), split, options)),
-        places(welder.band_part_places()),
-        split_triangles(chain_split_triangles(split, plan.planes)),
-        tets(plan.planes.size(), 0) {
-    for (std::size_t p = 0; p < places.size(); ++p) {
-      pieces.push_back(band_part_chains(welder.band_part(p), plan.chain_of_part[p]));
-      for (std::size_t i = 0; i < pieces[p].chains.size(); ++i) tets[pieces[p].chains[i]] += pieces[p].tets[i].size();
-    }
+  BandByChains(Welder& welder, const SplitSurface& split, const HealOptions& options) {
+    const std::vector<BandPartLinks> links = welder.take_band_links();
+    plan = seam_chain_plan(links, split, options);
+    places = welder.band_part_places();
+    split_triangles = chain_split_triangles(split, plan.planes);
+    tets.assign(plan.planes.size(), 0);
+    for (std::size_t p = 0; p < places.size(); ++p)
+      for (std::size_t part = 0; part < links[p].tets.size(); ++part)
+        if (plan.chain_of_part[p][part] >= 0)
+          tets[static_cast<std::size_t>(plan.chain_of_part[p][part])] += static_cast<std::size_t>(links[p].tets[part]);
     covers_band = std::accumulate(tets.begin(), tets.end(), std::size_t{0}) == welder.band_tet_count();
+    order.resize(tets.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return tets[a] > tets[b]; });
+    pieces.resize(places.size());
+    for (std::size_t p = 0; p < places.size(); ++p)
+      if (welder.band_part_here(p)) pieces[p] = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
+    welder.cut_kept_shares(plan.chain_of_part, order);
   }
-  // Chain c welded from its pieces' shares.
-  ChainBand chain(const Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
+  // Chain c welded from its pieces' shares: those of the band parts here, and those kept elsewhere
+  // (the chains must be asked for in `order`).
+  ChainBand chain(Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
                   const std::vector<Point3>& split_points) const {
-    std::vector<ChainShare> shares;
+    std::vector<ChainShare> shares = welder.kept_shares(static_cast<int>(c), split_points);
     for (std::size_t p = 0; p < pieces.size(); ++p) {
       const auto& chains = pieces[p].chains;
       const auto it = std::lower_bound(chains.begin(), chains.end(), static_cast<int>(c));
@@ -484,14 +495,10 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   const std::size_t count = by_chains.plan.planes.size();
   clock.lap("chains");
   std::vector<ChainBand> chains(count);  // what stays here of each: its ids and tets in the band
-  // The largest chains first, so that no rank is left with a large one at the end.
-  std::vector<std::size_t> order(count);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return by_chains.tets[a] > by_chains.tets[b]; });
+  const std::vector<int>& order = by_chains.order;
   double welding = 0;  // of the chains, here (between the ranks' healing)
   const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
-    const std::size_t i = order[j];
+    const auto i = static_cast<std::size_t>(order[j]);
     const double start = now_seconds();
     ChainBand chain = by_chains.chain(welder, i, input, split, split_points);
     welding += now_seconds() - start;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <deque>
+#include <map>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -33,10 +35,16 @@ constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
 // piece's index, and its owner sends the bulk ("" if it has none). A band its neighbours' crossings
 // grow grows where the bulk is: rank 0 broadcasts kGrowBand, the piece and its owner, sends the
 // owner the band, and gets the band grown ("" when it could not). The workers wait for commands
-// then.
+// then. The owners keep the band parts too: their crossings alone travel to grow them (the band
+// part stays with its owner), and before the chains are welded rank 0 broadcasts kCutShares and
+// the plan: each owner cuts its shares of every chain and sends them at once, one message per
+// chain in rank 0's order, which rank 0 takes as it welds each chain, while the owners heal
+// others. A band part comes back (kSendBand) only when the band must be welded after all.
 class RemoteBulks : public BulkStore {
  public:
   explicit RemoteBulks(RankStats& stats) : stats_(stats), limit_(test_hooks::kept_bulk_seconds(kWorkerSeconds)) {}
+  // The owners wait for rank 0 to take every share they sent before they end.
+  ~RemoteBulks() override { take_pending_shares(); }
   void owned_by(int piece, int rank) { owners_[piece] = rank; }
   bool put(int, const TetBlock&) override { return false; }  // a bulk split again stays on rank 0
   void number(const std::vector<BulkShare>& shares) override {
@@ -84,6 +92,53 @@ class RemoteBulks : public BulkStore {
                           " with the mesh it kept");
     return deserialize_grown_band(bytes);
   }
+  PieceBand take_band(int piece) override {
+    const int rank = owner_of(piece);
+    broadcast(kSendBand);
+    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
+    AddSeconds timer{stats_.receive_seconds};
+    const std::string bytes = reply_from(rank, "send the band part of piece " + std::to_string(piece) + " it kept");
+    if (bytes.empty())
+      throw InternalError("rank " + std::to_string(rank) + " no longer keeps the band part of piece " +
+                          std::to_string(piece));
+    return deserialize_grown_band(bytes);
+  }
+  void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) override {
+    take_pending_shares();
+    std::map<int, std::set<int>> ranks;  // by chain: those with a share of it
+    for (const BandPartPlan& plan : plans)
+      for (const int chain : plan.chain_of_part)
+        if (chain >= 0) ranks[chain].insert(owner_of(plan.place.piece));
+    broadcast(kCutShares);
+    broadcast_text(serialize_share_plan(plans, order));
+    for (const int chain : order)
+      if (const auto it = ranks.find(chain); it != ranks.end())
+        pending_.push_back({chain, std::vector<int>(it->second.begin(), it->second.end())});
+  }
+  // Asked for in the order given to cut_shares (the ranks sent them in that order). Every rank's
+  // message is taken before an empty one (a rank that could not cut them) throws.
+  std::vector<ChainShare> shares(int chain) override {
+    const auto it = std::find_if(pending_.begin(), pending_.end(), [&](const PendingChain& c) { return c.chain == chain; });
+    if (it == pending_.end()) return {};
+    if (it != pending_.begin()) throw InternalError("seam chain " + std::to_string(chain) + " was asked for out of order");
+    const PendingChain pending = std::move(*it);
+    pending_.pop_front();
+    std::vector<std::string> sent;
+    for (const int rank : pending.ranks) {
+      AddSeconds timer{stats_.receive_seconds};
+      sent.push_back(reply_from(
+          rank, "send its shares of seam chain " + std::to_string(chain) + " of the band parts it kept", kTagShare));
+    }
+    std::vector<ChainShare> shares;
+    for (std::size_t i = 0; i < sent.size(); ++i) {
+      if (sent[i].empty())
+        throw InternalError("rank " + std::to_string(pending.ranks[i]) + " could not cut its shares of seam chain " +
+                            std::to_string(chain) + " from the band parts it kept (its log says why)");
+      for (ChainShare& share : deserialize_chain_shares(sent[i])) shares.push_back(std::move(share));
+      std::string().swap(sent[i]);
+    }
+    return shares;
+  }
   TetBlock take(int piece) override {
     const int rank = owner_of(piece);
     owners_.erase(piece);
@@ -108,11 +163,24 @@ class RemoteBulks : public BulkStore {
     abort_job("rank " + std::to_string(rank) + " did not " + what + " within " +
               std::to_string(static_cast<int>(limit_)) + " s (stopped or dead?)");
   }
-  // What `rank` sends back on kTagBulk; silent for longer than limit_, it ends the job.
-  std::string reply_from(int rank, const std::string& what) {
+  // The shares sent and not taken (a heal that ended early): taken and dropped, so that the owners
+  // can end; an owner silent for limit_ is left alone (the job is ending anyway).
+  void take_pending_shares() {
+    for (const PendingChain& chain : pending_)
+      for (const int rank : chain.ranks) try {
+          stats_.bytes_received +=
+              static_cast<double>(recv_bytes(rank, kTagShare, job_comm(), kMaxChunk, limit_).size());
+        } catch (const Stalled&) {
+          log::error("rank " + std::to_string(rank) + " did not send its shares of seam chain " +
+                     std::to_string(chain.chain));
+        }
+    pending_.clear();
+  }
+  // What `rank` sends back on kTagBulk (or `tag`); silent for longer than limit_, it ends the job.
+  std::string reply_from(int rank, const std::string& what, int tag = kTagBulk) {
     std::string bytes;
     try {
-      bytes = recv_bytes(rank, kTagBulk, job_comm(), kMaxChunk, limit_);
+      bytes = recv_bytes(rank, tag, job_comm(), kMaxChunk, limit_);
     } catch (const Stalled&) {
       silent(rank, what);
     }
@@ -122,6 +190,11 @@ class RemoteBulks : public BulkStore {
   RankStats& stats_;
   double limit_;               // how long a rank may take to answer a command on its bulks
   std::map<int, int> owners_;  // piece -> the rank keeping its bulk
+  struct PendingChain {
+    int chain;
+    std::vector<int> ranks;  // those whose shares of it rank 0 has not taken yet, ascending
+  };
+  std::deque<PendingChain> pending_;  // in the order the ranks send them
 };
 
 // Rank 0's side of the meshing, a dynamic master/worker queue: each piece goes to whichever
@@ -345,8 +418,12 @@ class RootScheduler : public PieceScheduler {
   // stopped or dead rank within kSilentSeconds.
   void send_chain(int worker, std::size_t chain) {
     AddSeconds timer{stats_.send_seconds};
-    ChainTask task{static_cast<std::int32_t>(chain), (*chain_round_->cut_out)(chain), chain_round_->heal,
-                   chain_round_->tetgen};
+    std::optional<ChainBand> cut = cut_out(chain);
+    if (!cut) {
+      idle_.push_back(worker);
+      return;
+    }
+    ChainTask task{static_cast<std::int32_t>(chain), std::move(*cut), chain_round_->heal, chain_round_->tetgen};
     const std::string bytes = serialize_chain_task(task);
     task = ChainTask();
     busy_[worker] = {awake_seconds() + kRootSeconds, static_cast<int>(chain), false, ++tasks_[worker]};
@@ -359,6 +436,24 @@ class RootScheduler : public PieceScheduler {
       abort_job("rank " + std::to_string(worker) + " did not take seam chain " + std::to_string(chain) + " within " +
                 std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
     }
+  }
+
+  // The chain welded from its pieces' shares; a chain that cannot be is a chain that failed (its
+  // seams then heal over the whole mesh), not an end to the round the other ranks are in.
+  std::optional<ChainBand> cut_out(std::size_t chain) {
+    std::string why;
+    try {
+      return (*chain_round_->cut_out)(chain);
+    } catch (const std::bad_alloc&) {
+      why = out_of_memory_message(0);
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+    log::warning("seam chain " + std::to_string(chain) + " could not be welded from its pieces' shares: " + why);
+    HealedChain failed;
+    failed.failure = Failure(FailureKind::other, -1, {}, why);
+    chain_done(chain, std::move(failed), 0);
+    return std::nullopt;
   }
 
   // Heals the next chain here, its regions in TetGen processes one after another; between looks
@@ -381,10 +476,12 @@ class RootScheduler : public PieceScheduler {
       }
       return outcomes;
     };
+    std::optional<ChainBand> cut = cut_out(chain);
+    if (!cut) return;
     AddSeconds timer{stats_.region_seconds};
     healing_here_ = true;
     account_meshing();
-    HealedChain healed = heal_chain((*chain_round_->cut_out)(chain), chain_round_->heal, here);
+    HealedChain healed = heal_chain(std::move(*cut), chain_round_->heal, here);
     healing_here_ = false;
     account_meshing();
     chain_done(chain, std::move(healed), 0);
@@ -620,7 +717,9 @@ class RootScheduler : public PieceScheduler {
       records_[pieces_[position]->index].seconds = outcome.seconds;
       records_[pieces_[position]->index].memory_mb = outcome.memory_mb;
       records_[pieces_[position]->index].tets =
-          outcome.band ? static_cast<std::int64_t>(outcome.band->band.tets.size()) + outcome.band->bulk_tets
+          outcome.band ? (outcome.band->band_kept ? outcome.band->band_tet_count
+                                                  : static_cast<std::int64_t>(outcome.band->band.tets.size())) +
+                                 outcome.band->bulk_tets
                        : static_cast<std::int64_t>(outcome.result.mesh.tets.size());
     }
     outcomes_[position] = std::move(outcome);

@@ -3,6 +3,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "common/log.hpp"
@@ -80,16 +81,28 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
 
 // The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
 // --scratch in one nameless file in that directory on this rank's node (in memory where it cannot
-// write).
+// write). Their band parts stay here too, in memory (they are small), and the chains' shares cut
+// from them wait here until rank 0 takes them.
 class KeptBulks {
  public:
-  KeptBulks(const std::string& scratch, RankStats& stats) : scratch_(scratch), stats_(stats) { new_attempt(-1); }
+  KeptBulks(const std::string& scratch, RankStats& stats)
+      : scratch_(scratch), stats_(stats), shares_out_(0, kTagShare, job_comm(), kRootSeconds) {
+    new_attempt(-1);
+  }
+  // Rank 0 takes every share before it ends the job (RemoteBulks).
+  ~KeptBulks() {
+    bounded([this] {
+      shares_out_.wait_all();
+      return 0;
+    });
+  }
   std::int32_t attempt() const { return attempt_; }
   // Drops the bulks of earlier attempts (and their files).
   void new_attempt(std::int32_t attempt) {
     attempt_ = attempt;
     bulks_.clear();
     shares_.clear();
+    bands_.clear();
     on_disk_.reset();
     if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
   }
@@ -108,6 +121,7 @@ class KeptBulks {
   void forget(int piece) {
     bulks_.erase(piece);
     shares_.erase(piece);
+    bands_.forget(piece);
     if (on_disk_) on_disk_->drop(piece);
   }
   // Numbers the bulks kept in memory at once and those on disk as they are taken. A bulk that does
@@ -136,6 +150,14 @@ class KeptBulks {
     std::sort(kept.begin(), kept.end());
     return kept;
   }
+  KeptBandParts& bands() { return bands_; }
+  // A chain's shares, to rank 0 as soon as it takes them (in the order pushed).
+  void push_shares(std::string bytes) {
+    stats_.bytes_sent += static_cast<double>(bytes.size());
+    shares_out_.push(std::move(bytes));
+  }
+  // Lets go of the shares rank 0 has taken.
+  void release_taken_shares() { shares_out_.bytes_waiting(); }
   // Piece's bulk, once; nothing when this rank does not keep it.
   std::optional<TetBlock> take(int piece) {
     if (auto it = bulks_.find(piece); it != bulks_.end()) {
@@ -161,6 +183,8 @@ class KeptBulks {
   std::map<int, TetBlock> bulks_;  // by piece, in memory
   std::unique_ptr<ScratchBulks> on_disk_;
   std::map<int, BulkShare> shares_;  // by piece: the numbering of a bulk on disk, for its take
+  KeptBandParts bands_;
+  SendQueue shares_out_;  // the chains' shares of the band parts, not yet taken by rank 0
 };
 
 namespace {
@@ -179,8 +203,9 @@ std::string split_here(std::string reply, const PieceSurface& piece, const Split
   try {
     PieceBand band = split_where_meshed(std::move(outcome.result), piece.global_ids, order.spec);
     log::debug("piece " + std::to_string(piece.index) + ": " + std::to_string(band.band.tets.size()) +
-               " band tets to rank 0, " + std::to_string(band.bulk_tets) + " bulk tets kept here");
+               " band tets and " + std::to_string(band.bulk_tets) + " bulk tets kept here");
     kept.keep(piece.index, std::move(band.bulk));
+    kept.bands().keep(band);
     outcome.band = std::move(band);
     return serialize_outcome(outcome);
   } catch (const std::bad_alloc&) {
@@ -227,15 +252,18 @@ void grow_kept_band(KeptBulks& kept, RankStats& stats) {
   try {
     BandToGrow band = deserialize_band_to_grow(bytes);
     std::string().swap(bytes);
+    if (band.index != piece) throw InternalError("rank 0 sent the band of piece " + std::to_string(band.index));
+    if (band.band_kept) kept.bands().fill(band);  // (the band part kept here: only the crossings came)
     std::optional<TetBlock> bulk = kept.take(piece);
-    if (!bulk || band.index != piece) throw InternalError("this rank keeps no mesh of piece " + std::to_string(piece));
+    if (!bulk) throw InternalError("this rank keeps no mesh of piece " + std::to_string(piece));
     PieceBand grown = grow_band(std::move(band), std::move(*bulk));
     kept.keep(piece, std::move(grown.bulk), true);
     grown.bulk = TetBlock();
-    bytes = serialize_grown_band(grown);
-    stats.bands_grown += 1;
     log::debug("piece " + std::to_string(piece) + ": its band grew here by its neighbours' crossings to " +
                std::to_string(grown.band.tets.size()) + " tets");
+    kept.bands().keep(grown);
+    bytes = serialize_grown_band(grown);
+    stats.bands_grown += 1;
   } catch (const std::exception& e) {  // rank 0 gets an empty answer and says so
     log::error("piece " + std::to_string(piece) + ": its band could not grow here: " + e.what());
     kept.forget(piece);
@@ -244,6 +272,52 @@ void grow_kept_band(KeptBulks& kept, RankStats& stats) {
   AddSeconds timer{stats.send_seconds};
   stats.bytes_sent +=
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
+// A worker's side of kSendBand: the owner of the piece sends its band part (the band to be welded
+// after all) and forgets it.
+void send_kept_band(KeptBulks& kept, RankStats& stats) {
+  const int piece = bounded([] { return broadcast_int(0, 0, job_comm(), kRootSeconds); });
+  if (!kept.bands().holds(piece)) return;  // another rank's
+  std::string bytes;
+  try {
+    bytes = serialize_grown_band(kept.bands().take(piece));
+  } catch (const std::exception& e) {  // rank 0 gets an empty answer and says so
+    log::error("piece " + std::to_string(piece) + ": its band part: " + e.what());
+    bytes.clear();
+  }
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent +=
+      static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
+// A worker's side of kCutShares: the shares of every chain of the band parts it keeps, cut now
+// and sent to rank 0 in its order, to take as it welds each chain (kTagShare). A chain whose
+// shares could not be cut gets an empty message: rank 0 takes that chain for failed.
+void cut_kept_shares(KeptBulks& kept) {
+  std::vector<BandPartPlan> plans, here;
+  std::vector<int> order;
+  deserialize_share_plan(broadcast_text(""), plans, order);
+  std::set<int> chains;  // those rank 0 waits for from this rank
+  for (BandPartPlan& plan : plans) {
+    if (!kept.bands().holds(plan.place.piece)) continue;
+    for (const int chain : plan.chain_of_part)
+      if (chain >= 0) chains.insert(chain);
+    here.push_back(std::move(plan));
+  }
+  test_hooks::kept_bulk_stop(my_rank(), "shares");
+  std::set<int> sent;
+  try {
+    test_hooks::kept_shares_failure(my_rank());
+    kept.bands().cut_shares(here, order, [&](int chain, std::vector<ChainShare>&& shares) {
+      kept.push_shares(serialize_chain_shares(shares));
+      sent.insert(chain);
+    });
+  } catch (const std::exception& e) {
+    log::error(std::string("the seam chains' shares of the band parts kept here: ") + e.what());
+    for (const int chain : order)
+      if (chains.count(chain) && !sent.count(chain)) kept.push_shares("");
+  }
 }
 
 // A worker's side of kNumberBulks: it numbers the bulks it keeps with their shares. Shares it
@@ -342,6 +416,14 @@ void Worker::mesh_rounds() {
       send_bulk_links(kept, stats);
       continue;
     }
+    if (command == kSendBand) {
+      send_kept_band(kept, stats);
+      continue;
+    }
+    if (command == kCutShares) {
+      cut_kept_shares(kept);
+      continue;
+    }
     for (;;) {
       std::string bytes;
       {
@@ -349,6 +431,7 @@ void Worker::mesh_rounds() {
         bytes = bounded([] { return recv_bytes(0, kTagPiece, job_comm(), kMaxChunk, kRootSeconds); });
       }
       stats.bytes_received += static_cast<double>(bytes.size());
+      kept.release_taken_shares();
       if (bytes.empty()) break;
       ++tasks;
       if (task_kind(bytes) == TaskKind::cap) {

@@ -286,6 +286,7 @@ void save_links(Archive& ar, const std::optional<BandPartLinks>& links) {
   save_block(ar, counts);
   save_block(ar, removed);
   save_block(ar, faces);
+  save_block(ar, links->tets);
 }
 
 template <class Archive>
@@ -300,6 +301,8 @@ void load_links(Archive& ar, std::optional<BandPartLinks>& links) {
   load_block(ar, removed);
   load_block(ar, faces);
   links.emplace();
+  load_block(ar, links->tets);
+  if (links->tets.size() != counts.size()) throw InternalError("a band part's links count the tets of other parts");
   std::size_t at = 0;
   for (const std::int32_t count : counts) {
     if (count < 0 || removed.size() - at < static_cast<std::size_t>(count))
@@ -318,6 +321,7 @@ void load_links(Archive& ar, std::optional<BandPartLinks>& links) {
 std::string encode_band(const PieceBand& split, std::string_view prefix) {
   return encode(
       tet_block_bytes(split.band) + 64 + split.band_steiner.size() * 4 + split.band_tets.size() * 4 +
+          split.band_split_points.size() * 4 +
           split.crossings.size() * 16 + split.cap_faces_outside.size() * 12,
       [&](auto& ar) {
         const std::int32_t index = split.index, first_steiner = split.first_steiner;
@@ -331,6 +335,10 @@ std::string encode_band(const PieceBand& split, std::string_view prefix) {
         for (const FaceKey& key : split.cap_faces_outside) outside.push_back({key.v[0], key.v[1], key.v[2]});
         save_block(ar, outside);
         save_links(ar, split.links);
+        const std::int32_t kept = split.band_kept ? 1 : 0;
+        const std::int64_t kept_tets = split.band_tet_count;
+        ar << kept << kept_tets;
+        save_block(ar, split.band_split_points);
       },
       prefix);
 }
@@ -350,6 +358,11 @@ PieceBand deserialize_band(std::string_view bytes) {
     load_block(ar, outside);
     for (const Triangle& t : outside) split.cap_faces_outside.push_back(FaceKey(t));
     load_links(ar, split.links);
+    std::int32_t kept = 0;
+    std::int64_t kept_tets = 0;
+    ar >> kept >> kept_tets;
+    split.band_kept = kept != 0, split.band_tet_count = kept_tets;
+    load_block(ar, split.band_split_points);
   });
 }
 
@@ -404,6 +417,8 @@ std::string serialize_band_to_grow(const BandToGrow& band) {
                   save_block(ar, band.band_steiner);
                   save_block(ar, band.band_tets);
                   save_crossings(ar, band.crossings);
+                  const std::int32_t kept = band.band_kept ? 1 : 0;
+                  ar << kept;
                 });
 }
 
@@ -420,6 +435,9 @@ BandToGrow deserialize_band_to_grow(std::string_view bytes) {
     load_block(ar, band.band_steiner);
     load_block(ar, band.band_tets);
     load_crossings(ar, band.crossings);
+    std::int32_t kept = 0;
+    ar >> kept;
+    band.band_kept = kept != 0;
   });
 }
 
@@ -429,6 +447,75 @@ std::string serialize_grown_band(const PieceBand& grown) {
 }
 
 PieceBand deserialize_grown_band(std::string_view bytes) { return deserialize_band(bytes); }
+
+std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) {
+  return encode(64 + plans.size() * 64 + order.size() * 4, [&](auto& ar) {
+    save_block(ar, order);
+    const std::uint64_t count = plans.size();
+    ar << count;
+    for (const BandPartPlan& plan : plans) {
+      const std::vector<std::int32_t> place = {plan.place.piece, plan.place.first_tet, plan.place.steiner_from,
+                                               plan.place.steiner_to};
+      save_block(ar, place);
+      save_block(ar, plan.chain_of_part);
+    }
+  });
+}
+
+void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& plans, std::vector<int>& order) {
+  plans = decode<std::vector<BandPartPlan>>(bytes, [&](auto& ar, std::vector<BandPartPlan>& all) {
+    load_block(ar, order);
+    std::uint64_t count = 0;
+    ar >> count;
+    for (std::uint64_t i = 0; i < count; ++i) {
+      std::vector<std::int32_t> place;
+      BandPartPlan& plan = all.emplace_back();
+      load_block(ar, place);
+      if (place.size() != 4) throw InternalError("a band part's plan came without its place");
+      plan.place = BandPartPlace{place[0], place[1], place[2], place[3]};
+      load_block(ar, plan.chain_of_part);
+    }
+  });
+}
+
+std::string serialize_chain_shares(const std::vector<ChainShare>& shares) {
+  std::size_t bytes = 64;
+  for (const ChainShare& share : shares) bytes += 64 + share.tets.size() * 36 + share.points.size() * 28;
+  return encode(bytes, [&](auto& ar) {
+    const std::uint64_t count = shares.size();
+    ar << count;
+    for (const ChainShare& share : shares) {
+      const std::int32_t chain = share.chain, piece = share.piece;
+      ar << chain << piece;
+      save_block(ar, share.band_tets);
+      save_block(ar, share.tets);
+      save_block(ar, share.neighbours);
+      save_block(ar, share.point_ids);
+      save_block(ar, share.points);
+    }
+  });
+}
+
+std::vector<ChainShare> deserialize_chain_shares(std::string_view bytes) {
+  return decode<std::vector<ChainShare>>(bytes, [](auto& ar, std::vector<ChainShare>& shares) {
+    std::uint64_t count = 0;
+    ar >> count;
+    for (std::uint64_t i = 0; i < count; ++i) {
+      ChainShare& share = shares.emplace_back();
+      std::int32_t chain = 0, piece = 0;
+      ar >> chain >> piece;
+      share.chain = chain, share.piece = piece;
+      load_block(ar, share.band_tets);
+      load_block(ar, share.tets);
+      load_block(ar, share.neighbours);
+      load_block(ar, share.point_ids);
+      load_block(ar, share.points);
+      if (share.neighbours.size() != share.tets.size() || share.band_tets.size() != share.tets.size() ||
+          share.points.size() != share.point_ids.size())
+        throw InternalError("a seam chain's share came with arrays of different lengths");
+    }
+  });
+}
 
 std::string serialize_block(const TetBlock& block) {
   return encode(tet_block_bytes(block), [&](auto& ar) { save_tet_block(ar, block); });

@@ -13,6 +13,7 @@
 #include "stages/assembly_numbering.hpp"
 #include "stages/closure.hpp"
 #include "stages/piece.hpp"
+#include "stages/kept_band_parts.hpp"
 #include "stages/seam_chain_band.hpp"
 #include "stages/spread_mesh.hpp"
 #include "mesher/tetgen_mesher.hpp"
@@ -83,6 +84,12 @@ std::string serialize_band_to_grow(const BandToGrow& band);
 BandToGrow deserialize_band_to_grow(std::string_view bytes);
 std::string serialize_grown_band(const PieceBand& grown);
 PieceBand deserialize_grown_band(std::string_view bytes);
+// The plan of the band parts a rank keeps (their places and chains of parts) and the order in
+// which rank 0 takes the chains, to the ranks that keep them; and their shares of one chain back.
+std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const std::vector<int>& order);
+void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& plans, std::vector<int>& order);
+std::string serialize_chain_shares(const std::vector<ChainShare>& shares);
+std::vector<ChainShare> deserialize_chain_shares(std::string_view bytes);
 // The numbering's shares of the bulks a rank keeps, from rank 0 (BulkStore::number).
 std::string serialize_bulk_shares(const std::vector<BulkShare>& shares);
 std::vector<BulkShare> deserialize_bulk_shares(std::string_view bytes);

@@ -7,6 +7,7 @@
 #include "common/log.hpp"
 #include "common/stage_timer.hpp"
 #include "partet/errors.hpp"
+#include "stages/kept_band_parts.hpp"
 #include "stages/tet_region.hpp"
 #include "stages/topology.hpp"
 
@@ -78,6 +79,12 @@ void move_steiner_ids(std::vector<Tet>& tets, std::int32_t from, std::int32_t to
 
 }  // namespace
 
+PieceBand BulkStore::take_band(int piece) {
+  throw InternalError("no band part of piece " + std::to_string(piece) + " is kept with its bulk");
+}
+
+std::vector<ChainShare> BulkStore::shares(int) { return {}; }
+
 Welder::Welder(const SplitSurface& split, const std::vector<PieceSurface>& pieces)
     : split_(split),
       pieces_(pieces),
@@ -85,6 +92,7 @@ Welder::Welder(const SplitSurface& split, const std::vector<PieceSurface>& piece
       blocks_(pieces.size()),
       bulks_(pieces.size()),
       stored_(pieces.size()),
+      band_elsewhere_(pieces.size()),
       band_steiner_(pieces.size()),
       band_tets_(pieces.size()),
       crossings_(pieces.size()),
@@ -139,13 +147,17 @@ void Welder::take_crossings() {
 }
 
 void Welder::grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings) {
+  StoredBulk& stored = stored_[p];
+  const bool where_kept = stored.stored && stored.store->grows_bands();
+  if (!where_kept) band_here(p);
   BandToGrow band{static_cast<int>(p), *split_on_arrival_, std::move(blocks_[p]), std::move(band_steiner_[p]),
                   std::move(band_tets_[p]), std::move(crossings)};
-  StoredBulk& stored = stored_[p];
   PieceBand grown;
-  if (stored.stored && stored.store->grows_bands()) {
+  if (where_kept) {
     // The band in the owner's ids and back: the bulk numbers the piece's Steiner points from there.
+    // A band part kept there too stays there: only the crossings travel.
     band.spec.split_point_count = stored.first_steiner;
+    if (band_elsewhere_[p].kept) band.band = Block(), band.band_steiner.clear(), band.band_tets.clear(), band.band_kept = true;
     move_steiner_ids(band.band.tets, first_steiner_, stored.first_steiner);
     grown = stored.store->grow(std::move(band));
     if (grown.index != static_cast<int>(p) || grown.bulk.in)
@@ -158,7 +170,11 @@ void Welder::grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings) {
     grown = grow_band(std::move(band), std::move(bulk_here(p)));
     bulks_[p] = std::move(grown.bulk);
   }
+  if (grown.band_kept && !where_kept) mismatch(static_cast<int>(p), "grew here with a band part kept elsewhere");
+  band_elsewhere_[p] = {grown.band_kept, static_cast<std::size_t>(grown.band_tet_count),
+                        std::move(grown.band_split_points)};
   blocks_[p] = std::move(grown.band);
+  blocks_[p].in = true;
   band_steiner_[p] = std::move(grown.band_steiner);
   band_tets_[p] = std::move(grown.band_tets);
   made_links_[p] = std::move(grown.links);
@@ -254,6 +270,7 @@ void Welder::add_split(PieceBand&& split, BulkStore& owner) {
     mismatch(p, "does not match its piece");
   if (blocks_[p].in) mismatch(p, "arrived twice");
   if (split.first_steiner < first_steiner_) mismatch(p, "numbers its Steiner points among the split's points");
+  if (split.band_kept && !split.band.tets.empty()) mismatch(p, "came with the band part it keeps");
   note_surface(static_cast<std::size_t>(p));
   move_steiner_ids(split.band.tets, split.first_steiner, first_steiner_);
   bulks_[p] = Block();
@@ -269,6 +286,8 @@ void Welder::note_surface(std::size_t p) {
 }
 
 void Welder::install_band(std::size_t p, PieceBand&& split) {
+  band_elsewhere_[p] = {split.band_kept, static_cast<std::size_t>(split.band_tet_count),
+                        std::move(split.band_split_points)};
   blocks_[p] = std::move(split.band);
   blocks_[p].in = true;
   band_steiner_[p] = std::move(split.band_steiner);
@@ -309,7 +328,28 @@ std::size_t Welder::bulk_steiner_points(std::size_t p) const {
   return stored_[p].stored ? stored_[p].steiner_points : bulks_[p].steiner_points.size();
 }
 
+void Welder::band_here(std::size_t p) {
+  BandElsewhere& elsewhere = band_elsewhere_[p];
+  if (!elsewhere.kept) return;
+  const StoredBulk& stored = stored_[p];
+  if (!stored.stored) mismatch(static_cast<int>(p), "has a band part kept where no bulk is");
+  PieceBand part = stored.store->take_band(static_cast<int>(p));
+  if (part.index != static_cast<int>(p) || part.band.tets.size() != elsewhere.tets ||
+      part.band.neighbours.size() != elsewhere.tets || part.band_tets.size() != elsewhere.tets)
+    mismatch(static_cast<int>(p), "came back from where its band part was kept with another band");
+  move_steiner_ids(part.band.tets, stored.first_steiner, first_steiner_);
+  blocks_[p].tets = std::move(part.band.tets);
+  blocks_[p].neighbours = std::move(part.band.neighbours);
+  band_tets_[p] = std::move(part.band_tets);
+  elsewhere = BandElsewhere();
+}
+
+std::size_t Welder::band_part_tets(std::size_t p) const {
+  return band_elsewhere_[p].kept ? band_elsewhere_[p].tets : blocks_[p].tets.size();
+}
+
 void Welder::rejoin(std::size_t p) {
+  band_here(p);
   Block& bulk = bulk_here(p);
   blocks_[p] = join_band_and_bulk(std::move(blocks_[p]), std::move(bulk), band_steiner_[p], band_tets_[p], first_steiner_);
   bulk = Block();
@@ -354,7 +394,7 @@ void Welder::split_bands(BandSpec spec) {
 
 std::size_t Welder::band_tet_count() const {
   std::size_t tets = 0;
-  for (const Block& block : blocks_) tets += block.tets.size();
+  for (std::size_t p = 0; p < blocks_.size(); ++p) tets += band_part_tets(p);
   return tets;
 }
 
@@ -363,10 +403,40 @@ std::vector<BandPartPlace> Welder::band_part_places() const {
   std::int32_t tets = 0, steiner_points = 0;
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
     places.push_back({pieces_[p].index, tets, first_steiner_, first_steiner_ + steiner_points});
-    tets += static_cast<std::int32_t>(blocks_[p].tets.size());
+    tets += static_cast<std::int32_t>(band_part_tets(p));
     steiner_points += static_cast<std::int32_t>(blocks_[p].steiner_points.size());
   }
   return places;
+}
+
+void Welder::cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part, const std::vector<int>& order) {
+  const std::vector<BandPartPlace> places = band_part_places();
+  std::map<BulkStore*, std::vector<BandPartPlan>> plans;
+  for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    if (!band_elsewhere_[p].kept) continue;
+    BandPartPlan plan{places[p], chain_of_part.at(p)};
+    plan.place.steiner_from = stored_[p].first_steiner;  // in the store's ids
+    plans[stored_[p].store].push_back(std::move(plan));
+  }
+  share_stores_.clear();
+  for (auto& [store, kept] : plans) {
+    store->cut_shares(kept, order);
+    share_stores_.push_back(store);
+  }
+}
+
+std::vector<ChainShare> Welder::kept_shares(int chain, const std::vector<Point3>& split_points) {
+  std::vector<ChainShare> shares;
+  for (BulkStore* store : share_stores_)
+    for (ChainShare& share : store->shares(chain)) {
+      const int p = share.piece;
+      if (share.chain != chain || p < 0 || static_cast<std::size_t>(p) >= blocks_.size() ||
+          !band_elsewhere_[p].kept || stored_[p].store != store)
+        mismatch(p, "'s band part gave a share of another chain or piece");
+      add_split_coordinates(share, split_points);
+      shares.push_back(std::move(share));
+    }
+  return shares;
 }
 
 void Welder::reserve_for_assembly(std::vector<Point3>& split_points) const {
@@ -379,6 +449,7 @@ void Welder::reserve_for_assembly(std::vector<Point3>& split_points) const {
 }
 
 TetMesh Welder::weld_bands(std::vector<Point3> split_points) {
+  for (std::size_t p = 0; p < blocks_.size(); ++p) band_here(p);
   reserve_for_assembly(split_points);
   TetMesh band = weld_blocks(std::move(split_points), blocks_);
   band_used_before_ = used_vertices<bool>(band.points.size(), band.tets);
@@ -394,6 +465,10 @@ TetMesh Welder::band_points(std::vector<Point3> split_points) {
     band.points.insert(band.points.end(), blocks_[p].steiner_points.begin(), blocks_[p].steiner_points.end());
   band_used_before_.assign(band.points.size(), false);
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    if (band_elsewhere_[p].kept) {  // (every Steiner point of a band part is one its tets use)
+      for (const std::int32_t v : band_elsewhere_[p].split_points) band_used_before_[v] = true;
+      std::fill_n(band_used_before_.begin() + places[p].steiner_to, blocks_[p].steiner_points.size(), true);
+    }
     for (const Tet& tet : blocks_[p].tets)
       for (const std::int32_t v : tet)
         band_used_before_[v >= places[p].steiner_from ? v - places[p].steiner_from + places[p].steiner_to : v] = true;
@@ -522,6 +597,7 @@ TetMesh Welder::assemble(TetMesh&& healed_band, const AssemblyNumbering& numberi
   }
   healed_band = TetMesh();
   blocks_.assign(k, Block());
+  band_elsewhere_.assign(k, {});
   bulks_.assign(k, Block());
   band_steiner_.assign(k, {});
   band_tets_.assign(k, {});
@@ -681,6 +757,7 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   }
   log::debug("spreading the mesh: " + clock.steps);
   blocks_.assign(k, Block());
+  band_elsewhere_.assign(k, {});
   bulks_.assign(k, Block());
   band_steiner_.assign(k, {});
   band_tets_.assign(k, {});

@@ -14,6 +14,8 @@
 namespace partet {
 
 struct StepClock;
+struct ChainShare;
+struct BandPartPlan;
 
 // Where a welder keeps the pieces' bulks between their split and the assembly when not in its
 // own memory: the paper's memory mode (scratch files, io/scratch_bulks.hpp), and the ranks that
@@ -41,6 +43,15 @@ class BulkStore {
   // the welder links its own bulks); links returns them, by piece.
   virtual void ask_links(std::int32_t /*input_vertices*/) {}
   virtual std::vector<std::pair<int, BlockLinks>> links() { return {}; }
+  // Band parts kept with the bulks (PieceBand::band_kept, add_split; the MPI driver's owners):
+  // piece p's band part back (band, band_steiner and band_tets, in the store's Steiner ids),
+  // once, when the band must be welded after all. Throws Error when it was lost.
+  virtual PieceBand take_band(int piece);
+  // Before the chains are welded: the band parts kept here cut into the chains' shares (plans:
+  // those parts' places, in the store's Steiner ids, and chains of parts), which `shares` then
+  // gives chain by chain, in `order` (their split points' coordinates left to the welder).
+  virtual void cut_shares(const std::vector<BandPartPlan>& /*plans*/, const std::vector<int>& /*order*/) {}
+  virtual std::vector<ChainShare> shares(int chain);
 };
 
 // Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
@@ -94,8 +105,14 @@ class Welder {
   TetMesh band_points(std::vector<Point3> split_points);
   // Between the two: piece p's band part (its Steiner point b is split_point_count + b), and where
   // each piece's band part goes in the welded band (chain_share).
+  // A band part kept where its piece was split (band_part_here false) has no tets here: its store
+  // cuts its shares (cut_kept_shares before the first chain, then kept_shares chain by chain, in
+  // `order`), and gives it back when the band is welded after all.
   const TetBlock& band_part(std::size_t p) const { return blocks_.at(p); }
+  bool band_part_here(std::size_t p) const { return !band_elsewhere_.at(p).kept; }
   std::vector<BandPartPlace> band_part_places() const;
+  void cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part, const std::vector<int>& order);
+  std::vector<ChainShare> kept_shares(int chain, const std::vector<Point3>& split_points);
   // After split_bands, once: the links of each piece's band (band_part_links), which give the
   // chains (seam_chain_plan) without the welded band.
   std::vector<BandPartLinks> take_band_links() { return std::move(band_links_); }
@@ -147,6 +164,9 @@ class Welder {
   // Piece p's bulk to the store, if there is one; and back.
   void store_bulk(std::size_t p);
   Block& bulk_here(std::size_t p);
+  // Piece p's band part back from where it was split, when it was kept there.
+  void band_here(std::size_t p);
+  std::size_t band_part_tets(std::size_t p) const;
   // Before the assembly, with each bulk's share (by piece): each store numbers the bulks it keeps
   // while this one numbers its own.
   void number_bulks(const std::vector<BulkNumbering>& shares);
@@ -173,6 +193,13 @@ class Welder {
     std::int32_t first_steiner = 0;  // the id of the piece's first Steiner point there
   };
   std::vector<StoredBulk> stored_;  // per piece
+  struct BandElsewhere {  // a band part kept by the store of its bulk (PieceBand::band_kept)
+    bool kept = false;
+    std::size_t tets = 0;
+    std::vector<std::int32_t> split_points;  // those its tets use, ascending
+  };
+  std::vector<BandElsewhere> band_elsewhere_;  // per piece
+  std::vector<BulkStore*> share_stores_;       // the stores cut_kept_shares asked
   // Per split piece: the index in the piece of each of its band's Steiner points, and the place
   // in the piece of each band tet (to rejoin it, until finish_band).
   std::vector<std::vector<std::int32_t>> band_steiner_;

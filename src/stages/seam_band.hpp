@@ -85,6 +85,7 @@ struct TetBlock {
 struct BandPartLinks {
   std::vector<std::vector<std::int32_t>> removed;           // per part: its vertices to remove, ascending
   std::vector<std::pair<FaceKey, std::int32_t>> cap_faces;  // open faces on the planes and their parts, by key
+  std::vector<std::int32_t> tets;                           // per part: how many tets it has
 };
 
 // A piece's mesh split into its band and its bulk. Split where the piece was meshed (one layer:
@@ -100,6 +101,11 @@ struct PieceBand {
   std::vector<FaceKey> cap_faces_outside;  // BandMarks::cap_faces_outside
   std::optional<BandPartLinks> links;      // its band's (band_part_links), made where it was split
   std::int64_t bulk_tets = 0, bulk_steiner_points = 0;  // the bulk's, also once it is elsewhere
+  // The band part kept where it was split (KeptBandParts): its tets, neighbours and band_tets
+  // stay there (band keeps its Steiner points), and these tell the welder what it needs of them.
+  bool band_kept = false;
+  std::int64_t band_tet_count = 0;
+  std::vector<std::int32_t> band_split_points;  // the split surface's points its tets use, ascending
 };
 
 // Where a piece's band part goes in the welded band (Welder::finish_band): the band's id of its
@@ -142,6 +148,7 @@ struct BandToGrow {
   TetBlock band;  // its Steiner points renumbered (band point b is spec.split_point_count + b)
   std::vector<std::int32_t> band_steiner, band_tets;  // as PieceBand has them
   std::vector<CapCrossing> crossings;                 // its neighbours': the lower piece's, then the upper's
+  bool band_kept = false;  // its band part is kept with the bulk (KeptBandParts): band and its maps are not here
 };
 
 // The piece's band grown by its neighbours' crossings, and its bulk without the tets that

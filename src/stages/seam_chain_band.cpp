@@ -215,9 +215,15 @@ ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, st
   share.point_ids.erase(std::unique(share.point_ids.begin(), share.point_ids.end()), share.point_ids.end());
   share.points.reserve(share.point_ids.size());
   for (const std::int32_t id : share.point_ids)
-    share.points.push_back(id < place.steiner_to ? split_points.at(static_cast<std::size_t>(id))
-                                                 : band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to)));
+    share.points.push_back(id >= place.steiner_to ? band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to))
+                           : split_points.empty()   ? Point3{}
+                                                    : split_points.at(static_cast<std::size_t>(id)));
   return share;
+}
+
+void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points) {
+  for (std::size_t i = 0; i < share.point_ids.size() && share.point_ids[i] < static_cast<std::int32_t>(split_points.size()); ++i)
+    share.points[i] = split_points[static_cast<std::size_t>(share.point_ids[i])];
 }
 
 ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,

@@ -71,9 +71,11 @@ BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& ch
 
 // The share of the i-th chain of `in_chains` (band_part_chains) of a piece's band part
 // (Welder::band_part); `place` where the part goes in the band (Welder::band_part_places),
-// split_points the split surface's points (the piece's own do).
+// split_points the split surface's points (none where the part is kept: add_split_coordinates
+// then fills them in where they are).
 ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
                        const BandPartPlace& place, const std::vector<Point3>& split_points);
+void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points);
 
 // The chain of these planes welded from its pieces' shares (in any order) and its split
 // triangles (chain_split_triangles): the chain cut_out_chain cuts out of the welded band, without

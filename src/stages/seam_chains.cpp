@@ -103,8 +103,10 @@ BandPartLinks band_part_links(const TetBlock& band, const BandSpec& spec) {
   const std::vector<std::int32_t> part = band_part_labels(band);
   BandPartLinks links;
   links.removed.resize(part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1));
+  links.tets.assign(links.removed.size(), 0);
   for (std::size_t t = 0; t < band.tets.size(); ++t) {
     const Tet& tet = band.tets[t];
+    ++links.tets[part[t]];
     for (auto v : tet)
       if (spec.removes(v)) links.removed[part[t]].push_back(v);
     for (int j = 0; j < 4; ++j) {

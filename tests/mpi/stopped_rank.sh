@@ -31,7 +31,10 @@
 #            rank 0 takes back a bulk it keeps (worker:stop-on-take): named with the piece after 3 s.
 #   links:   the mesh left spread (no --check), rank 1 stops itself when rank 0 asks for the links
 #            of the bulks it keeps (worker:stop-on-links, for TetGen's .neigh): named after 3 s.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain|grow|take|links]
+#   shares:  rank 1 stops itself when rank 0 asks it to cut the seam chains' shares of the band
+#            parts it keeps (worker:stop-on-shares): named with the chain after 3 s. Two pieces,
+#            one chain: rank 1 meshes the first piece, so rank 0's first chain needs its share.
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain|grow|take|links|shares]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -39,7 +42,7 @@ trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 "$partet" generate torus --faces 60000 -o "$work/torus.off" > /dev/null || exit 1
 # The fault each mode injects; the input check's modes shorten its waits (rank 1 waits 3 s for
 # the other checking ranks; rank 0 3 s for rank 1's verdict on 2 ranks, 6 s on 4).
-inject=() ranks=(-n 2) fault="" check_waits=0 limits=(--piece-timeout 2) check=()
+inject=() ranks=(-n 2) fault="" check_waits=0 limits=(--piece-timeout 2) check=() pieces=24
 case $mode in
   idle) fault=worker:stop-when-idle ;;
   cap) fault=worker:stop-on-cap ;;
@@ -51,13 +54,14 @@ case $mode in
   grow) fault=worker:stop-on-grow limits=() ;;
   take) fault=worker:stop-on-take limits=() check=(--check) ;;
   links) fault=worker:stop-on-links limits=() ;;
+  shares) fault=worker:stop-on-shares limits=() pieces=2 ;;
 esac
 [ -z "$fault" ] || { export PARTET_INJECT_FAILURE=$fault; inject+=(-x PARTET_INJECT_FAILURE); }
 [ "$check_waits" = 0 ] || { export PARTET_TEST_VERDICT_WAIT_S=3; inject+=(-x PARTET_TEST_VERDICT_WAIT_S); }
 [[ $mode != silent && $mode != chain ]] || { export PARTET_TEST_SILENCE_S=3; inject+=(-x PARTET_TEST_SILENCE_S); }
-[[ $mode != grow && $mode != take && $mode != links ]] || { export PARTET_TEST_WORKER_S=3; inject+=(-x PARTET_TEST_WORKER_S); }
+[[ $mode != grow && $mode != take && $mode != links && $mode != shares ]] || { export PARTET_TEST_WORKER_S=3; inject+=(-x PARTET_TEST_WORKER_S); }
 start=$(date +%s)
-timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 24 \
+timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces "$pieces" \
   "${limits[@]}" "${check[@]}" > "$work/log" 2>&1 &
 launcher=$!
 if [ "$mode" = meshing ]; then
@@ -95,12 +99,13 @@ case $mode in
   grow) expected="rank 1 did not grow the band of piece [0-9]+ within 3 s" ;;
   take) expected="rank 1 did not send the mesh of piece [0-9]+ it kept within 3 s" ;;
   links) expected="rank 1 did not send the links of the bulks it keeps within 3 s" ;;
+  shares) expected="rank 1 did not send its shares of seam chain [0-9]+ of the band parts it kept within 3 s" ;;
   idle) expected="rank 1 has not answered" ;;
   *) expected="rank 1 (has not answered|did not take)" ;;
 esac
 grep -qE "$expected" "$work/log" || fail "no message '$expected'"
 [ "$mode" != share ] || ! grep -q "rank 1 has not" "$work/log" || fail "rank 1 blamed for rank 2's silence"
 [ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
-[[ $mode != silent && $mode != chain && $mode != grow && $mode != take && $mode != links ]] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
+[[ $mode != silent && $mode != chain && $mode != grow && $mode != take && $mode != links && $mode != shares ]] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 -E "$expected" "$work/log")"
