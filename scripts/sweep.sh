@@ -15,30 +15,42 @@ while getopts "p:d:f:k:a:j:" opt; do
   esac
 done
 make_work_dir
-# One run: prints "model axis k result retries".
+# One run: prints "model axis k ok" and keeps its report as reports/MODEL_AXIS_K.json, or prints
+# "model axis k FAIL 0 reason". (The reports are read once at the end: a python3 per run cost a
+# third of a second each.)
 run_one() {
-  local model=$1 axis=$2 k=$3 out
+  local model=$1 axis=$2 k=$3 out name
+  name=$(basename "$model" .off)
   # Without its work directory (the sweep was stopped) a run must not write elsewhere.
-  out=$(mktemp -d -p "$work") || { echo "$(basename "$model" .off) $axis $k FAIL 0 no work directory"; return; }
+  out=$(mktemp -d -p "$work") || { echo "$name $axis $k FAIL 0 no work directory"; return; }
   if timeout "${PARTET_TIMEOUT:-600}" "$partet" mesh "$model" -o "$out/m" --pieces "$k" --axis "$axis" \
        --report "$out/r.json" > "$out/log" 2>&1 && "$partet" check "$model" "$out/m" > "$out/check" 2>&1; then
-    local used retries
-    used=$(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); print(r["pieces"], len(r["retries"]))' "$out/r.json")
-    read -r used retries <<< "$used"
-    # Fewer pieces than asked after retries is a fallback; without retries the model allowed no more.
-    if [ "$retries" -gt 0 ] && [ "$used" -lt "$k" ]; then echo "$(basename "$model" .off) $axis $k fallback $retries $used"
-    else echo "$(basename "$model" .off) $axis $k ok $retries"; fi
+    mv "$out/r.json" "$work/reports/${name}_${axis}_$k.json" && echo "$name $axis $k ok"
   else
-    echo "$(basename "$model" .off) $axis $k FAIL 0 $(grep -hE 'error|VIOLATION' "$out/log" "$out/check" | head -1)"
+    echo "$name $axis $k FAIL 0 $(grep -hE 'error|VIOLATION' "$out/log" "$out/check" | head -1)"
   fi
   rm -rf "$out"
 }
 export -f run_one
 export partet work
+mkdir "$work/reports"
 for f in "$meshes"/*.off; do
   [ "$(awk 'NR==2 {print $2; exit}' "$f")" -le "$max_faces" ] || continue
   for axis in $axes; do for k in $ks; do echo "$f $axis $k"; done; done
-done | xargs -P "$jobs" -n 3 bash -c 'run_one "$@"' _ > "$work/results"
+done | xargs -P "$jobs" -n 3 bash -c 'run_one "$@"' _ > "$work/runs"
+# Each passed run with its retries, and the pieces it used when the retries fell back to fewer
+# than asked ("model axis k fallback retries used"; without retries the model allowed no more).
+python3 - "$work/runs" "$work/reports" > "$work/results" << 'EOF'
+import json, sys
+for line in open(sys.argv[1]):
+    f = line.split()
+    if len(f) < 4 or f[3] != "ok":
+        print(line, end="")
+        continue
+    r = json.load(open(f"{sys.argv[2]}/{f[0]}_{f[1]}_{f[2]}.json"))
+    used, retries = r["pieces"], len(r["retries"])
+    print(" ".join(f[:3]), f"fallback {retries} {used}" if retries > 0 and used < int(f[2]) else f"ok {retries}")
+EOF
 sort -k1,1 -k2,2 -k3,3n "$work/results" > "$work/sorted"
 # Table: a row per model and axis, a column per K ("ok", "ok+N" with N retries, or FAIL).
 awk -v ks="$ks" 'BEGIN {n = split(ks, k, " "); printf "%-22s %-5s", "model", "axis"; for (i = 1; i <= n; ++i) printf " %5s", "k" k[i]; print ""}

@@ -190,7 +190,9 @@ double free_disk_mb(double measured) {
 
 double disk_capacity_mb(double measured) { return seconds_or("PARTET_TEST_DISK_CAPACITY_MB", measured); }
 
-double disk_poll_seconds(double fallback) { return value("PARTET_TEST_FREE_DISK_MB") ? 0.1 : fallback; }
+double disk_poll_seconds(double fallback) {
+  return seconds_or("PARTET_TEST_DISK_POLL_S", value("PARTET_TEST_FREE_DISK_MB") ? 0.1 : fallback);
+}
 
 bool nameless_files_refused() { return value("PARTET_TEST_NO_NAMELESS_FILES") != nullptr; }
 

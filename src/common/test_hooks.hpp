@@ -125,6 +125,9 @@ double available_mb_for_check(double measured);
 // again ever after (else `measured`); while it is set, rank 0 looks again every 0.1 s instead of
 // disk_poll_seconds. tests/cli/disk_space.sh.
 double free_disk_mb(double measured);
+// PARTET_TEST_DISK_POLL_S: how often rank 0 looks for room on a real disk that filled up (else
+// `fallback`, or 0.1 s with PARTET_TEST_FREE_DISK_MB): tests/cli/full_ext4.sh makes the room
+// itself and need not wait the 10 s a user's disk is given.
 double disk_poll_seconds(double fallback);
 // PARTET_TEST_DISK_CAPACITY_MB: the size of the output's filesystem (else `measured`; negative:
 // unknown), as rank 0 finds it with the room PARTET_TEST_FREE_DISK_MB sets.

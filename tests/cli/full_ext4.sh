@@ -18,18 +18,20 @@
 # Usage: full_ext4.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2
+# Room is looked for every second, not every 10 s: the test makes it at once (5 waits, 45 s less).
+export PARTET_TEST_DISK_POLL_S=1
 work=$(mktemp -d)
 trap 'kill $(jobs -p) 2> /dev/null || true; umount "$work/disk" "$work/room" 2> /dev/null || true; rm -rf "$work"' EXIT
 cd "$work"
 command -v mkfs.ext4 > /dev/null || { echo "SKIP: no mkfs.ext4 (e2fsprogs)"; exit 77; }
-truncate -s 16M disk.img
+truncate -s 8M disk.img
 mkfs.ext4 -q -F disk.img
 mkdir disk
 mount -o loop disk.img disk 2> /dev/null || { echo "SKIP: loop mounts are not permitted here"; exit 77; }
 [ "$(stat -f -c %T disk)" = ext2/ext3 ] || { echo "FAIL: disk is not ext4: $(stat -f -c %T disk)"; exit 1; }
 
 "$partet" generate genus3 --faces 4000 -o small.off > /dev/null
-"$partet" generate genus3 --faces 160000 -o big.off > /dev/null
+"$partet" generate genus3 --faces 80000 -o big.off > /dev/null
 "$partet" mesh small.off -o disk/m --pieces 2 --quiet
 (cd disk && md5sum m.* > ../before.md5)
 

@@ -29,7 +29,8 @@ same_files() {  # DIR: the files here are exactly DIR's (the report's timings ma
   [ "$(listing)" = "$(cd "$1" && ls -1 | sort | tr '\n' ' ')" ] || return 1
   for f in "$1"/*; do
     name=$(basename "$f")
-    [ "$name" = m.json ] && { python3 -c "import json,sys; json.load(open('m.json'))" || return 1; continue; }
+    # The report: the same text but for its numbers (a python3 check here cost 40 s of this test).
+    [ "$name" = m.json ] && { [ "$(tr -d '0-9.eE+-' < m.json)" = "$(tr -d '0-9.eE+-' < "$f")" ] || return 1; continue; }
     cmp -s "$f" "$name" || return 1
   done
 }

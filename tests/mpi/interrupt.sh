@@ -128,24 +128,26 @@ rank1_holds() {
 }
 
 # 4. SIGTERM while rank 1 writes an MSH partition file: the ranks write the partitions at once,
-# each slowed as above; the signal comes once a temporary rank 1 holds open has 4 MB.
+# each slowed as above; the signal comes once a temporary rank 1 holds open has its first buffer (a
+# little under 4 MiB).
 rm -f "$work"/w.* "$work"/w_*.vtu
 "$partet" mesh "$work/small.off" -o "$work/p" --pieces 2 --quiet --format msh-parts
 mkdir "$work/before4" && cp "$work"/p_*.msh "$work/before4/"
+# (Four pieces: their partitions have over 4 MB each, and a torus cut in two meshes 4 times slower.)
 PARTET_TEST_WRITE_DELAY_MS=3000 "$mpiexec" -n 2 -x PARTET_TEST_WRITE_DELAY_MS "$partet" mesh "$work/big.off" \
-  -o "$work/p" --pieces 2 --format msh-parts > "$work/log4" 2>&1 &
+  -o "$work/p" --pieces 4 --format msh-parts > "$work/log4" 2>&1 &
 launcher=$!
-held=$(rank1_holds "$work/p_*.msh.tmp-*" 4194304)
+held=$(rank1_holds "$work/p_*.msh.tmp-*" 4000000)
 [ -n "$held" ] && ok "partition write: interrupted while rank 1 writes $(basename "$held" | cut -d. -f1-2)" ||
   bad "partition write: rank 1 was not seen writing a partition"
 after_interrupt "partition write" "$work/log4" "$work/before4"
 
 # 5. SIGTERM while rank 1 writes a .pvtu piece file of a mesh it was never assembled into: rank 1
 # writes the files of the bulks it keeps (spread_piece_files); the signal comes once it holds one
-# open, slowed as above (its files are over 4 MB: a larger torus, two pieces). The previous set
-# comes from a small input.
+# open, slowed as above (its files are over 4 MB: a larger input, a sphere, which meshes 10 times
+# faster than a torus of as many faces; two pieces). The previous set comes from a small input.
 rm -f "$work"/p_*.msh
-"$partet" generate torus --faces 320000 -o "$work/big.off" > /dev/null || exit 1
+"$partet" generate sphere --faces 420000 -o "$work/big.off" > /dev/null || exit 1
 "$mpiexec" -n 2 "$partet" mesh "$work/small.off" -o "$work/v" --pieces 2 --quiet --format pvtu --report "$work/v.json"
 grep -q '"assembled_on_rank0": false' "$work/v.json" || bad "spread write: the mesh was assembled"
 mkdir "$work/before5" && cp "$work"/v.pvtu "$work"/v_*.vtu "$work/before5/"

@@ -131,10 +131,12 @@ rm out/m.pvtu out/m_*.vtu
 # more, so it writes again (every rank must join the second try), then fails again and waits
 # until the short --wait-for-space ends. The room checks:
 # tests/cli/disk_space.sh; the mesh written again once room is made: tests/cli/full_ext4.sh.)
+# The wait (4.8 s) counts from the first write, so it must outlast both writes on a loaded
+# machine: at 1.2 s, a CI run's second write began after it and was not waited for.
 expect_full() {  # NAME TMPFS-SIZE OUTPUT ERROR-PATTERN [OPTION...]
   mount -t tmpfs -o size="$2" tmpfs full
   if PARTET_TEST_FREE_DISK_MB=1e9,1e9,1e9,2e9 timeout 120 "$mpiexec" -n 2 -x PARTET_TEST_FREE_DISK_MB "$partet" mesh big.off \
-    -o "$3" --pieces 4 --wait-for-space 0.02 "${@:5}" 2> log; then
+    -o "$3" --pieces 4 --wait-for-space 0.08 "${@:5}" 2> log; then
     umount full; echo "FAIL: $1: a full disk exited 0"; exit 1
   fi
   left=$(ls full)
