@@ -56,8 +56,9 @@ struct RankStats {
   double bulk_number_seconds = 0;            // a worker: numbering the bulks it kept in memory, before the assembly
   double pieces_from_checkpoint = 0;         // pieces taken from --checkpoint instead of meshed (in `pieces` too)
   double bands_grown = 0;  // a worker: bands of its pieces grown here by their neighbours' crossings (their bulks stayed)
+  double share_cut_seconds = 0;  // a worker: cutting its shares of the seam chains from the band parts it keeps
 };
-constexpr int kRankStatsDoubles = 20;
+constexpr int kRankStatsDoubles = 21;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

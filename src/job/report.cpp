@@ -125,6 +125,7 @@ std::string report_json(const JobSummary& s) {
                               {"bulks_on_disk", stats.bulks_on_disk},
                               {"bands_grown", stats.bands_grown},
                               {"bulk_number_seconds", stats.bulk_number_seconds},
+                              {"share_cut_seconds", stats.share_cut_seconds},
                               {"pieces_from_checkpoint", stats.pieces_from_checkpoint},
                               {"bytes_received", stats.bytes_received}});
   }

@@ -93,22 +93,13 @@ class RemoteBulks : public BulkStore {
     return deserialize_grown_band(bytes);
   }
   PieceBand take_band(int piece) override {
-    const int rank = owner_of(piece);
-    broadcast(kSendBand);
-    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
-    AddSeconds timer{stats_.receive_seconds};
-    const std::string bytes = reply_from(rank, "send the band part of piece " + std::to_string(piece) + " it kept");
-    if (bytes.empty())
-      throw InternalError("rank " + std::to_string(rank) + " no longer keeps the band part of piece " +
-                          std::to_string(piece));
-    return deserialize_grown_band(bytes);
+    return deserialize_grown_band(ask_owner(kSendBand, piece, "the band part of piece " + std::to_string(piece)));
   }
   void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) override {
     take_pending_shares();
     std::map<int, std::set<int>> ranks;  // by chain: those with a share of it
     for (const BandPartPlan& plan : plans)
-      for (const int chain : plan.chain_of_part)
-        if (chain >= 0) ranks[chain].insert(owner_of(plan.place.piece));
+      for (const int chain : chains_of(plan)) ranks[chain].insert(owner_of(plan.place.piece));
     broadcast(kCutShares);
     broadcast_text(serialize_share_plan(plans, order));
     for (const int chain : order)
@@ -140,15 +131,8 @@ class RemoteBulks : public BulkStore {
     return shares;
   }
   TetBlock take(int piece) override {
-    const int rank = owner_of(piece);
+    const std::string bytes = ask_owner(kSendBulk, piece, "the mesh of piece " + std::to_string(piece));
     owners_.erase(piece);
-    broadcast(kSendBulk);
-    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
-    AddSeconds timer{stats_.receive_seconds};
-    const std::string bytes = reply_from(rank, "send the mesh of piece " + std::to_string(piece) + " it kept");
-    if (bytes.empty())
-      throw InternalError("rank " + std::to_string(rank) + " no longer keeps the mesh of piece " +
-                          std::to_string(piece));
     return deserialize_block(bytes);
   }
 
@@ -157,6 +141,17 @@ class RemoteBulks : public BulkStore {
     const auto owner = owners_.find(piece);
     if (owner == owners_.end()) throw InternalError("no rank keeps the bulk of piece " + std::to_string(piece));
     return owner->second;
+  }
+  // Broadcasts `command` and `piece`, and returns the answer of the rank keeping `what` of the
+  // piece; an empty answer (it no longer keeps it) is an internal error.
+  std::string ask_owner(Command command, int piece, const std::string& what) {
+    const int rank = owner_of(piece);
+    broadcast(command);
+    bounded([&] { return broadcast_int(piece, 0, job_comm(), collective_limit()); });
+    AddSeconds timer{stats_.receive_seconds};
+    std::string bytes = reply_from(rank, "send " + what + " it kept");
+    if (bytes.empty()) throw InternalError("rank " + std::to_string(rank) + " no longer keeps " + what);
+    return bytes;
   }
   // Ends the job: `rank` did not do `what` within the wait on kept bulks.
   [[noreturn]] void silent(int rank, const std::string& what) const {

@@ -294,15 +294,15 @@ void send_kept_band(KeptBulks& kept, RankStats& stats) {
 // A worker's side of kCutShares: the shares of every chain of the band parts it keeps, cut now
 // and sent to rank 0 in its order, to take as it welds each chain (kTagShare). A chain whose
 // shares could not be cut gets an empty message: rank 0 takes that chain for failed.
-void cut_kept_shares(KeptBulks& kept) {
+void cut_kept_shares(KeptBulks& kept, RankStats& stats) {
+  AddSeconds timer{stats.share_cut_seconds};
   std::vector<BandPartPlan> plans, here;
   std::vector<int> order;
   deserialize_share_plan(broadcast_text(""), plans, order);
   std::set<int> chains;  // those rank 0 waits for from this rank
   for (BandPartPlan& plan : plans) {
     if (!kept.bands().holds(plan.place.piece)) continue;
-    for (const int chain : plan.chain_of_part)
-      if (chain >= 0) chains.insert(chain);
+    for (const int chain : chains_of(plan)) chains.insert(chain);
     here.push_back(std::move(plan));
   }
   test_hooks::kept_bulk_stop(my_rank(), "shares");
@@ -421,7 +421,7 @@ void Worker::mesh_rounds() {
       continue;
     }
     if (command == kCutShares) {
-      cut_kept_shares(kept);
+      cut_kept_shares(kept, stats);
       continue;
     }
     for (;;) {
@@ -469,6 +469,9 @@ void Worker::mesh_rounds() {
       test_hooks::worker_stop(rank);
     }
   }
+  // No chain is welded after the last round: the band parts kept for the chains go before the
+  // writes, which need only the bulks.
+  kept.bands().clear();
 }
 
 }  // namespace partet::mpi

@@ -7,6 +7,13 @@
 
 namespace partet {
 
+std::set<int> chains_of(const BandPartPlan& plan) {
+  std::set<int> chains;
+  for (const int chain : plan.chain_of_part)
+    if (chain >= 0) chains.insert(chain);
+  return chains;
+}
+
 void KeptBandParts::keep(PieceBand& split) {
   Part& part = parts_[split.index];
   split.band_kept = true;

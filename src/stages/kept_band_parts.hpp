@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "stages/seam_band.hpp"
@@ -20,6 +21,9 @@ struct BandPartPlan {
   BandPartPlace place;
   std::vector<int> chain_of_part;
 };
+
+// The seam chains the parts of plan's band part belong to, each once.
+std::set<int> chains_of(const BandPartPlan& plan);
 
 class KeptBandParts {
  public:

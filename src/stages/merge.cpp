@@ -95,9 +95,9 @@ Welder::Welder(const SplitSurface& split, const std::vector<PieceSurface>& piece
       band_elsewhere_(pieces.size()),
       band_steiner_(pieces.size()),
       band_tets_(pieces.size()),
+      made_links_(pieces.size()),
       crossings_(pieces.size()),
-      bulk_cap_faces_(pieces.size()),
-      made_links_(pieces.size()) {}
+      bulk_cap_faces_(pieces.size()) {}
 
 void Welder::split_on_arrival(const BandSpec& spec) {
   if (spec.layers > 1) return;
@@ -683,11 +683,7 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
   number_bulks(shares);
   const std::int32_t input_vertices = k == 0 ? 0 : shares[0].split_kept_below(split_.input_vertex_count);
   std::vector<BlockLinks> links(k);
-  std::vector<char> linked(k, 0);
-  std::set<BulkStore*> stores;
-  for (std::size_t p = 0; p < k; ++p)
-    if (stored_[p].stored) stores.insert(stored_[p].store);
-  for (BulkStore* store : stores) store->ask_links(input_vertices);  // made there while these are here
+  for (BulkStore* store : bulk_stores()) store->ask_links(input_vertices);  // made there while rank 0 goes on
   std::int64_t row = 0;
   for (std::size_t p = 0; p < k; ++p) {
     SpreadBulk& bulk = mesh.bulks.emplace_back();
@@ -703,10 +699,24 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
     std::vector<std::int32_t> label;
     links[p] = block_links(bulk.block.tets, bulk.block.ids, bulk.block.neighbours, false, input_vertices,
                            bulk.block.rim, label);
-    linked[p] = 1;
   }
   clock.lap("own bulks");
-  for (BulkStore* store : stores)
+  mesh.first_band_tet = row;
+  return links;
+}
+
+std::set<BulkStore*> Welder::bulk_stores() const {
+  std::set<BulkStore*> stores;
+  for (const StoredBulk& bulk : stored_)
+    if (bulk.stored) stores.insert(bulk.store);
+  return stores;
+}
+
+void Welder::take_bulk_links(std::vector<BlockLinks>& links) {
+  const std::size_t k = bulks_.size();
+  std::vector<char> linked(k, 0);
+  for (std::size_t p = 0; p < k; ++p) linked[p] = !stored_[p].stored;
+  for (BulkStore* store : bulk_stores())
     for (auto& [piece, found] : store->links()) {
       if (piece < 0 || static_cast<std::size_t>(piece) >= k || !stored_[piece].stored)
         throw InternalError("links of a bulk no store keeps (piece " + std::to_string(piece) + ")");
@@ -715,8 +725,6 @@ std::vector<BlockLinks> Welder::spread_bulks(const AssemblyNumbering& numbering,
     }
   for (std::size_t p = 0; p < k; ++p)
     if (!linked[p]) throw InternalError("the rank keeping the bulk of piece " + std::to_string(p) + " did not link it");
-  mesh.first_band_tet = row;
-  return links;
 }
 
 SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
@@ -728,17 +736,20 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   SpreadMesh mesh;
   mesh.points = numbering.point_count();
   mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count());
-  // 1. Rank 0's points.
+  // 1. The bulks, numbered where they are, in piece order, and the links of those kept here. The
+  //    ranks keeping the others make theirs meanwhile, while steps 2 and 3 run here.
+  std::vector<BlockLinks> links = spread_bulks(numbering, mesh, clock);
+  // 2. Rank 0's points.
   spread_points(numbering, first_steiner_, healed_band, mesh);
   clock.lap("points");
-  // 2. The bulks, numbered where they are, in piece order, and their links.
-  std::vector<BlockLinks> links = spread_bulks(numbering, mesh, clock);
-  clock.lap("other bulks");
-  // 3. The healed band, last.
+  // 3. The healed band, last, and its links.
   std::vector<std::int32_t> band_label;
   links.push_back(spread_band(numbering, first_steiner_, std::move(healed_band), mesh, band_label));
   clock.lap("band");
-  // 4. The connected solids, across the blocks' shared faces.
+  // 4. The links of the bulks kept elsewhere.
+  take_bulk_links(links);
+  clock.lap("other bulks");
+  // 5. The connected solids, across the blocks' shared faces.
   std::vector<std::int64_t> first_row;
   for (const SpreadBulk& bulk : mesh.bulks) first_row.push_back(bulk.first_tet);
   first_row.push_back(mesh.first_band_tet);
@@ -747,7 +758,7 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   mesh.band_solid.reserve(band_label.size());
   for (std::int32_t label : band_label) mesh.band_solid.push_back(solids[k][label]);
   clock.lap("solids");
-  // 5. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
+  // 6. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
   if (faces_across) {
     std::vector<std::vector<FaceAcross>> across = faces_across_blocks(links, first_row);
     for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);

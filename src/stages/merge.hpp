@@ -1,6 +1,7 @@
 // Merge: weld the pieces' tet meshes at the caps into one mesh with global numbering.
 #pragma once
 #include <optional>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -173,9 +174,13 @@ class Welder {
   // Piece p's bulk's tets and Steiner points, wherever it is.
   std::size_t bulk_tets(std::size_t p) const;
   std::size_t bulk_steiner_points(std::size_t p) const;
-  // Welder::spread's step 2: each bulk's rows, those kept here moved into the mesh, every bulk's
-  // links (from its store for those kept elsewhere); sets mesh.first_band_tet.
+  // Welder::spread's step 1: each bulk's rows, those kept here moved into the mesh, and the links
+  // of those (the others' left empty: their stores make them meanwhile); sets mesh.first_band_tet.
   std::vector<BlockLinks> spread_bulks(const AssemblyNumbering& numbering, SpreadMesh& mesh, StepClock& clock);
+  // Welder::spread's step 4: the links of the bulks kept elsewhere, from their stores.
+  void take_bulk_links(std::vector<BlockLinks>& links);
+  // The stores keeping some bulk.
+  std::set<BulkStore*> bulk_stores() const;
   // What the assembled mesh's numbering is made of (stages/assembly_numbering.hpp); the bands'
   // Steiner maps move into it.
   AssemblyPoints assembly_points();

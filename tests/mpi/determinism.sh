@@ -3,7 +3,9 @@
 # output files, each passing `partet check`. With MIN_CHAINS=N in the environment, the seams must
 # form at least N chains (each healed whole on a rank of its own on 2 and 4 ranks); with
 # MIN_BANDS_GROWN=N, on 2 ranks at least N bands a neighbour's crossing reached must have grown
-# where their bulks were kept (the report's bands_grown: the bulks did not travel).
+# where their bulks were kept (the report's bands_grown: the bulks did not travel); with
+# SHARES_CUT=1, rank 1 must have cut its shares of the seam chains from the band parts it kept
+# (share_cut_seconds).
 # Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE K [partet mesh options...]
 set -euo pipefail
 partet=$1 mpiexec=$2 input=$3 k=$4
@@ -23,8 +25,11 @@ for n in n2 n4; do
     cmp "$work/n1.$ext" "$work/$n.$ext" || { echo "FAIL: $n.$ext differs from the 1-rank output"; exit 1; }
   done
 done
-chains=$(/usr/bin/python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['counts']['seam_chains'])" "$work/n2.json")
+read -r chains grown cut <<< "$(/usr/bin/python3 -c "
+import json, sys
+r = json.load(open(sys.argv[1]))
+print(r['counts']['seam_chains'], int(sum(x['bands_grown'] for x in r['rank'])), int(r['rank'][1]['share_cut_seconds'] > 0))" "$work/n2.json")"
 if (( chains < ${MIN_CHAINS:-0} )); then echo "FAIL: $chains chains of cuts, expected at least $MIN_CHAINS"; exit 1; fi
-grown=$(/usr/bin/python3 -c "import json, sys; print(int(sum(r['bands_grown'] for r in json.load(open(sys.argv[1]))['rank'])))" "$work/n2.json")
+if (( ${SHARES_CUT:-0} && cut == 0 )); then echo "FAIL: rank 1 cut no shares of the seam chains (share_cut_seconds)"; exit 1; fi
 if (( grown < ${MIN_BANDS_GROWN:-0} )); then echo "FAIL: $grown bands grown where their bulks were kept, expected at least $MIN_BANDS_GROWN"; exit 1; fi
 echo "identical output on 1, 2 and 4 ranks (k=$k $*; $chains chains of cuts, $grown bands grown by their owners)"
