@@ -318,7 +318,7 @@ class RootScheduler : public PieceScheduler {
   std::vector<HealedChain> heal_chains(std::size_t count, const ChainCutter& cut_out, const HealOptions& heal,
                                        const TetgenOptions& tetgen) override {
     begin_round(tetgen);
-    chain_round_.emplace(ChainRound{&cut_out, heal, tetgen, {}, std::vector<HealedChain>(count), 0});
+    chain_round_.emplace(ChainRound{&cut_out, heal, tetgen, {}, std::vector<HealedChain>(count), 0, std::nullopt});
     for (std::size_t i = 0; i < count; ++i) chain_round_->queue.push_back(i);
     std::chrono::microseconds idle = kShortestIdle;
     while (chain_round_->done < count) {
@@ -326,7 +326,7 @@ class RootScheduler : public PieceScheduler {
       bool replied = false;
       while (receive_reply()) replied = true;
       check_workers_answer();
-      if (!chain_round_->queue.empty()) {
+      if (chain_round_->waiting()) {
         heal_chain_here();
         idle = kShortestIdle;
       } else {
@@ -399,26 +399,47 @@ class RootScheduler : public PieceScheduler {
   }
 
   void dispatch_chains() {
-    while (!idle_.empty() && !chain_round_->queue.empty()) {
+    while (!idle_.empty() && chain_round_->waiting()) {
       const int worker = idle_.back();
       idle_.pop_back();
+      send_chain(worker);
+    }
+  }
+
+  // The next chain in the order, welded (the one welded ahead, if any); none when it could not be
+  // welded (it failed) or none is left.
+  std::optional<std::pair<std::size_t, ChainBand>> next_chain() {
+    std::optional<std::pair<std::size_t, ChainBand>> next;
+    if (chain_round_->ahead) {
+      next.swap(chain_round_->ahead);
+    } else if (!chain_round_->queue.empty()) {
       const std::size_t chain = chain_round_->queue.front();
       chain_round_->queue.pop_front();
-      send_chain(worker, chain);
+      if (std::optional<ChainBand> cut = cut_out(chain)) next.emplace(chain, std::move(*cut));
     }
+    return next;
+  }
+
+  // While this rank heals a chain and every worker is busy: the next chain welded now.
+  void weld_ahead() {
+    if (!idle_.empty() || chain_round_->ahead || chain_round_->queue.empty()) return;
+    chain_round_->ahead = next_chain();
+    if (chain_round_->ahead) log::debug("seam chain " + std::to_string(chain_round_->ahead->first) + " welded ahead");
   }
 
   // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything,
   // from the worker's latest heartbeat (take_alive); its heartbeats, from the start, tell a
   // stopped or dead rank within kSilentSeconds.
-  void send_chain(int worker, std::size_t chain) {
+  void send_chain(int worker) {
     AddSeconds timer{stats_.send_seconds};
-    std::optional<ChainBand> cut = cut_out(chain);
+    std::optional<std::pair<std::size_t, ChainBand>> cut = next_chain();
     if (!cut) {
       idle_.push_back(worker);
       return;
     }
-    ChainTask task{static_cast<std::int32_t>(chain), std::move(*cut), chain_round_->heal, chain_round_->tetgen};
+    const std::size_t chain = cut->first;
+    ChainTask task{static_cast<std::int32_t>(chain), std::move(cut->second), chain_round_->heal, chain_round_->tetgen};
+    cut.reset();
     const std::string bytes = serialize_chain_task(task);
     task = ChainTask();
     busy_[worker] = {awake_seconds() + kRootSeconds, static_cast<int>(chain), false, ++tasks_[worker]};
@@ -454,8 +475,6 @@ class RootScheduler : public PieceScheduler {
   // Heals the next chain here, its regions in TetGen processes one after another; between looks
   // at a region, the replies that came are taken and free workers get the next chains.
   void heal_chain_here() {
-    const std::size_t chain = chain_round_->queue.front();
-    chain_round_->queue.pop_front();
     const PieceRunner runner(chain_round_->tetgen, job_.options.run);
     const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
       std::vector<PieceOutcome> outcomes;
@@ -466,17 +485,20 @@ class RootScheduler : public PieceScheduler {
           }
           check_workers_answer();
           dispatch_chains();
+          weld_ahead();
         }
         outcomes.push_back(deserialize_outcome(run->take_reply()));
       }
       return outcomes;
     };
-    std::optional<ChainBand> cut = cut_out(chain);
+    std::optional<std::pair<std::size_t, ChainBand>> cut = next_chain();
     if (!cut) return;
+    const std::size_t chain = cut->first;
     AddSeconds timer{stats_.region_seconds};
     healing_here_ = true;
     account_meshing();
-    HealedChain healed = heal_chain(std::move(*cut), chain_round_->heal, here);
+    HealedChain healed = heal_chain(std::move(cut->second), chain_round_->heal, here);
+    cut.reset();
     healing_here_ = false;
     account_meshing();
     chain_done(chain, std::move(healed), 0);
@@ -754,6 +776,10 @@ class RootScheduler : public PieceScheduler {
     std::deque<std::size_t> queue;  // chains not handed out yet
     std::vector<HealedChain> healed;
     std::size_t done;
+    // The next chain, welded ahead while this rank heals one and every worker is busy, so that
+    // the next worker to be free gets it at once.
+    std::optional<std::pair<std::size_t, ChainBand>> ahead;
+    bool waiting() const { return ahead || !queue.empty(); }
   };
   std::optional<ChainRound> chain_round_;  // while heal_chains runs
   bool healing_here_ = false;              // this rank heals a chain

@@ -5,19 +5,23 @@
 # MIN_BANDS_GROWN=N, on 2 ranks at least N bands a neighbour's crossing reached must have grown
 # where their bulks were kept (the report's bands_grown: the bulks did not travel); with
 # SHARES_CUT=1, rank 1 must have cut its shares of the seam chains from the band parts it kept
-# (share_cut_seconds).
-# Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE K [partet mesh options...]
+# (share_cut_seconds); with CHAINS_AHEAD=1, rank 0 must have welded a chain ahead while it healed
+# one and rank 1 healed another (its log on 2 ranks).
+# Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE[:FACES] K [partet mesh options...]
 set -euo pipefail
 partet=$1 mpiexec=$2 input=$3 k=$4
 shift 4
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 if [[ $input == generated:* ]]; then
-  "$partet" generate "${input#generated:}" --faces 4000 -o "$work/input.off" >/dev/null
+  shape=${input#generated:} faces=4000
+  [[ $shape == *:* ]] && faces=${shape#*:} shape=${shape%%:*}
+  "$partet" generate "$shape" --faces "$faces" -o "$work/input.off" >/dev/null
   input=$work/input.off
 fi
 "$partet" mesh "$input" -o "$work/n1" --pieces "$k" --quiet "$@"
-"$mpiexec" -n 2 "$partet" mesh "$input" -o "$work/n2" --pieces "$k" --quiet --report "$work/n2.json" "$@"
+"$mpiexec" -n 2 "$partet" mesh "$input" -o "$work/n2" --pieces "$k" --verbose --report "$work/n2.json" "$@" > "$work/n2.log" 2>&1 ||
+  { cat "$work/n2.log"; exit 1; }
 "$mpiexec" -n 4 --oversubscribe "$partet" mesh "$input" -o "$work/n4" --pieces "$k" --quiet "$@"
 "$partet" check "$input" "$work/n1" | tail -n 1 | grep -q "check passed"
 for n in n2 n4; do
@@ -31,5 +35,8 @@ r = json.load(open(sys.argv[1]))
 print(r['counts']['seam_chains'], int(sum(x['bands_grown'] for x in r['rank'])), int(r['rank'][1]['share_cut_seconds'] > 0))" "$work/n2.json")"
 if (( chains < ${MIN_CHAINS:-0} )); then echo "FAIL: $chains chains of cuts, expected at least $MIN_CHAINS"; exit 1; fi
 if (( ${SHARES_CUT:-0} && cut == 0 )); then echo "FAIL: rank 1 cut no shares of the seam chains (share_cut_seconds)"; exit 1; fi
+if (( ${CHAINS_AHEAD:-0} )) && ! grep -q "welded ahead" "$work/n2.log"; then
+  echo "FAIL: no seam chain welded ahead on 2 ranks"; exit 1
+fi
 if (( grown < ${MIN_BANDS_GROWN:-0} )); then echo "FAIL: $grown bands grown where their bulks were kept, expected at least $MIN_BANDS_GROWN"; exit 1; fi
 echo "identical output on 1, 2 and 4 ranks (k=$k $*; $chains chains of cuts, $grown bands grown by their owners)"
