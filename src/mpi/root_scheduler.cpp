@@ -406,16 +406,21 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
+  struct WeldedChain {
+    std::size_t index;  // the chain's
+    ChainBand band;
+  };
+
   // The next chain in the order, welded (the one welded ahead, if any); none when it could not be
   // welded (it failed) or none is left.
-  std::optional<std::pair<std::size_t, ChainBand>> next_chain() {
-    std::optional<std::pair<std::size_t, ChainBand>> next;
+  std::optional<WeldedChain> next_chain() {
+    std::optional<WeldedChain> next;
     if (chain_round_->ahead) {
       next.swap(chain_round_->ahead);
     } else if (!chain_round_->queue.empty()) {
       const std::size_t chain = chain_round_->queue.front();
       chain_round_->queue.pop_front();
-      if (std::optional<ChainBand> cut = cut_out(chain)) next.emplace(chain, std::move(*cut));
+      if (std::optional<ChainBand> cut = cut_out(chain)) next = WeldedChain{chain, std::move(*cut)};
     }
     return next;
   }
@@ -424,21 +429,21 @@ class RootScheduler : public PieceScheduler {
   void weld_ahead() {
     if (!idle_.empty() || chain_round_->ahead || chain_round_->queue.empty()) return;
     chain_round_->ahead = next_chain();
-    if (chain_round_->ahead) log::debug("seam chain " + std::to_string(chain_round_->ahead->first) + " welded ahead");
+    if (chain_round_->ahead) log::debug("seam chain " + std::to_string(chain_round_->ahead->index) + " welded ahead");
   }
 
   // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything,
   // from the worker's latest heartbeat (take_alive); its heartbeats, from the start, tell a
   // stopped or dead rank within kSilentSeconds.
   void send_chain(int worker) {
-    AddSeconds timer{stats_.send_seconds};
-    std::optional<std::pair<std::size_t, ChainBand>> cut = next_chain();
+    std::optional<WeldedChain> cut = next_chain();  // (its welding is not sending: the log has it)
     if (!cut) {
       idle_.push_back(worker);
       return;
     }
-    const std::size_t chain = cut->first;
-    ChainTask task{static_cast<std::int32_t>(chain), std::move(cut->second), chain_round_->heal, chain_round_->tetgen};
+    AddSeconds timer{stats_.send_seconds};
+    const std::size_t chain = cut->index;
+    ChainTask task{static_cast<std::int32_t>(chain), std::move(cut->band), chain_round_->heal, chain_round_->tetgen};
     cut.reset();
     const std::string bytes = serialize_chain_task(task);
     task = ChainTask();
@@ -491,13 +496,13 @@ class RootScheduler : public PieceScheduler {
       }
       return outcomes;
     };
-    std::optional<std::pair<std::size_t, ChainBand>> cut = next_chain();
+    std::optional<WeldedChain> cut = next_chain();
     if (!cut) return;
-    const std::size_t chain = cut->first;
+    const std::size_t chain = cut->index;
     AddSeconds timer{stats_.region_seconds};
     healing_here_ = true;
     account_meshing();
-    HealedChain healed = heal_chain(std::move(cut->second), chain_round_->heal, here);
+    HealedChain healed = heal_chain(std::move(cut->band), chain_round_->heal, here);
     cut.reset();
     healing_here_ = false;
     account_meshing();
@@ -778,7 +783,7 @@ class RootScheduler : public PieceScheduler {
     std::size_t done;
     // The next chain, welded ahead while this rank heals one and every worker is busy, so that
     // the next worker to be free gets it at once.
-    std::optional<std::pair<std::size_t, ChainBand>> ahead;
+    std::optional<WeldedChain> ahead;
     bool waiting() const { return ahead || !queue.empty(); }
   };
   std::optional<ChainRound> chain_round_;  // while heal_chains runs

@@ -714,8 +714,8 @@ std::set<BulkStore*> Welder::bulk_stores() const {
 
 void Welder::take_bulk_links(std::vector<BlockLinks>& links) {
   const std::size_t k = bulks_.size();
-  std::vector<char> linked(k, 0);
-  for (std::size_t p = 0; p < k; ++p) linked[p] = !stored_[p].stored;
+  std::vector<char> linked;  // those kept here are linked already
+  for (const StoredBulk& bulk : stored_) linked.push_back(!bulk.stored);
   for (BulkStore* store : bulk_stores())
     for (auto& [piece, found] : store->links()) {
       if (piece < 0 || static_cast<std::size_t>(piece) >= k || !stored_[piece].stored)

@@ -4,6 +4,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "common/radix_sort.hpp"
 #include "common/stage_timer.hpp"
 #include "partet/errors.hpp"
 #include "stages/seam_chains.hpp"
@@ -100,17 +101,25 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
   }
 }
 
-// The shares' points, merged by id, into the chain's points (global_ids, mesh.points).
-void weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
-  std::vector<std::pair<std::int32_t, const Point3*>> points;
+// The shares' points, merged by id, into the chain's points (global_ids, mesh.points); per point
+// of every share, in share order, its id in the chain (the shares' tets are numbered through it).
+std::vector<std::int32_t> weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
+  std::vector<std::pair<std::int32_t, std::uint32_t>> points;  // (band id, place among every share's points)
   for (const ChainShare& share : shares)
-    for (std::size_t i = 0; i < share.point_ids.size(); ++i) points.emplace_back(share.point_ids[i], &share.points[i]);
-  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [id, point] : points)
+    for (const std::int32_t id : share.point_ids) points.emplace_back(id, static_cast<std::uint32_t>(points.size()));
+  std::vector<const Point3*> where;
+  for (const ChainShare& share : shares)
+    for (const Point3& point : share.points) where.push_back(&point);
+  radix_sort(points, [](const auto& p) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(p.first)); });
+  std::vector<std::int32_t> in_chain(points.size());
+  for (const auto& [id, place] : points) {
     if (chain.global_ids.empty() || chain.global_ids.back() != id) {
       chain.global_ids.push_back(id);
-      chain.mesh.points.push_back(*point);
+      chain.mesh.points.push_back(*where[place]);
     }
+    in_chain[place] = static_cast<std::int32_t>(chain.global_ids.size() - 1);
+  }
+  return in_chain;
 }
 
 // The chain's open faces on the planes (their three points are cut vertices or caps' points),
@@ -130,24 +139,30 @@ std::vector<std::uint64_t> open_faces_on_planes(const ChainBand& chain, const Sp
   return faces;
 }
 
-// The shares' tets, in band order, in the chain's ids; joined across the caps where two pieces'
-// shares meet, as the welded band joins them.
-void weld_tets(const std::vector<ChainShare>& shares, const SplitRanges& ranges, ChainBand& chain) {
+// The shares' tets, in band order, in the chain's ids (in_chain: weld_points'); joined across the
+// caps where two pieces' shares meet, as the welded band joins them.
+void weld_tets(const std::vector<ChainShare>& shares, const std::vector<std::int32_t>& in_chain,
+               const SplitRanges& ranges, ChainBand& chain) {
+  std::size_t first_point = 0;  // the share's first place in in_chain
   for (const ChainShare& share : shares) {
     if (!chain.band_tets.empty() && !share.band_tets.empty() && share.band_tets.front() <= chain.band_tets.back())
       throw InternalError("two shares of a seam chain hold the same tets of the band");
     const auto first = static_cast<std::int32_t>(chain.mesh.tets.size());
+    const auto points = static_cast<std::uint32_t>(share.point_ids.size());
     chain.band_tets.insert(chain.band_tets.end(), share.band_tets.begin(), share.band_tets.end());
     for (std::size_t t = 0; t < share.tets.size(); ++t) {
       Tet local, across = share.neighbours[t];
       for (int j = 0; j < 4; ++j) {
-        local[j] = local_id(chain.global_ids, share.tets[t][j]);
+        if (static_cast<std::uint32_t>(share.tets[t][j]) >= points)
+          throw InternalError("a seam chain's share names a point it does not hold");
+        local[j] = in_chain[first_point + static_cast<std::size_t>(share.tets[t][j])];
         if (across[j] >= 0) across[j] += first;
       }
       chain.mesh.tets.push_back(local);
       chain.mesh.neighbours.push_back(across);
     }
     chain.mesh.piece.resize(chain.mesh.tets.size(), share.piece);
+    first_point += points;
   }
   connect_faces(chain.mesh.tets, chain.mesh.neighbours, open_faces_on_planes(chain, ranges));
 }
@@ -196,23 +211,26 @@ ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, st
   share.piece = place.piece;
   auto band_id = [&](std::int32_t v) { return v >= place.steiner_from ? v - place.steiner_from + place.steiner_to : v; };
   share.band_tets.reserve(tets.size());
-  share.tets.reserve(tets.size());
+  share.tets.resize(tets.size());
   share.neighbours.reserve(tets.size());
-  share.point_ids.reserve(4 * tets.size());
+  std::vector<std::pair<std::int32_t, std::uint32_t>> corners;  // (band id, 4 * tet + j): sorted, they number the points
+  corners.reserve(4 * tets.size());
   for (const std::int32_t t : tets) {
+    const auto in_share = static_cast<std::uint32_t>(share.band_tets.size());
     share.band_tets.push_back(place.first_tet + t);
-    Tet tet, across;
+    Tet across;
     for (int j = 0; j < 4; ++j) {
-      tet[j] = band_id(band.tets[t][j]);
+      corners.emplace_back(band_id(band.tets[t][j]), 4 * in_share + static_cast<std::uint32_t>(j));
       const std::int32_t nb = band.neighbours[t][j];
       across[j] = nb >= 0 ? in_chains.at[nb] : -1;  // (a neighbour is in the tet's part, so in its share)
     }
-    share.tets.push_back(tet);
     share.neighbours.push_back(across);
-    share.point_ids.insert(share.point_ids.end(), tet.begin(), tet.end());
   }
-  std::sort(share.point_ids.begin(), share.point_ids.end());
-  share.point_ids.erase(std::unique(share.point_ids.begin(), share.point_ids.end()), share.point_ids.end());
+  radix_sort(corners, [](const auto& c) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.first)); });
+  for (const auto& [id, corner] : corners) {
+    if (share.point_ids.empty() || share.point_ids.back() != id) share.point_ids.push_back(id);
+    share.tets[corner / 4][corner % 4] = static_cast<std::int32_t>(share.point_ids.size() - 1);
+  }
   share.points.reserve(share.point_ids.size());
   for (const std::int32_t id : share.point_ids)
     share.points.push_back(id >= place.steiner_to ? band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to))
@@ -236,8 +254,8 @@ ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input,
             [](const ChainShare& a, const ChainShare& b) { return a.band_tets.front() < b.band_tets.front(); });
   ChainBand chain;
   chain.planes = planes;
-  weld_points(shares, chain);
-  weld_tets(shares, SplitRanges(split), chain);
+  const std::vector<std::int32_t> in_chain = weld_points(shares, chain);
+  weld_tets(shares, in_chain, SplitRanges(split), chain);
   shares.clear();
   cut_out_split(split, input, split_triangles, chain);
   return chain;

@@ -54,7 +54,7 @@ struct ChainShare {
   int chain = -1;
   int piece = 0;
   std::vector<std::int32_t> band_tets;  // the band's ids of its tets, ascending
-  std::vector<Tet> tets;                // in the band's ids
+  std::vector<Tet> tets;                // by place in point_ids (so that rank 0 welds without searching)
   std::vector<Tet> neighbours;          // within the share, -1 elsewhere
   std::vector<std::int32_t> point_ids;  // the band's ids of the points its tets use, ascending
   std::vector<Point3> points;           // their coordinates
