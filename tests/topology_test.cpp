@@ -86,6 +86,21 @@ TEST(LabelTetRegions, SplitsAtBlockedFaces) {
   EXPECT_EQ(label, (std::vector<std::int32_t>{0, -1, 1}));
 }
 
+// Without the array over every vertex: triangles and tets numbered alike, ids ascending, and
+// every corner lifted back to its original id.
+TEST(LocalNumbering, RenumberWithoutScratch) {
+  std::vector<Triangle> faces = {{9, 4, 7}, {7, 4, 12}};
+  EXPECT_EQ(renumber_locally(faces), (std::vector<std::int32_t>{4, 7, 9, 12}));
+  EXPECT_EQ(faces, (std::vector<Triangle>{{2, 0, 1}, {1, 0, 3}}));
+
+  const std::vector<Tet> original = {{70000, 3, 512, 9}, {9, 3, 1 << 20, 70000}, {512, 5, 3, 9}};
+  std::vector<Tet> tets = original;
+  const std::vector<std::int32_t> ids = renumber_locally(tets);
+  EXPECT_EQ(ids, (std::vector<std::int32_t>{3, 5, 9, 512, 70000, 1 << 20}));
+  for (std::size_t t = 0; t < tets.size(); ++t)
+    for (int j = 0; j < 4; ++j) EXPECT_EQ(ids.at(static_cast<std::size_t>(tets[t][j])), original[t][j]);
+}
+
 TEST(LocalNumbering, RenumberAndLiftBack) {
   std::vector<Triangle> faces = {{9, 4, 7}, {7, 4, 12}};
   std::vector<std::int32_t> scratch(20, -1);

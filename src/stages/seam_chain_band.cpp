@@ -105,11 +105,12 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
 // of every share, in share order, its id in the chain (the shares' tets are numbered through it).
 std::vector<std::int32_t> weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
   std::vector<std::pair<std::int32_t, std::uint32_t>> points;  // (band id, place among every share's points)
+  std::vector<const Point3*> where;                             // by place
   for (const ChainShare& share : shares)
-    for (const std::int32_t id : share.point_ids) points.emplace_back(id, static_cast<std::uint32_t>(points.size()));
-  std::vector<const Point3*> where;
-  for (const ChainShare& share : shares)
-    for (const Point3& point : share.points) where.push_back(&point);
+    for (std::size_t i = 0; i < share.point_ids.size(); ++i) {
+      points.emplace_back(share.point_ids[i], static_cast<std::uint32_t>(where.size()));
+      where.push_back(&share.points[i]);
+    }
   radix_sort(points, [](const auto& p) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(p.first)); });
   std::vector<std::int32_t> in_chain(points.size());
   for (const auto& [id, place] : points) {
@@ -211,26 +212,20 @@ ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, st
   share.piece = place.piece;
   auto band_id = [&](std::int32_t v) { return v >= place.steiner_from ? v - place.steiner_from + place.steiner_to : v; };
   share.band_tets.reserve(tets.size());
-  share.tets.resize(tets.size());
+  share.tets.reserve(tets.size());
   share.neighbours.reserve(tets.size());
-  std::vector<std::pair<std::int32_t, std::uint32_t>> corners;  // (band id, 4 * tet + j): sorted, they number the points
-  corners.reserve(4 * tets.size());
   for (const std::int32_t t : tets) {
-    const auto in_share = static_cast<std::uint32_t>(share.band_tets.size());
     share.band_tets.push_back(place.first_tet + t);
-    Tet across;
+    Tet tet, across;
     for (int j = 0; j < 4; ++j) {
-      corners.emplace_back(band_id(band.tets[t][j]), 4 * in_share + static_cast<std::uint32_t>(j));
+      tet[j] = band_id(band.tets[t][j]);
       const std::int32_t nb = band.neighbours[t][j];
       across[j] = nb >= 0 ? in_chains.at[nb] : -1;  // (a neighbour is in the tet's part, so in its share)
     }
+    share.tets.push_back(tet);
     share.neighbours.push_back(across);
   }
-  radix_sort(corners, [](const auto& c) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.first)); });
-  for (const auto& [id, corner] : corners) {
-    if (share.point_ids.empty() || share.point_ids.back() != id) share.point_ids.push_back(id);
-    share.tets[corner / 4][corner % 4] = static_cast<std::int32_t>(share.point_ids.size() - 1);
-  }
+  share.point_ids = renumber_locally(share.tets);  // (so that rank 0 welds without searching)
   share.points.reserve(share.point_ids.size());
   for (const std::int32_t id : share.point_ids)
     share.points.push_back(id >= place.steiner_to ? band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to))

@@ -1,6 +1,7 @@
 #include "stages/topology.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <boost/sort/spreadsort/integer_sort.hpp>
 
@@ -99,6 +100,24 @@ std::vector<std::int32_t> renumber_locally(std::vector<Triangle>& triangles) {
   ids.shrink_to_fit();
   for (auto& t : triangles)
     for (auto& v : t) v = static_cast<std::int32_t>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin());
+  return ids;
+}
+
+std::vector<std::int32_t> renumber_locally(std::vector<Tet>& tets) {
+  using Corner = std::pair<std::int32_t, std::uint32_t>;  // (id, 4 * tet + j)
+  std::vector<Corner> corners;
+  corners.reserve(4 * tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t)
+    for (std::uint32_t j = 0; j < 4; ++j) corners.emplace_back(tets[t][j], static_cast<std::uint32_t>(4 * t) + j);
+  boost::sort::spreadsort::integer_sort(
+      corners.begin(), corners.end(), [](const Corner& c, unsigned shift) { return c.first >> shift; },
+      [](const Corner& a, const Corner& b) { return a.first < b.first; });
+  std::vector<std::int32_t> ids;
+  for (const auto& [id, corner] : corners) {
+    if (ids.empty() || ids.back() != id) ids.push_back(id);
+    tets[corner / 4][corner % 4] = static_cast<std::int32_t>(ids.size() - 1);
+  }
+  ids.shrink_to_fit();
   return ids;
 }
 
