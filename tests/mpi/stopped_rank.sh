@@ -106,6 +106,8 @@ esac
 grep -qE "$expected" "$work/log" || fail "no message '$expected'"
 [ "$mode" != share ] || ! grep -q "rank 1 has not" "$work/log" || fail "rank 1 blamed for rank 2's silence"
 [ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
-[[ $mode != silent && $mode != chain && $mode != grow && $mode != take && $mode != links && $mode != shares ]] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s: 3 s of silence)"
+# 3 s of silence where a user's run waits 60-120 s; the run up to the fault takes 1-16 s (up to
+# 16 s beside other tests: scripts/test.sh runs the tests that wait beside the rest).
+[[ $mode != silent && $mode != chain && $mode != grow && $mode != take && $mode != links && $mode != shares ]] || [ "$elapsed" -le 30 ] || fail "took ${elapsed} s (limit 30 s: 3 s of silence)"
 ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 -E "$expected" "$work/log")"
