@@ -152,7 +152,13 @@ TEST(SeamBand, ChainsCutOutOfTheBandHealAsTheBand) {
           Welder of_parts(split, s.prepared.pieces);
           for (const auto& result : s.results) of_parts.add(PieceTetMesh(result));
           TetMesh from_parts = heal_chains_of_band_parts(of_parts, input, split, options, regions_here(s.options));
-          for (const TetMesh* healed : {&by_chains, &from_parts}) {
+          // The chains put into the band's points alone keep their own order and neighbours: those
+          // are the band's neighbours (no face between two chains), and in order_band_tets'
+          // order it is the band healed in one piece.
+          EXPECT_EQ(from_parts.neighbours, compute_neighbours(from_parts.tets, from_parts.points.size()));
+          TetMesh from_parts_ordered = from_parts;
+          order_band_tets(from_parts_ordered);
+          for (const TetMesh* healed : {&by_chains, &from_parts_ordered}) {
             EXPECT_EQ(healed->points, band.points);
             EXPECT_EQ(healed->tets, band.tets);
             EXPECT_EQ(healed->neighbours, band.neighbours);
@@ -160,10 +166,15 @@ TEST(SeamBand, ChainsCutOutOfTheBandHealAsTheBand) {
           }
           const TetMesh assembled = welder.assemble(std::move(by_chains));
           EXPECT_TRUE(check_mesh(input, assembled).ok());
-          const TetMesh assembled_from_parts = of_parts.assemble(std::move(from_parts));
+          TetMesh assembled_from_parts = of_parts.assemble(std::move(from_parts));
+          EXPECT_TRUE(check_mesh(input, assembled_from_parts).ok());
           EXPECT_EQ(assembled_from_parts.points, assembled.points);
-          EXPECT_EQ(assembled_from_parts.tets, assembled.tets);
-          EXPECT_EQ(assembled_from_parts.neighbours, assembled.neighbours);
+          EXPECT_EQ(assembled_from_parts.neighbours,
+                    compute_neighbours(assembled_from_parts.tets, assembled_from_parts.points.size()));
+          TetMesh ordered = assembled;
+          order_band_tets(ordered), order_band_tets(assembled_from_parts);
+          EXPECT_EQ(assembled_from_parts.tets, ordered.tets);
+          EXPECT_EQ(assembled_from_parts.neighbours, ordered.neighbours);
         }
   EXPECT_GE(most_chains, 3u);
 }

@@ -13,6 +13,8 @@
 #include "job/pipeline.hpp"
 #include "runner/serialize.hpp"
 #include "stage_batches.hpp"
+#include "stages/seam_chain_band.hpp"
+#include "stages/topology.hpp"
 
 namespace partet {
 namespace {
@@ -138,11 +140,19 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_GT(here.new_points.size(), 0u);
   EXPECT_EQ(there.new_points, here.new_points);
   EXPECT_EQ(there.tets, here.tets);
+  // Its tets come in order_band_tets' order, with their neighbours: rank 0 does not sort them.
+  TetMesh ordered;
+  ordered.tets = here.tets, ordered.neighbours = here.neighbours, ordered.piece = here.piece;
+  order_band_tets(ordered);
+  EXPECT_EQ(ordered.tets, here.tets);
+  EXPECT_EQ(here.neighbours, compute_neighbours(here.tets));
   std::int32_t index = -1;
   const HealedChain back = deserialize_chain_outcome(serialize_chain_outcome(7, there), index);
   EXPECT_EQ(index, 7);
   EXPECT_EQ(back.new_points, here.new_points);
   EXPECT_EQ(back.tets, here.tets);
+  EXPECT_EQ(back.neighbours, here.neighbours);
+  EXPECT_EQ(back.neighbours.size(), here.tets.size());
   EXPECT_EQ(back.piece, here.piece);
   EXPECT_EQ(back.stats.regions, here.stats.regions);
   EXPECT_EQ(back.stats.tets_out, here.stats.tets_out);

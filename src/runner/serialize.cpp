@@ -783,12 +783,13 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         64 + failure.size(), [&](auto& ar) { ar << index << failure; }, std::string_view(&tag, 1));
   }
   return encode(
-      128 + healed.new_points.size() * 24 + healed.tets.size() * 20,
+      128 + healed.new_points.size() * 24 + healed.tets.size() * 36,
       [&](auto& ar) {
         ar << index << healed.seconds;
         save_stats(ar, healed.stats);
         save_block(ar, healed.new_points);
         save_block(ar, healed.tets);
+        save_block(ar, healed.neighbours);
         save_block(ar, healed.piece);
       },
       std::string_view(&tag, 1));
@@ -814,6 +815,7 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     load_stats(ar, healed.stats);
     load_block(ar, healed.new_points);
     load_block(ar, healed.tets);
+    load_block(ar, healed.neighbours);
     load_block(ar, healed.piece);
   });
 }

@@ -310,12 +310,49 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
     return healed;
   }
   healed.new_points.assign(chain.mesh.points.begin() + old_points, chain.mesh.points.end());
+  order_band_tets(chain.mesh);  // here, on the rank that healed it: not on rank 0, chain after chain
   healed.tets = std::move(chain.mesh.tets);
+  healed.neighbours = std::move(chain.mesh.neighbours);
   healed.piece = std::move(chain.mesh.piece);
   chain.mesh = TetMesh();
   healed.seconds = now_seconds() - start;
   return healed;
 }
+
+namespace {
+
+// The chains' points and tets after the band's, in the band's ids; their neighbours too (moved
+// past the band's tets).
+void append_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
+  if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
+  const bool pieces = band.piece.size() == band.tets.size();
+  band.neighbours.resize(band.tets.size(), Tet{-1, -1, -1, -1});
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
+    HealedChain& chain = healed[c];
+    if (chain.neighbours.size() != chain.tets.size() || (pieces && chain.piece.size() != chain.tets.size()))
+      throw InternalError("a healed chain of the seams came without its neighbours or pieces");
+    const std::size_t old_points = global_ids.size();
+    const auto first_new = static_cast<std::int32_t>(band.points.size());
+    const auto first_tet = static_cast<std::int32_t>(band.tets.size());
+    band.points.insert(band.points.end(), chain.new_points.begin(), chain.new_points.end());
+    for (std::size_t t = 0; t < chain.tets.size(); ++t) {
+      Tet tet, across;
+      for (int j = 0; j < 4; ++j) {
+        const auto v = static_cast<std::size_t>(chain.tets[t][j]);
+        tet[j] = v < old_points ? global_ids[v] : first_new + static_cast<std::int32_t>(v - old_points);
+        const std::int32_t nb = chain.neighbours[t][j];
+        across[j] = nb >= 0 ? first_tet + nb : -1;
+      }
+      band.tets.push_back(tet);
+      band.neighbours.push_back(across);
+    }
+    if (pieces) band.piece.insert(band.piece.end(), chain.piece.begin(), chain.piece.end());
+    chain = HealedChain();
+  }
+}
+
+}  // namespace
 
 void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
   if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
@@ -332,31 +369,16 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
     }
   band.tets.resize(kept);
   if (pieces) band.piece.resize(kept);
-  add_healed_chains(band, chains, std::move(healed));
+  std::vector<Tet>().swap(band.neighbours);
+  append_healed_chains(band, chains, std::move(healed));
+  // (The tets kept meet the chains': connected anew.)
+  band.neighbours = compute_neighbours(band.tets, band.points.size());
+  order_band_tets(band);
 }
 
 void add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
-  if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
-  const bool pieces = band.piece.size() == band.tets.size();
-  for (std::size_t c = 0; c < chains.size(); ++c) {
-    const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
-    HealedChain& chain = healed[c];
-    const std::size_t old_points = global_ids.size();
-    const auto first_new = static_cast<std::int32_t>(band.points.size());
-    band.points.insert(band.points.end(), chain.new_points.begin(), chain.new_points.end());
-    for (const Tet& local : chain.tets) {
-      Tet tet;
-      for (int j = 0; j < 4; ++j) {
-        const auto v = static_cast<std::size_t>(local[j]);
-        tet[j] = v < old_points ? global_ids[v] : first_new + static_cast<std::int32_t>(v - old_points);
-      }
-      band.tets.push_back(tet);
-    }
-    if (pieces) band.piece.insert(band.piece.end(), chain.piece.begin(), chain.piece.end());
-    chain = HealedChain();
-  }
-  band.neighbours = compute_neighbours(band.tets, band.points.size());
-  order_band_tets(band);
+  if (!band.tets.empty()) throw InternalError("healed chains were added to a band that has tets");
+  append_healed_chains(band, chains, std::move(healed));
 }
 
 void order_band_tets(TetMesh& band) {

@@ -84,9 +84,13 @@ ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input,
                      const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles);
 
 // A chain healed, wherever that was: in its ids, its points then new_points.
+// Its tets are in order_band_tets' order, with their neighbours within the chain (-1 at its edge):
+// its ids keep the band's order, so this is their order in the band too, and rank 0 puts the
+// chains into the band one after another without sorting or connecting its tets again.
 struct HealedChain {
   std::vector<Point3> new_points;  // the points its healing added
   std::vector<Tet> tets;
+  std::vector<Tet> neighbours;
   std::vector<std::int32_t> piece;  // when the band has pieces
   SeamStats stats;
   std::optional<Failure> failure;  // of the MeshingError its healing threw (then nothing else)
@@ -100,15 +104,17 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
 // The band with its chains (cut out of it, in the order of seam_chain_planes; their global_ids
 // and band_tets) healed and put back: their tets replace those they were cut from, and the points
 // healing added follow the band's, chain after chain, as heal_seams numbers them. The tets are
-// then in order_band_tets' order.
+// then in order_band_tets' order, as the band healed in one piece.
 void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
-// The same into a band of points alone (Welder::band_points) when the chains hold every tet of
-// the band (each tet of a band part is in the chain of its part, or in the one chain -1's share
-// makes, put back unhealed).
+// The chains into a band of points alone (Welder::band_points) when they hold every tet of the
+// band (each tet of a band part is in the chain of its part, or in the one chain -1's share makes,
+// put back unhealed): the band's tets are the chains', chain after chain, each in its own order
+// with its own neighbours (chains share no face). So the band is the same however many ranks
+// healed it, and made in one pass.
 void add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
 
-// Orders a healed band's tets by their vertices (and neighbours to match): the band is then the
-// same whether it healed in one piece or chain by chain, on one rank or on several.
+// Orders tets by their vertices (and neighbours to match): a healed chain's, or a band's healed
+// in one piece (the same whether it healed on one rank or on several).
 void order_band_tets(TetMesh& band);
 
 }  // namespace partet
