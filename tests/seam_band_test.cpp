@@ -7,6 +7,7 @@
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -97,7 +98,8 @@ TEST(SeamBand, HealingTheBandsGivesTheMeshHealingTheWholeGives) {
 // The chains welded from the pieces' band parts (the pipeline's way), healed, and put into the
 // band's points alone (Welder::band_points, add_healed_chains): the band is never welded.
 TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, const SplitSurface& split,
-                                  const HealOptions& options, const RegionMesher& mesher) {
+                                  const HealOptions& options, const RegionMesher& mesher,
+                                  std::vector<BandChainLinks>* links = nullptr) {
   welder.split_bands(seam_band_spec(split, options));
   const SeamChainPlan plan = seam_chain_plan(welder.take_band_links(), split, options);
   const std::vector<BandPartPlace> places = welder.band_part_places();
@@ -117,7 +119,8 @@ TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, cons
     EXPECT_FALSE(healed.back().failure);
   }
   TetMesh band = welder.band_points(split.points);
-  add_healed_chains(band, chains, std::move(healed));
+  std::vector<BandChainLinks> made = add_healed_chains(band, chains, std::move(healed));
+  if (links) *links = std::move(made);
   return band;
 }
 
@@ -313,15 +316,67 @@ void expect_piece_files_as_assembled(const SpreadMesh& spread, const TetMesh& wh
   for (const Tet& t : spread.band_tets)
     for (std::int64_t v : spread.band_ids()(t)) ASSERT_EQ(point_of(rank0, v), whole.points[v]);
 }
-}  // namespace
 
-TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
-  for (const char* name : {"torus", "two_spheres", "nested"})
+// Each of these generated surfaces (1500 faces) cut into 3 and into 6 pieces and meshed, with the
+// caps' points kept and healed: body(name, input, meshed pieces, caps healed).
+template <class Body>
+void for_each_small_case(std::initializer_list<const char*> names, const Body& body) {
+  for (const char* name : names)
     for (int k : {3, 6})
       for (const bool caps : {false, true}) {
         SCOPED_TRACE(std::string(name) + " k=" + std::to_string(k) + (caps ? " caps healed" : ""));
         const SurfaceMesh input = generate_surface(name, 1500);
         const MeshedPieces s = mesh_pieces_in_batch(input, k);
+        body(std::string(name), input, s, caps);
+      }
+}
+}  // namespace
+
+// A band made of healed chains is linked chain by chain, each chain a block with the links its
+// healing rank found: the spread mesh is the one linked as one band, solids and faces across
+// included.
+TEST(SeamBand, ABandOfHealedChainsLinkedChainByChainIsLinkedAsOneBand) {
+  std::size_t most_chains = 0, faces_across = 0;
+  for_each_small_case({"torus", "two_spheres", "genus3"}, [&](const std::string&, const SurfaceMesh& input,
+                                                               const MeshedPieces& s, bool caps) {
+        const SplitSurface& split = s.prepared.split;
+        HealOptions options{caps, 0};
+        options.drop_points = false;
+        Welder by_chains(split, s.prepared.pieces), as_one(split, s.prepared.pieces);
+        for (const auto& result : s.results) by_chains.add(PieceTetMesh(result)), as_one.add(PieceTetMesh(result));
+        std::vector<BandChainLinks> links;
+        TetMesh a = heal_chains_of_band_parts(by_chains, input, split, options, regions_here(s.options), &links);
+        TetMesh b = heal_chains_of_band_parts(as_one, input, split, options, regions_here(s.options));
+        ASSERT_EQ(a.tets, b.tets);
+        most_chains = std::max(most_chains, links.size());
+        const SpreadMesh got = by_chains.spread(std::move(a), true, std::move(links));
+        const SpreadMesh want = as_one.spread(std::move(b), true);
+        EXPECT_EQ(got.band_tets, want.band_tets);
+        EXPECT_EQ(got.band_point_ids, want.band_point_ids);
+        EXPECT_EQ(got.band_solid, want.band_solid);
+        ASSERT_EQ(got.band_across.size(), want.band_across.size());
+        for (std::size_t i = 0; i < got.band_across.size(); ++i) {
+          EXPECT_EQ(got.band_across[i].face, want.band_across[i].face);
+          EXPECT_EQ(got.band_across[i].tet, want.band_across[i].tet);
+        }
+        ASSERT_EQ(got.bulks.size(), want.bulks.size());
+        for (std::size_t p = 0; p < got.bulks.size(); ++p) {
+          EXPECT_EQ(got.bulks[p].solid, want.bulks[p].solid);
+          ASSERT_EQ(got.bulks[p].across.size(), want.bulks[p].across.size());
+          for (std::size_t i = 0; i < got.bulks[p].across.size(); ++i) {
+            EXPECT_EQ(got.bulks[p].across[i].face, want.bulks[p].across[i].face);
+            EXPECT_EQ(got.bulks[p].across[i].tet, want.bulks[p].across[i].tet);
+          }
+        }
+        faces_across += got.band_across.size();
+      });
+  EXPECT_GE(most_chains, 3u);
+  EXPECT_GT(faces_across, 0u);  // (small pieces with their caps healed may be band alone)
+}
+
+TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
+  for_each_small_case({"torus", "two_spheres", "nested"}, [&](const std::string& name, const SurfaceMesh& input,
+                                                               const MeshedPieces& s, bool caps) {
         const SplitSurface& split = s.prepared.split;
         HealOptions options{caps, 0};
         options.drop_points = false;
@@ -385,10 +440,10 @@ TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {
           for (int j = 0; j < 4; ++j) ASSERT_EQ(neighbours[t][j], whole.neighbours[t][j]) << "tet " << t << " face " << j;
         const std::vector<std::int32_t> regions = region_of_tets(whole);
         EXPECT_EQ(solid, regions);
-        if (std::string(name) != "nested")  // (its shells' nesting decides)
-          EXPECT_EQ(*std::max_element(regions.begin(), regions.end()), std::string(name) == "two_spheres" ? 2 : 1);
+        if (name != "nested")  // (its shells' nesting decides)
+          EXPECT_EQ(*std::max_element(regions.begin(), regions.end()), name == "two_spheres" ? 2 : 1);
         expect_piece_files_as_assembled(spread, whole, regions);
-      }
+      });
 }
 
 // A piece file's points are numbered in order of first use across its blocks, whether its ids

@@ -153,6 +153,15 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_EQ(back.tets, here.tets);
   EXPECT_EQ(back.neighbours, here.neighbours);
   EXPECT_EQ(back.neighbours.size(), here.tets.size());
+  // With its links (every open face, in its ids) and its tets' components, as block_links finds them.
+  std::vector<std::int32_t> label;
+  const BlockLinks links = block_links(here.tets, PointIds(), here.neighbours, true, 0, {}, label);
+  EXPECT_EQ(back.label, label);
+  EXPECT_EQ(back.links.first_tet, links.first_tet);
+  EXPECT_EQ(back.links.keys, links.keys);
+  EXPECT_EQ(back.links.component, links.component);
+  EXPECT_EQ(back.links.face, links.face);
+  EXPECT_FALSE(links.keys.empty());
   EXPECT_EQ(back.piece, here.piece);
   EXPECT_EQ(back.stats.regions, here.stats.regions);
   EXPECT_EQ(back.stats.tets_out, here.stats.tets_out);

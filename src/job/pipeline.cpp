@@ -485,11 +485,12 @@ struct BandByChains {
 // Heals the band chain by chain (seam_chain_band.hpp), the chains found from the links of the
 // pieces' band parts (the welder's): each chain is welded from its pieces' shares and healed (on
 // a rank of its own when there are several); the healed chains make the band, which is never
-// welded when they hold all its tets; so the band is the same however many ranks healed it.
+// welded when they hold all its tets (chain_links: then each chain's links, as its healing rank
+// found them); so the band is the same however many ranks healed it.
 // Throws the MeshingError of the first chain that failed; `band` is then as welded.
 SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points, TetMesh& band,
-                              const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
-                              RegionMeshers& meshers) {
+                              std::vector<BandChainLinks>& chain_links, const SurfaceMesh& input,
+                              const SplitSurface& split, const HealOptions& options, RegionMeshers& meshers) {
   StepClock clock;
   const BandByChains by_chains(welder, split, options);
   const std::size_t count = by_chains.plan.planes.size();
@@ -519,7 +520,7 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   } else {
     band = welder.band_points(std::move(split_points));
     stats = chains_stats(healed);
-    add_healed_chains(band, chains, std::move(healed));
+    chain_links = add_healed_chains(band, chains, std::move(healed));
   }
   clock.lap("put back");
   log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps +
@@ -538,10 +539,12 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, std::vect
   on_band.drop_points = false;
   TetMesh band;
   try {
-    stats = heal_band_by_chains(welder, std::move(split_points), band, input, split, on_band, meshers);
+    std::vector<BandChainLinks> chain_links;  // (when the chains make the band)
+    stats = heal_band_by_chains(welder, std::move(split_points), band, chain_links, input, split, on_band, meshers);
     const double start = now_seconds();
     if (spread && welder.keeps_bulks_elsewhere()) {
-      *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours));
+      *spread =
+          std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours, std::move(chain_links)));
       log::debug("left the mesh spread: " + std::to_string((*spread)->tets) + " tets, " +
                  std::to_string((*spread)->band_tets.size()) + " of them here, in " +
                  std::to_string(now_seconds() - start) + " s");

@@ -783,7 +783,8 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         64 + failure.size(), [&](auto& ar) { ar << index << failure; }, std::string_view(&tag, 1));
   }
   return encode(
-      128 + healed.new_points.size() * 24 + healed.tets.size() * 36,
+      160 + healed.new_points.size() * 24 + healed.tets.size() * 40 + healed.links.first_tet.size() * 4 +
+          healed.links.keys.size() * 36,
       [&](auto& ar) {
         ar << index << healed.seconds;
         save_stats(ar, healed.stats);
@@ -791,6 +792,11 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         save_block(ar, healed.tets);
         save_block(ar, healed.neighbours);
         save_block(ar, healed.piece);
+        save_block(ar, healed.label);
+        save_block(ar, healed.links.first_tet);
+        save_block(ar, healed.links.keys);
+        save_block(ar, healed.links.component);
+        save_block(ar, healed.links.face);
       },
       std::string_view(&tag, 1));
 }
@@ -803,7 +809,7 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
   if (!is_chain_outcome(bytes)) throw InternalError("a reply was read as a chain of the seams");
   const bool failed = bytes[0] == kChainFailureTag;
   bytes.remove_prefix(1);
-  return decode<HealedChain>(bytes, [&](auto& ar, HealedChain& healed) {
+  HealedChain chain = decode<HealedChain>(bytes, [&](auto& ar, HealedChain& healed) {
     ar >> index;
     if (failed) {
       std::string failure;
@@ -817,7 +823,17 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     load_block(ar, healed.tets);
     load_block(ar, healed.neighbours);
     load_block(ar, healed.piece);
+    load_block(ar, healed.label);
+    load_block(ar, healed.links.first_tet);
+    load_block(ar, healed.links.keys);
+    load_block(ar, healed.links.component);
+    load_block(ar, healed.links.face);
   });
+  const BlockLinks& links = chain.links;
+  if (links.keys.size() != links.component.size() || links.keys.size() != links.face.size() ||
+      chain.neighbours.size() != chain.tets.size() || chain.label.size() != chain.tets.size())
+    throw InternalError("malformed healed chain " + std::to_string(index) + " of the seams");
+  return chain;
 }
 
 }  // namespace partet

@@ -628,11 +628,47 @@ void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points
   });
 }
 
+// The band as blocks: one per healed chain, or the whole band as one.
+struct BandBlocks {
+  std::vector<BlockLinks> links;       // per block
+  std::vector<std::int32_t> first_tet; // per block, in the band; and one past the last
+  std::vector<std::int32_t> label;     // per band tet: its component in its block
+};
+
+// The band's links when it came as healed chains: each chain's, keys moved to the mesh's ids
+// (through the band's own, which keep the order: each chain's keys stay sorted).
+BandBlocks chain_blocks(const AssemblyNumbering& numbering, std::int32_t split_points, const std::vector<std::int32_t>& compact,
+                        const SpreadMesh& mesh, std::vector<BandChainLinks>&& chains) {
+  const auto split_kept = static_cast<std::int64_t>(mesh.split_points.size());
+  auto mesh_id = [&](std::int64_t v) {
+    const std::int64_t id = v < split_points ? numbering.of_band(static_cast<std::int32_t>(v))
+                            : compact[static_cast<std::size_t>(v - split_points)] < 0
+                                ? -1
+                                : mesh.band_point_ids[compact[static_cast<std::size_t>(v - split_points)] - split_kept];
+    if (id < 0) throw InternalError("an open face of a healed chain has a point the assembly dropped");
+    return id;
+  };
+  BandBlocks blocks;
+  for (BandChainLinks& chain : chains) {
+    if (chain.first_tet != static_cast<std::int32_t>(blocks.label.size()))
+      throw InternalError("the healed chains' links do not match the band");
+    for (auto& key : chain.links.keys)
+      for (auto& v : key) v = mesh_id(v);
+    blocks.links.push_back(std::move(chain.links));
+    blocks.first_tet.push_back(chain.first_tet);
+    blocks.label.insert(blocks.label.end(), chain.label.begin(), chain.label.end());
+  }
+  if (blocks.label.size() != mesh.band_tets.size()) throw InternalError("the healed chains' links do not match the band");
+  blocks.first_tet.push_back(static_cast<std::int32_t>(blocks.label.size()));
+  return blocks;
+}
+
 // The healed band, its rows after every bulk's, in compact ids (SpreadMesh::band_ids), with the
-// pieces' Steiner points it uses; its links (all its open faces). Band ids from split_points on
-// (the pieces' band Steiner points in piece order, then healing's) go to the mesh's ids in order.
-BlockLinks spread_band(const AssemblyNumbering& numbering, std::int32_t split_points, TetMesh&& healed_band,
-                       SpreadMesh& mesh, std::vector<std::int32_t>& label) {
+// pieces' Steiner points it uses; its links (all its open faces): the chains' (chains, when the
+// band is made of them) or found here. Band ids from split_points on (the pieces' band Steiner
+// points in piece order, then healing's) go to the mesh's ids in order.
+BandBlocks spread_band(const AssemblyNumbering& numbering, std::int32_t split_points, TetMesh&& healed_band,
+                       std::vector<BandChainLinks>&& chains, SpreadMesh& mesh) {
   const auto split_kept = static_cast<std::int64_t>(mesh.split_points.size());
   // 1. The points past the split surface's that the tets use: the table of the compact ids.
   std::vector<std::int32_t> compact(healed_band.points.size() - static_cast<std::size_t>(split_points), -1);
@@ -663,10 +699,17 @@ BlockLinks spread_band(const AssemblyNumbering& numbering, std::int32_t split_po
   }
   mesh.band_piece =
       healed_band.piece.empty() ? std::vector<std::int32_t>(healed_band.tets.size(), -1) : std::move(healed_band.piece);
-  BlockLinks links = block_links(mesh.band_tets, mesh.band_ids(), healed_band.neighbours, true, 0, {}, label);
+  // 3. Its links.
+  BandBlocks blocks;
+  if (!chains.empty()) {
+    blocks = chain_blocks(numbering, split_points, compact, mesh, std::move(chains));
+  } else {
+    blocks.links.push_back(block_links(mesh.band_tets, mesh.band_ids(), healed_band.neighbours, true, 0, {}, blocks.label));
+    blocks.first_tet = {0, static_cast<std::int32_t>(mesh.band_tets.size())};
+  }
   mesh.band_neighbours = std::move(healed_band.neighbours);
   healed_band = TetMesh();
-  return links;
+  return blocks;
 }
 
 }  // namespace
@@ -727,7 +770,7 @@ void Welder::take_bulk_links(std::vector<BlockLinks>& links) {
     if (!linked[p]) throw InternalError("the rank keeping the bulk of piece " + std::to_string(p) + " did not link it");
 }
 
-SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
+SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across, std::vector<BandChainLinks>&& chains) {
   const std::size_t k = bulks_.size();
   if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
   StepClock clock;
@@ -742,9 +785,10 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   // 2. Rank 0's points.
   spread_points(numbering, first_steiner_, healed_band, mesh);
   clock.lap("points");
-  // 3. The healed band, last, and its links.
-  std::vector<std::int32_t> band_label;
-  links.push_back(spread_band(numbering, first_steiner_, std::move(healed_band), mesh, band_label));
+  // 3. The healed band, last, and its links: a block per healed chain, or one.
+  BandBlocks band = spread_band(numbering, first_steiner_, std::move(healed_band), std::move(chains), mesh);
+  const std::size_t band_blocks = band.links.size();
+  for (BlockLinks& block : band.links) links.push_back(std::move(block));
   clock.lap("band");
   // 4. The links of the bulks kept elsewhere.
   take_bulk_links(links);
@@ -752,17 +796,23 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across) {
   // 5. The connected solids, across the blocks' shared faces.
   std::vector<std::int64_t> first_row;
   for (const SpreadBulk& bulk : mesh.bulks) first_row.push_back(bulk.first_tet);
-  first_row.push_back(mesh.first_band_tet);
+  for (std::size_t b = 0; b < band_blocks; ++b) first_row.push_back(mesh.first_band_tet + band.first_tet[b]);
   const std::vector<std::vector<std::int32_t>> solids = solids_of_blocks(links, first_row);
   for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].solid = solids[p];
-  mesh.band_solid.reserve(band_label.size());
-  for (std::int32_t label : band_label) mesh.band_solid.push_back(solids[k][label]);
+  mesh.band_solid.reserve(band.label.size());
+  for (std::size_t b = 0; b < band_blocks; ++b)
+    for (std::int32_t t = band.first_tet[b]; t < band.first_tet[b + 1]; ++t)
+      mesh.band_solid.push_back(solids[k + b][band.label[t]]);
   clock.lap("solids");
   // 6. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
   if (faces_across) {
     std::vector<std::vector<FaceAcross>> across = faces_across_blocks(links, first_row);
     for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);
-    mesh.band_across = std::move(across[k]);
+    for (std::size_t b = 0; b < band_blocks; ++b)  // (each block's faces ascending, the blocks in order)
+      for (FaceAcross face : across[k + b]) {
+        face.face += 4 * static_cast<std::uint64_t>(band.first_tet[b]);
+        mesh.band_across.push_back(face);
+      }
     mesh.has_across = true;
     clock.lap("across");
   }

@@ -133,8 +133,9 @@ class Welder {
   // its parts are (spread_mesh.hpp). The bulks kept by an owner's store (add_split) are numbered
   // there and stay; those kept here, or in this process's own store (keep_bulks_in), move into
   // the result, numbered. With faces_across, the tets across the blocks' shared faces too (for
-  // TetGen's .neigh). The welder is then empty.
-  SpreadMesh spread(TetMesh&& healed_band, bool faces_across = true);
+  // TetGen's .neigh). `chains`: the band's links, healed chain by chain (add_healed_chains), when
+  // the band is made of them; else found here. The welder is then empty.
+  SpreadMesh spread(TetMesh&& healed_band, bool faces_across = true, std::vector<BandChainLinks>&& chains = {});
   // Whether an owner's store keeps a bulk (the pieces were split where they were meshed).
   bool keeps_bulks_elsewhere() const;
   // The tets the bulks hold (after finish_band, or split_bands); the tets the band parts hold

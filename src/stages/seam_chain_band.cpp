@@ -315,6 +315,7 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
   healed.neighbours = std::move(chain.mesh.neighbours);
   healed.piece = std::move(chain.mesh.piece);
   chain.mesh = TetMesh();
+  healed.links = block_links(healed.tets, PointIds(), healed.neighbours, true, 0, {}, healed.label);
   healed.seconds = now_seconds() - start;
   return healed;
 }
@@ -322,11 +323,13 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
 namespace {
 
 // The chains' points and tets after the band's, in the band's ids; their neighbours too (moved
-// past the band's tets).
-void append_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
+// past the band's tets), and their links (keys in the band's ids).
+std::vector<BandChainLinks> append_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
+                                                 std::vector<HealedChain>&& healed) {
   if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
   const bool pieces = band.piece.size() == band.tets.size();
   band.neighbours.resize(band.tets.size(), Tet{-1, -1, -1, -1});
+  std::vector<BandChainLinks> links(chains.size());
   for (std::size_t c = 0; c < chains.size(); ++c) {
     const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
     HealedChain& chain = healed[c];
@@ -348,8 +351,15 @@ void append_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, s
       band.neighbours.push_back(across);
     }
     if (pieces) band.piece.insert(band.piece.end(), chain.piece.begin(), chain.piece.end());
+    if (chain.label.size() != chain.tets.size())
+      throw InternalError("a healed chain of the seams came without its links");
+    for (auto& key : chain.links.keys)  // (the band's ids keep the chain's order: the keys stay sorted)
+      for (auto& v : key)
+        v = v < static_cast<std::int64_t>(old_points) ? global_ids[v] : first_new + (v - static_cast<std::int64_t>(old_points));
+    links[c] = BandChainLinks{first_tet, std::move(chain.links), std::move(chain.label)};
     chain = HealedChain();
   }
+  return links;
 }
 
 }  // namespace
@@ -376,9 +386,10 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
   order_band_tets(band);
 }
 
-void add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
+std::vector<BandChainLinks> add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
+                                              std::vector<HealedChain>&& healed) {
   if (!band.tets.empty()) throw InternalError("healed chains were added to a band that has tets");
-  append_healed_chains(band, chains, std::move(healed));
+  return append_healed_chains(band, chains, std::move(healed));
 }
 
 void order_band_tets(TetMesh& band) {

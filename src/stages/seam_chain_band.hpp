@@ -14,6 +14,7 @@
 #include "partet/mesh_types.hpp"
 #include "stages/partition.hpp"
 #include "stages/seam_healing.hpp"
+#include "stages/spread_mesh.hpp"
 
 namespace partet {
 
@@ -92,6 +93,8 @@ struct HealedChain {
   std::vector<Tet> tets;
   std::vector<Tet> neighbours;
   std::vector<std::int32_t> piece;  // when the band has pieces
+  BlockLinks links;                 // block_links of its tets (every open face, keys in its ids)
+  std::vector<std::int32_t> label;  // per tet: its component in links
   SeamStats stats;
   std::optional<Failure> failure;  // of the MeshingError its healing threw (then nothing else)
   double seconds = 0;
@@ -110,8 +113,9 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
 // band (each tet of a band part is in the chain of its part, or in the one chain -1's share makes,
 // put back unhealed): the band's tets are the chains', chain after chain, each in its own order
 // with its own neighbours (chains share no face). So the band is the same however many ranks
-// healed it, and made in one pass.
-void add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
+// healed it, and made in one pass. Returns each chain's links in the band's ids.
+std::vector<BandChainLinks> add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
+                                              std::vector<HealedChain>&& healed);
 
 // Orders tets by their vertices (and neighbours to match): a healed chain's, or a band's healed
 // in one piece (the same whether it healed on one rank or on several).

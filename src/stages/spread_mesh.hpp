@@ -44,6 +44,16 @@ BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const 
                        bool every_open_face, std::int32_t input_vertices, const std::vector<std::uint64_t>& rim,
                        std::vector<std::int32_t>& label);
 
+// A healed chain as a block of the band (add_healed_chains): where its tets start in the band,
+// its links (every open face; keys in the band's ids) and its tets' components. With these the
+// band of a spread mesh is linked chain by chain, from what the healing ranks found, instead of
+// rank 0 finding the whole band's components and open faces again (Welder::spread).
+struct BandChainLinks {
+  std::int32_t first_tet = 0;
+  BlockLinks links;
+  std::vector<std::int32_t> label;
+};
+
 // The connected solids of a mesh made of blocks in row order (blocks[b] starts at row first_row[b]):
 // per block, the solid (from 1, numbered by first row) of each of its components.
 std::vector<std::vector<std::int32_t>> solids_of_blocks(const std::vector<BlockLinks>& blocks,
