@@ -4,6 +4,7 @@
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array_wrapper.hpp>
 #include <boost/serialization/string.hpp>
+#include <cstdint>
 #include <cstring>
 #include <streambuf>
 
@@ -64,6 +65,40 @@ void load_block(Archive& ar, std::vector<T>& v) {
 }
 
 constexpr unsigned kArchiveFlags = boost::archive::no_header;
+
+// A healed chain's links in 32 bits: its keys are in its own ids and its faces are 4 * tet + j of
+// its own tets, so an open face travels in 20 bytes instead of 36.
+template <class Archive>
+void save_chain_links(Archive& ar, const BlockLinks& links) {
+  std::vector<Triangle> keys;
+  keys.reserve(links.keys.size());
+  for (const auto& key : links.keys) {
+    if (key[2] > INT32_MAX || key[0] < 0) throw InternalError("a healed chain's open face is not in its own ids");
+    keys.push_back({static_cast<std::int32_t>(key[0]), static_cast<std::int32_t>(key[1]), static_cast<std::int32_t>(key[2])});
+  }
+  std::vector<std::uint32_t> faces;
+  faces.reserve(links.face.size());
+  for (const std::uint64_t face : links.face) {
+    if (face > UINT32_MAX) throw InternalError("a healed chain has too many tets to send its links");
+    faces.push_back(static_cast<std::uint32_t>(face));
+  }
+  save_block(ar, links.first_tet);
+  save_block(ar, keys);
+  save_block(ar, links.component);
+  save_block(ar, faces);
+}
+template <class Archive>
+void load_chain_links(Archive& ar, BlockLinks& links) {
+  std::vector<Triangle> keys;
+  std::vector<std::uint32_t> faces;
+  load_block(ar, links.first_tet);
+  load_block(ar, keys);
+  load_block(ar, links.component);
+  load_block(ar, faces);
+  links.keys.reserve(keys.size());
+  for (const Triangle& key : keys) links.keys.push_back({key[0], key[1], key[2]});
+  links.face.assign(faces.begin(), faces.end());
+}
 
 // Runs save(archive) into a string reserved for `expected` bytes.
 template <class Save>
@@ -784,7 +819,7 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
   }
   return encode(
       160 + healed.new_points.size() * 24 + healed.tets.size() * 40 + healed.links.first_tet.size() * 4 +
-          healed.links.keys.size() * 36,
+          healed.links.keys.size() * 20,
       [&](auto& ar) {
         ar << index << healed.seconds;
         save_stats(ar, healed.stats);
@@ -793,10 +828,7 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         save_block(ar, healed.neighbours);
         save_block(ar, healed.piece);
         save_block(ar, healed.label);
-        save_block(ar, healed.links.first_tet);
-        save_block(ar, healed.links.keys);
-        save_block(ar, healed.links.component);
-        save_block(ar, healed.links.face);
+        save_chain_links(ar, healed.links);
       },
       std::string_view(&tag, 1));
 }
@@ -824,10 +856,7 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     load_block(ar, healed.neighbours);
     load_block(ar, healed.piece);
     load_block(ar, healed.label);
-    load_block(ar, healed.links.first_tet);
-    load_block(ar, healed.links.keys);
-    load_block(ar, healed.links.component);
-    load_block(ar, healed.links.face);
+    load_chain_links(ar, healed.links);
   });
   const BlockLinks& links = chain.links;
   if (links.keys.size() != links.component.size() || links.keys.size() != links.face.size() ||
