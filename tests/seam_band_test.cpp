@@ -96,10 +96,12 @@ TEST(SeamBand, HealingTheBandsGivesTheMeshHealingTheWholeGives) {
 }
 
 // The chains welded from the pieces' band parts (the pipeline's way), healed, and put into the
-// band's points alone (Welder::band_points, add_healed_chains): the band is never welded.
+// band's points alone (Welder::band_points, add_healed_chains): the band is never welded. The
+// chains find their links only when asked for them (`links`).
 TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, const SplitSurface& split,
-                                  const HealOptions& options, const RegionMesher& mesher,
+                                  HealOptions options, const RegionMesher& mesher,
                                   std::vector<BandChainLinks>* links = nullptr) {
+  options.chain_links = links != nullptr;
   welder.split_bands(seam_band_spec(split, options));
   const SeamChainPlan plan = seam_chain_plan(welder.take_band_links(), split, options);
   const std::vector<BandPartPlace> places = welder.band_part_places();
@@ -119,7 +121,8 @@ TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, cons
     EXPECT_FALSE(healed.back().failure);
   }
   TetMesh band = welder.band_points(split.points);
-  std::vector<BandChainLinks> made = add_healed_chains(band, chains, std::move(healed));
+  std::vector<BandChainLinks> made = add_healed_chains(band, chains, std::move(healed), options.chain_links);
+  EXPECT_EQ(made.size(), links ? chains.size() : 0u);
   if (links) *links = std::move(made);
   return band;
 }

@@ -9,10 +9,10 @@
 #include <string_view>
 #include <vector>
 
-#include "stages/generate.hpp"
 #include "job/pipeline.hpp"
 #include "runner/serialize.hpp"
 #include "stage_batches.hpp"
+#include "stages/generate.hpp"
 #include "stages/seam_chain_band.hpp"
 #include "stages/topology.hpp"
 
@@ -109,10 +109,11 @@ TEST(Serialize, TaskCarriesEveryTetgenOption) {
 
 // A chain of the seams goes to a worker and comes back healed: the chain that arrives heals as
 // the one sent (the same tets and points), and the healed chain and a failure come back whole.
+// Its links come when asked (for a mesh left spread), and only then.
 TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   const SurfaceMesh input = generate_surface("torus", 1500);
   const MeshedPieces s = mesh_pieces_in_batch(input, 3, 1.0, "1.414");
-  const HealOptions options{true, 2, false};
+  const HealOptions options{true, 2, false, true};
   Welder welder(s.prepared.split, s.prepared.pieces);
   for (const auto& result : s.results) welder.add(PieceTetMesh(result));
   const TetMesh band = welder.finish_band(s.prepared.split.points, seam_band_spec(s.prepared.split, options));
@@ -129,6 +130,7 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_EQ(received.chain.planes, sent.chain.planes);
   EXPECT_EQ(received.heal.remove_cap_points, true);
   EXPECT_EQ(received.heal.layers, 2);
+  EXPECT_TRUE(received.heal.chain_links);
   EXPECT_EQ(received.tetgen.quality, "1.414");
   EXPECT_FALSE(received.tetgen.boundary_points);
   EXPECT_EQ(received.chain.split.parent, sent.chain.split.parent);
@@ -163,6 +165,19 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_EQ(back.links.face, links.face);
   EXPECT_FALSE(links.keys.empty());
   EXPECT_EQ(back.piece, here.piece);
+  // Not asked for its links (an assembled mesh): the same chain, without them.
+  HealOptions unlinked = options;
+  unlinked.chain_links = false;
+  const ChainTask plain{sent.index, ChainBand(), unlinked, sent.tetgen};
+  EXPECT_FALSE(deserialize_chain_task(serialize_chain_task(plain)).heal.chain_links);
+  ChainBand again = cut_out_chain(band, input, s.prepared.split, chains.back(),
+                                  std::move(chain_parts(band, s.prepared.split, chains, options).back()));
+  const HealedChain healed_bare = heal_chain(std::move(again), unlinked, regions_here(s.options));
+  const HealedChain bare = deserialize_chain_outcome(serialize_chain_outcome(7, healed_bare), index);
+  EXPECT_EQ(bare.tets, here.tets);
+  EXPECT_EQ(bare.neighbours, here.neighbours);
+  EXPECT_TRUE(bare.label.empty());
+  EXPECT_TRUE(bare.links.keys.empty());
   EXPECT_EQ(back.stats.regions, here.stats.regions);
   EXPECT_EQ(back.stats.tets_out, here.stats.tets_out);
   HealedChain failed;

@@ -382,7 +382,8 @@ class RegionMeshers {
   // after one failed: the band's failure is the first in chain order, as on the ranks.
   std::vector<HealedChain> heal_chains(std::size_t count, const PieceScheduler::ChainCutter& cut_out,
                                        const HealOptions& options) {
-    if (count > 1 && scheduler_.heals_chains_on_ranks()) return scheduler_.heal_chains(count, cut_out, options, tetgen_);
+    if (count > 1 && scheduler_.heals_chains_on_ranks())
+      return scheduler_.heal_chains(count, cut_out, options, tetgen_);
     std::vector<HealedChain> healed;
     for (std::size_t i = 0; i < count; ++i) healed.push_back(heal_chain(cut_out(i), options, seams()));
     return healed;
@@ -440,8 +441,8 @@ SeamStats chains_stats(const std::vector<HealedChain>& healed) {
 // their pieces were split cut there, into the shares the welder gets from their stores).
 struct BandByChains {
   SeamChainPlan plan;
-  std::vector<BandPartPlace> places;   // by piece
-  std::vector<BandPartChains> pieces;  // by piece, of the band parts here
+  std::vector<BandPartPlace> places;                       // by piece
+  std::vector<BandPartChains> pieces;                      // by piece, of the band parts here
   std::vector<std::vector<std::int32_t>> split_triangles;  // by chain
   std::vector<std::size_t> tets;                           // by chain
   std::vector<int> order;    // the chains, largest first, so that no rank is left with a large one at the end
@@ -520,11 +521,11 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   } else {
     band = welder.band_points(std::move(split_points));
     stats = chains_stats(healed);
-    chain_links = add_healed_chains(band, chains, std::move(healed));
+    chain_links = add_healed_chains(band, chains, std::move(healed), options.chain_links);
   }
   clock.lap("put back");
-  log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps +
-             " (welding the chains " + std::to_string(welding) + " s of the healing)");
+  log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps + " (welding the chains " +
+             std::to_string(welding) + " s of the healing)");
   return stats;
 }
 
@@ -537,14 +538,14 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, std::vect
   const std::int64_t welded_tets = static_cast<std::int64_t>(welder.bulk_tet_count() + welder.band_tet_count());
   HealOptions on_band = options;
   on_band.drop_points = false;
+  on_band.chain_links = spread && welder.keeps_bulks_elsewhere();  // (an assembled mesh needs no links)
   TetMesh band;
   try {
     std::vector<BandChainLinks> chain_links;  // (when the chains make the band)
     stats = heal_band_by_chains(welder, std::move(split_points), band, chain_links, input, split, on_band, meshers);
     const double start = now_seconds();
     if (spread && welder.keeps_bulks_elsewhere()) {
-      *spread =
-          std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours, std::move(chain_links)));
+      *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours, std::move(chain_links)));
       log::debug("left the mesh spread: " + std::to_string((*spread)->tets) + " tets, " +
                  std::to_string((*spread)->band_tets.size()) + " of them here, in " +
                  std::to_string(now_seconds() - start) + " s");

@@ -74,7 +74,8 @@ void save_chain_links(Archive& ar, const BlockLinks& links) {
   keys.reserve(links.keys.size());
   for (const auto& key : links.keys) {
     if (key[2] > INT32_MAX || key[0] < 0) throw InternalError("a healed chain's open face is not in its own ids");
-    keys.push_back({static_cast<std::int32_t>(key[0]), static_cast<std::int32_t>(key[1]), static_cast<std::int32_t>(key[2])});
+    keys.push_back(
+        {static_cast<std::int32_t>(key[0]), static_cast<std::int32_t>(key[1]), static_cast<std::int32_t>(key[2])});
   }
   std::vector<std::uint32_t> faces;
   faces.reserve(links.face.size());
@@ -356,8 +357,7 @@ void load_links(Archive& ar, std::optional<BandPartLinks>& links) {
 std::string encode_band(const PieceBand& split, std::string_view prefix) {
   return encode(
       tet_block_bytes(split.band) + 64 + split.band_steiner.size() * 4 + split.band_tets.size() * 4 +
-          split.band_split_points.size() * 4 +
-          split.crossings.size() * 16 + split.cap_faces_outside.size() * 12,
+          split.band_split_points.size() * 4 + split.crossings.size() * 16 + split.cap_faces_outside.size() * 12,
       [&](auto& ar) {
         const std::int32_t index = split.index, first_steiner = split.first_steiner;
         const std::int64_t bulk_tets = split.bulk_tets, bulk_steiner = split.bulk_steiner_points;
@@ -738,8 +738,8 @@ constexpr char kChainHealedTag = 'L', kChainFailureTag = 'M';
 
 template <class Archive>
 void save_stats(Archive& ar, const SeamStats& stats) {
-  std::int64_t figures[6] = {stats.cut_vertices_removed, stats.cap_points_removed, stats.regions,
-                             stats.tets_in,              stats.tets_out,           stats.chains};
+  std::int64_t figures[6] = {
+      stats.cut_vertices_removed, stats.cap_points_removed, stats.regions, stats.tets_in, stats.tets_out, stats.chains};
   ar << boost::serialization::make_array(figures, 6);
 }
 
@@ -763,9 +763,9 @@ std::string serialize_chain_task(const ChainTask& task) {
   return encode(
       bytes,
       [&](auto& ar) {
-        const std::int32_t head[5] = {task.index, chain.split.input_vertex_count, task.heal.remove_cap_points,
-                                      task.heal.layers, task.tetgen.boundary_points};
-        ar << boost::serialization::make_array(head, 5);
+        const std::int32_t head[6] = {task.index,       chain.split.input_vertex_count, task.heal.remove_cap_points,
+                                      task.heal.layers, task.tetgen.boundary_points,    task.heal.chain_links};
+        ar << boost::serialization::make_array(head, 6);
         ar << task.tetgen.quality << task.tetgen.tolerance << task.tetgen.optimization;
         std::vector<std::int32_t> planes(chain.planes.begin(), chain.planes.end());
         save_block(ar, planes);
@@ -787,13 +787,14 @@ ChainTask deserialize_chain_task(std::string_view bytes) {
   bytes.remove_prefix(1);
   return decode<ChainTask>(bytes, [](auto& ar, ChainTask& task) {
     ChainBand& chain = task.chain;
-    std::int32_t head[5] = {};
-    ar >> boost::serialization::make_array(head, 5);
+    std::int32_t head[6] = {};
+    ar >> boost::serialization::make_array(head, 6);
     task.index = head[0];
     chain.split.input_vertex_count = head[1];
     task.heal.remove_cap_points = head[2] != 0;
     task.heal.layers = head[3];
     task.tetgen.boundary_points = head[4] != 0;
+    task.heal.chain_links = head[5] != 0;
     ar >> task.tetgen.quality >> task.tetgen.tolerance >> task.tetgen.optimization;
     std::vector<std::int32_t> planes;
     load_block(ar, planes);
@@ -860,7 +861,7 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
   });
   const BlockLinks& links = chain.links;
   if (links.keys.size() != links.component.size() || links.keys.size() != links.face.size() ||
-      chain.neighbours.size() != chain.tets.size() || chain.label.size() != chain.tets.size())
+      chain.neighbours.size() != chain.tets.size() || (!chain.label.empty() && chain.label.size() != chain.tets.size()))
     throw InternalError("malformed healed chain " + std::to_string(index) + " of the seams");
   return chain;
 }

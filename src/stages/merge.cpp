@@ -150,14 +150,15 @@ void Welder::grow_piece(std::size_t p, std::vector<CapCrossing>&& crossings) {
   StoredBulk& stored = stored_[p];
   const bool where_kept = stored.stored && stored.store->grows_bands();
   if (!where_kept) band_here(p);
-  BandToGrow band{static_cast<int>(p), *split_on_arrival_, std::move(blocks_[p]), std::move(band_steiner_[p]),
-                  std::move(band_tets_[p]), std::move(crossings)};
+  BandToGrow band{static_cast<int>(p),         *split_on_arrival_,       std::move(blocks_[p]),
+                  std::move(band_steiner_[p]), std::move(band_tets_[p]), std::move(crossings)};
   PieceBand grown;
   if (where_kept) {
     // The band in the owner's ids and back: the bulk numbers the piece's Steiner points from there.
     // A band part kept there too stays there: only the crossings travel.
     band.spec.split_point_count = stored.first_steiner;
-    if (band_elsewhere_[p].kept) band.band = Block(), band.band_steiner.clear(), band.band_tets.clear(), band.band_kept = true;
+    if (band_elsewhere_[p].kept)
+      band.band = Block(), band.band_steiner.clear(), band.band_tets.clear(), band.band_kept = true;
     move_steiner_ids(band.band.tets, first_steiner_, stored.first_steiner);
     grown = stored.store->grow(std::move(band));
     if (grown.index != static_cast<int>(p) || grown.bulk.in)
@@ -351,7 +352,8 @@ std::size_t Welder::band_part_tets(std::size_t p) const {
 void Welder::rejoin(std::size_t p) {
   band_here(p);
   Block& bulk = bulk_here(p);
-  blocks_[p] = join_band_and_bulk(std::move(blocks_[p]), std::move(bulk), band_steiner_[p], band_tets_[p], first_steiner_);
+  blocks_[p] =
+      join_band_and_bulk(std::move(blocks_[p]), std::move(bulk), band_steiner_[p], band_tets_[p], first_steiner_);
   bulk = Block();
   std::vector<std::int32_t>().swap(band_steiner_[p]);
   std::vector<std::int32_t>().swap(band_tets_[p]);
@@ -430,8 +432,8 @@ std::vector<ChainShare> Welder::kept_shares(int chain, const std::vector<Point3>
   for (BulkStore* store : share_stores_)
     for (ChainShare& share : store->shares(chain)) {
       const int p = share.piece;
-      if (share.chain != chain || p < 0 || static_cast<std::size_t>(p) >= blocks_.size() ||
-          !band_elsewhere_[p].kept || stored_[p].store != store)
+      if (share.chain != chain || p < 0 || static_cast<std::size_t>(p) >= blocks_.size() || !band_elsewhere_[p].kept ||
+          stored_[p].store != store)
         mismatch(p, "'s band part gave a share of another chain or piece");
       add_split_coordinates(share, split_points);
       shares.push_back(std::move(share));
@@ -630,15 +632,16 @@ void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points
 
 // The band as blocks: one per healed chain, or the whole band as one.
 struct BandBlocks {
-  std::vector<BlockLinks> links;       // per block
-  std::vector<std::int32_t> first_tet; // per block, in the band; and one past the last
-  std::vector<std::int32_t> label;     // per band tet: its component in its block
+  std::vector<BlockLinks> links;        // per block
+  std::vector<std::int32_t> first_tet;  // per block, in the band; and one past the last
+  std::vector<std::int32_t> label;      // per band tet: its component in its block
 };
 
 // The band's links when it came as healed chains: each chain's, keys moved to the mesh's ids
 // (through the band's own, which keep the order: each chain's keys stay sorted).
-BandBlocks chain_blocks(const AssemblyNumbering& numbering, std::int32_t split_points, const std::vector<std::int32_t>& compact,
-                        const SpreadMesh& mesh, std::vector<BandChainLinks>&& chains) {
+BandBlocks chain_blocks(const AssemblyNumbering& numbering, std::int32_t split_points,
+                        const std::vector<std::int32_t>& compact, const SpreadMesh& mesh,
+                        std::vector<BandChainLinks>&& chains) {
   const auto split_kept = static_cast<std::int64_t>(mesh.split_points.size());
   auto mesh_id = [&](std::int64_t v) {
     const std::int64_t id = v < split_points ? numbering.of_band(static_cast<std::int32_t>(v))
@@ -658,7 +661,8 @@ BandBlocks chain_blocks(const AssemblyNumbering& numbering, std::int32_t split_p
     blocks.first_tet.push_back(chain.first_tet);
     blocks.label.insert(blocks.label.end(), chain.label.begin(), chain.label.end());
   }
-  if (blocks.label.size() != mesh.band_tets.size()) throw InternalError("the healed chains' links do not match the band");
+  if (blocks.label.size() != mesh.band_tets.size())
+    throw InternalError("the healed chains' links do not match the band");
   blocks.first_tet.push_back(static_cast<std::int32_t>(blocks.label.size()));
   return blocks;
 }
@@ -704,7 +708,8 @@ BandBlocks spread_band(const AssemblyNumbering& numbering, std::int32_t split_po
   if (!chains.empty()) {
     blocks = chain_blocks(numbering, split_points, compact, mesh, std::move(chains));
   } else {
-    blocks.links.push_back(block_links(mesh.band_tets, mesh.band_ids(), healed_band.neighbours, true, 0, {}, blocks.label));
+    blocks.links.push_back(
+        block_links(mesh.band_tets, mesh.band_ids(), healed_band.neighbours, true, 0, {}, blocks.label));
     blocks.first_tet = {0, static_cast<std::int32_t>(mesh.band_tets.size())};
   }
   mesh.band_neighbours = std::move(healed_band.neighbours);

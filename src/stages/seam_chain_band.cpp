@@ -94,7 +94,8 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
   std::unordered_map<std::int32_t, std::int32_t> local_parent;
   for (auto t : triangles) {
     const Triangle& f = split.triangles[t];
-    const auto [it, fresh] = local_parent.emplace(split.parent[t], static_cast<std::int32_t>(chain.input.triangles.size()));
+    const auto [it, fresh] =
+        local_parent.emplace(split.parent[t], static_cast<std::int32_t>(chain.input.triangles.size()));
     if (fresh) chain.input.triangles.push_back(local_triangle(chain.global_ids, input.triangles[split.parent[t]]));
     local.triangles.push_back(local_triangle(chain.global_ids, f));
     local.parent.push_back(it->second);
@@ -105,7 +106,7 @@ void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const st
 // of every share, in share order, its id in the chain (the shares' tets are numbered through it).
 std::vector<std::int32_t> weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
   std::vector<std::pair<std::int32_t, std::uint32_t>> points;  // (band id, place among every share's points)
-  std::vector<const Point3*> where;                             // by place
+  std::vector<const Point3*> where;                            // by place
   for (const ChainShare& share : shares)
     for (std::size_t i = 0; i < share.point_ids.size(); ++i) {
       points.emplace_back(share.point_ids[i], static_cast<std::uint32_t>(where.size()));
@@ -204,13 +205,15 @@ BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& ch
   return chains;
 }
 
-ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
-                       const BandPartPlace& place, const std::vector<Point3>& split_points) {
+ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i, const BandPartPlace& place,
+                       const std::vector<Point3>& split_points) {
   const std::vector<std::int32_t>& tets = in_chains.tets.at(i);
   ChainShare share;
   share.chain = in_chains.chains.at(i);
   share.piece = place.piece;
-  auto band_id = [&](std::int32_t v) { return v >= place.steiner_from ? v - place.steiner_from + place.steiner_to : v; };
+  auto band_id = [&](std::int32_t v) {
+    return v >= place.steiner_from ? v - place.steiner_from + place.steiner_to : v;
+  };
   share.band_tets.reserve(tets.size());
   share.tets.reserve(tets.size());
   share.neighbours.reserve(tets.size());
@@ -228,21 +231,24 @@ ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, st
   share.point_ids = renumber_locally(share.tets);  // (so that rank 0 welds without searching)
   share.points.reserve(share.point_ids.size());
   for (const std::int32_t id : share.point_ids)
-    share.points.push_back(id >= place.steiner_to ? band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to))
-                           : split_points.empty()   ? Point3{}
-                                                    : split_points.at(static_cast<std::size_t>(id)));
+    share.points.push_back(id >= place.steiner_to
+                               ? band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to))
+                           : split_points.empty() ? Point3{}
+                                                  : split_points.at(static_cast<std::size_t>(id)));
   return share;
 }
 
 void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points) {
-  for (std::size_t i = 0; i < share.point_ids.size() && share.point_ids[i] < static_cast<std::int32_t>(split_points.size()); ++i)
+  for (std::size_t i = 0;
+       i < share.point_ids.size() && share.point_ids[i] < static_cast<std::int32_t>(split_points.size()); ++i)
     share.points[i] = split_points[static_cast<std::size_t>(share.point_ids[i])];
 }
 
 ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
                      const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles) {
   for (const ChainShare& share : shares)
-    if (share.chain != shares.front().chain) throw InternalError("a seam chain was welded from shares of several chains");
+    if (share.chain != shares.front().chain)
+      throw InternalError("a seam chain was welded from shares of several chains");
   shares.erase(std::remove_if(shares.begin(), shares.end(), [](const ChainShare& s) { return s.band_tets.empty(); }),
                shares.end());
   std::sort(shares.begin(), shares.end(),
@@ -315,35 +321,44 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
   healed.neighbours = std::move(chain.mesh.neighbours);
   healed.piece = std::move(chain.mesh.piece);
   chain.mesh = TetMesh();
-  healed.links = block_links(healed.tets, PointIds(), healed.neighbours, true, 0, {}, healed.label);
+  if (options.chain_links)
+    healed.links = block_links(healed.tets, PointIds(), healed.neighbours, true, 0, {}, healed.label);
   healed.seconds = now_seconds() - start;
   return healed;
 }
 
 namespace {
 
+// Throws InternalError unless the healed chain came with its neighbours, its pieces (when the
+// band has them) and, when asked, its links.
+void check_healed_chain(const HealedChain& chain, bool pieces, bool links) {
+  const std::size_t tets = chain.tets.size();
+  if (chain.neighbours.size() != tets || (pieces && chain.piece.size() != tets))
+    throw InternalError("a healed chain of the seams came without its neighbours or pieces");
+  if (links && chain.label.size() != tets) throw InternalError("a healed chain of the seams came without its links");
+}
+
 // The chains' points and tets after the band's, in the band's ids; their neighbours too (moved
-// past the band's tets), and their links (keys in the band's ids).
+// past the band's tets), and, when `links`, their links (keys in the band's ids).
 std::vector<BandChainLinks> append_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
-                                                 std::vector<HealedChain>&& healed) {
+                                                 std::vector<HealedChain>&& healed, bool links) {
   if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
   const bool pieces = band.piece.size() == band.tets.size();
   band.neighbours.resize(band.tets.size(), Tet{-1, -1, -1, -1});
-  std::vector<BandChainLinks> links(chains.size());
+  std::vector<BandChainLinks> chain_links(links ? chains.size() : 0);
   for (std::size_t c = 0; c < chains.size(); ++c) {
-    const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
     HealedChain& chain = healed[c];
-    if (chain.neighbours.size() != chain.tets.size() || (pieces && chain.piece.size() != chain.tets.size()))
-      throw InternalError("a healed chain of the seams came without its neighbours or pieces");
-    const std::size_t old_points = global_ids.size();
-    const auto first_new = static_cast<std::int32_t>(band.points.size());
+    check_healed_chain(chain, pieces, links);
+    const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
+    const auto old_points = static_cast<std::int64_t>(global_ids.size());
+    const auto first_new = static_cast<std::int64_t>(band.points.size());
+    const auto in_band = [&](std::int64_t v) { return v < old_points ? global_ids[v] : first_new + (v - old_points); };
     const auto first_tet = static_cast<std::int32_t>(band.tets.size());
     band.points.insert(band.points.end(), chain.new_points.begin(), chain.new_points.end());
     for (std::size_t t = 0; t < chain.tets.size(); ++t) {
       Tet tet, across;
       for (int j = 0; j < 4; ++j) {
-        const auto v = static_cast<std::size_t>(chain.tets[t][j]);
-        tet[j] = v < old_points ? global_ids[v] : first_new + static_cast<std::int32_t>(v - old_points);
+        tet[j] = static_cast<std::int32_t>(in_band(chain.tets[t][j]));
         const std::int32_t nb = chain.neighbours[t][j];
         across[j] = nb >= 0 ? first_tet + nb : -1;
       }
@@ -351,15 +366,14 @@ std::vector<BandChainLinks> append_healed_chains(TetMesh& band, const std::vecto
       band.neighbours.push_back(across);
     }
     if (pieces) band.piece.insert(band.piece.end(), chain.piece.begin(), chain.piece.end());
-    if (chain.label.size() != chain.tets.size())
-      throw InternalError("a healed chain of the seams came without its links");
-    for (auto& key : chain.links.keys)  // (the band's ids keep the chain's order: the keys stay sorted)
-      for (auto& v : key)
-        v = v < static_cast<std::int64_t>(old_points) ? global_ids[v] : first_new + (v - static_cast<std::int64_t>(old_points));
-    links[c] = BandChainLinks{first_tet, std::move(chain.links), std::move(chain.label)};
+    if (links) {
+      for (auto& key : chain.links.keys)  // (the band's ids keep the chain's order: the keys stay sorted)
+        for (auto& v : key) v = in_band(v);
+      chain_links[c] = BandChainLinks{first_tet, std::move(chain.links), std::move(chain.label)};
+    }
     chain = HealedChain();
   }
-  return links;
+  return chain_links;
 }
 
 }  // namespace
@@ -380,16 +394,16 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
   band.tets.resize(kept);
   if (pieces) band.piece.resize(kept);
   std::vector<Tet>().swap(band.neighbours);
-  append_healed_chains(band, chains, std::move(healed));
+  append_healed_chains(band, chains, std::move(healed), false);
   // (The tets kept meet the chains': connected anew.)
   band.neighbours = compute_neighbours(band.tets, band.points.size());
   order_band_tets(band);
 }
 
 std::vector<BandChainLinks> add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
-                                              std::vector<HealedChain>&& healed) {
+                                              std::vector<HealedChain>&& healed, bool links) {
   if (!band.tets.empty()) throw InternalError("healed chains were added to a band that has tets");
-  return append_healed_chains(band, chains, std::move(healed));
+  return append_healed_chains(band, chains, std::move(healed), links);
 }
 
 void order_band_tets(TetMesh& band) {

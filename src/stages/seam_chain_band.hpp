@@ -74,8 +74,8 @@ BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& ch
 // (Welder::band_part); `place` where the part goes in the band (Welder::band_part_places),
 // split_points the split surface's points (none where the part is kept: add_split_coordinates
 // then fills them in where they are).
-ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
-                       const BandPartPlace& place, const std::vector<Point3>& split_points);
+ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i, const BandPartPlace& place,
+                       const std::vector<Point3>& split_points);
 void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points);
 
 // The chain of these planes welded from its pieces' shares (in any order) and its split
@@ -113,9 +113,10 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
 // band (each tet of a band part is in the chain of its part, or in the one chain -1's share makes,
 // put back unhealed): the band's tets are the chains', chain after chain, each in its own order
 // with its own neighbours (chains share no face). So the band is the same however many ranks
-// healed it, and made in one pass. Returns each chain's links in the band's ids.
+// healed it, and made in one pass. Returns each chain's links in the band's ids when `links` (the
+// chains were healed with HealOptions::chain_links), else none.
 std::vector<BandChainLinks> add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
-                                              std::vector<HealedChain>&& healed);
+                                              std::vector<HealedChain>&& healed, bool links);
 
 // Orders tets by their vertices (and neighbours to match): a healed chain's, or a band's healed
 // in one piece (the same whether it healed on one rank or on several).

@@ -36,6 +36,9 @@ struct HealOptions {
   // Drop the points no tet uses afterwards (the whole mesh); a band keeps them all (its points are
   // numbered as in the whole mesh, and the bulks use most of them).
   bool drop_points = true;
+  // Each healed chain also finds its links (components, open faces: block_links), for a mesh left
+  // spread, whose band is linked chain by chain (Welder::spread); an assembled mesh needs none.
+  bool chain_links = false;
 };
 
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
@@ -61,7 +64,7 @@ SeamStats heal_seams(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface
 // to remove in `mesh`, in the order of their lowest plane. A chain cut out and healed alone
 // (seam_chain_band.hpp) heals as it does among the others.
 std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const SplitSurface& split,
-                                               const HealOptions& options);
+                                                const HealOptions& options);
 // The same from the links of every piece's band part (by piece; band_part_links), made with
 // seam_band_spec(split, options): no welded band is needed. Also says where each chain's tets
 // are: by piece, the chain of each part of its band part (-1: none), so that a chain can be
