@@ -102,27 +102,15 @@ TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, cons
                                   HealOptions options, const RegionMesher& mesher,
                                   std::vector<BandChainLinks>* links = nullptr) {
   options.chain_links = links != nullptr;
-  welder.split_bands(seam_band_spec(split, options));
-  const SeamChainPlan plan = seam_chain_plan(welder.take_band_links(), split, options);
-  const std::vector<BandPartPlace> places = welder.band_part_places();
-  const std::vector<std::vector<std::int32_t>> triangles = chain_split_triangles(split, plan.planes);
-  std::vector<std::vector<ChainShare>> shares(plan.planes.size());
-  for (std::size_t p = 0; p < places.size(); ++p) {
-    const BandPartChains in_chains = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
-    for (std::size_t i = 0; i < in_chains.chains.size(); ++i)
-      shares.at(static_cast<std::size_t>(in_chains.chains[i]))
-          .push_back(chain_share(welder.band_part(p), in_chains, i, places[p], split.points));
-  }
-  std::vector<ChainBand> chains;
   std::vector<HealedChain> healed;
-  for (std::size_t c = 0; c < plan.planes.size(); ++c) {
-    chains.push_back(weld_chain(std::move(shares[c]), input, split, plan.planes[c], triangles[c]));
-    healed.push_back(heal_chain(std::move(chains.back()), options, mesher));
+  for (ChainShares& chain : gathered_chains(welder, input, split, options)) {
+    healed.push_back(heal_chain(weld_chain(std::move(chain)), options, mesher));
     EXPECT_FALSE(healed.back().failure);
   }
+  const std::size_t chains = healed.size();
   TetMesh band = welder.band_points(split.points);
-  std::vector<BandChainLinks> made = add_healed_chains(band, chains, std::move(healed), options.chain_links);
-  EXPECT_EQ(made.size(), links ? chains.size() : 0u);
+  std::vector<BandChainLinks> made = add_healed_chains(band, std::move(healed), options.chain_links);
+  EXPECT_EQ(made.size(), links ? chains : 0u);
   if (links) *links = std::move(made);
   return band;
 }
@@ -820,7 +808,7 @@ TEST(SeamBand, TheBandPartsLinksGiveTheChainsOfTheWeldedBand) {
   EXPECT_GE(longest_chain, 3u);
 }
 
-void expect_same_chain(const ChainBand& welded, const ChainBand& cut) {
+void expect_same_chain(ChainBand&& welded, const ChainBand& cut) {
   EXPECT_EQ(welded.planes, cut.planes);
   EXPECT_EQ(welded.global_ids, cut.global_ids);
   EXPECT_EQ(welded.band_tets, cut.band_tets);
@@ -838,8 +826,9 @@ void expect_same_chain(const ChainBand& welded, const ChainBand& cut) {
 
 // Each chain can be welded from its pieces' shares of it (chain_share: each piece's band part
 // cut by the chains of its parts, as the links plan them; issue 22, item 2: the owners of the
-// band parts can send these to the rank that heals the chain): the chain is the one cut out of
-// the welded band, point for point and tet for tet, whatever the order of the shares, whether
+// band parts can send these to the rank that heals the chain, which welds it): the chain is the
+// one cut out of the welded band, point for point and tet for tet, here or after travelling in a
+// chain task with its split (chain_split), whatever the order of the shares, whether
 // the pieces were split at the end or where they were meshed with their bands grown there (their
 // links made there too, as they are made from the band part here); and the chains hold every tet
 // of the band.
@@ -891,8 +880,12 @@ TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
               most_shares = std::max(most_shares, shares[c].size());
               std::reverse(shares[c].begin(), shares[c].end());  // (any order)
               const ChainBand cut = cut_out_chain(band, input, split, plan.planes[c], std::move(parts[c]));
-              const ChainBand welded = weld_chain(std::move(shares[c]), input, split, plan.planes[c], triangles[c]);
-              expect_same_chain(welded, cut);
+              ChainShares gathered = chain_shares(std::move(shares[c]), input, split, plan.planes[c], triangles[c]);
+              EXPECT_EQ(band_tets_of(gathered), cut.band_tets);
+              // Welded here, and where a chain task takes it (another rank): the same chain.
+              const ChainTask task{static_cast<std::int32_t>(c), gathered, options, TetgenOptions()};
+              expect_same_chain(weld_chain(std::move(gathered)), cut);
+              expect_same_chain(weld_chain(deserialize_chain_task(serialize_chain_task(task)).chain), cut);
               in_chains += cut.band_tets.size();
             }
             EXPECT_EQ(in_chains, band.tets.size());

@@ -107,39 +107,41 @@ TEST(Serialize, TaskCarriesEveryTetgenOption) {
   EXPECT_TRUE(received.boundary_points);
 }
 
-// A chain of the seams goes to a worker and comes back healed: the chain that arrives heals as
-// the one sent (the same tets and points), and the healed chain and a failure come back whole.
-// Its links come when asked (for a mesh left spread), and only then.
+// A chain of the seams goes to a worker as its pieces' shares and its split, and comes back
+// healed: the chain that arrives welds and heals as the one sent (the same tets and points), and
+// the healed chain (with its ids in the band) and a failure come back whole. Its links come when
+// asked (for a mesh left spread), and only then. A malformed split or healed chain is refused.
 TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   const SurfaceMesh input = generate_surface("torus", 1500);
   const MeshedPieces s = mesh_pieces_in_batch(input, 3, 1.0, "1.414");
   const HealOptions options{true, 2, false, true};
   Welder welder(s.prepared.split, s.prepared.pieces);
   for (const auto& result : s.results) welder.add(PieceTetMesh(result));
-  const TetMesh band = welder.finish_band(s.prepared.split.points, seam_band_spec(s.prepared.split, options));
-  const std::vector<std::vector<int>> chains = seam_chain_planes(band, s.prepared.split, options);
+  const std::vector<ChainShares> chains = gathered_chains(welder, input, s.prepared.split, options);
   ASSERT_FALSE(chains.empty());
-  ChainTask sent{static_cast<std::int32_t>(chains.size() - 1),
-                 cut_out_chain(band, input, s.prepared.split, chains.back(),
-                               std::move(chain_parts(band, s.prepared.split, chains, options).back())),
-                 options, TetgenOptions()};
+  ChainTask sent{static_cast<std::int32_t>(chains.size() - 1), chains.back(), options, TetgenOptions()};
   sent.tetgen.quality = "1.414";
   sent.tetgen.boundary_points = false;
   ChainTask received = deserialize_chain_task(serialize_chain_task(sent));
   EXPECT_EQ(received.index, sent.index);
-  EXPECT_EQ(received.chain.planes, sent.chain.planes);
+  EXPECT_EQ(received.chain.split.planes, sent.chain.split.planes);
   EXPECT_EQ(received.heal.remove_cap_points, true);
   EXPECT_EQ(received.heal.layers, 2);
   EXPECT_TRUE(received.heal.chain_links);
   EXPECT_EQ(received.tetgen.quality, "1.414");
   EXPECT_FALSE(received.tetgen.boundary_points);
+  EXPECT_EQ(received.chain.split.cut_vertices, sent.chain.split.cut_vertices);
+  EXPECT_EQ(received.chain.split.cap_point_plane, sent.chain.split.cap_point_plane);
   EXPECT_EQ(received.chain.split.parent, sent.chain.split.parent);
-  EXPECT_EQ(received.chain.mesh.piece, sent.chain.mesh.piece);
-  EXPECT_TRUE(received.chain.global_ids.empty());  // (rank 0 keeps them)
-  const HealedChain here = heal_chain(std::move(sent.chain), options, regions_here(s.options));
-  const HealedChain there = heal_chain(std::move(received.chain), received.heal, regions_here(s.options));
+  EXPECT_EQ(received.chain.split.input_triangles, sent.chain.split.input_triangles);
+  EXPECT_EQ(band_tets_of(received.chain), band_tets_of(sent.chain));
+  ASSERT_EQ(received.chain.shares.size(), sent.chain.shares.size());
+  EXPECT_GE(sent.chain.shares.size(), 2u);
+  const HealedChain here = heal_chain(weld_chain(std::move(sent.chain)), options, regions_here(s.options));
+  const HealedChain there = heal_chain(weld_chain(std::move(received.chain)), received.heal, regions_here(s.options));
   ASSERT_FALSE(here.failure);
   EXPECT_GT(here.new_points.size(), 0u);
+  EXPECT_EQ(there.global_ids, here.global_ids);
   EXPECT_EQ(there.new_points, here.new_points);
   EXPECT_EQ(there.tets, here.tets);
   // Its tets come in order_band_tets' order, with their neighbours: rank 0 does not sort them.
@@ -151,6 +153,8 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   std::int32_t index = -1;
   const HealedChain back = deserialize_chain_outcome(serialize_chain_outcome(7, there), index);
   EXPECT_EQ(index, 7);
+  EXPECT_EQ(back.global_ids, here.global_ids);
+  EXPECT_FALSE(back.global_ids.empty());
   EXPECT_EQ(back.new_points, here.new_points);
   EXPECT_EQ(back.tets, here.tets);
   EXPECT_EQ(back.neighbours, here.neighbours);
@@ -168,11 +172,9 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   // Not asked for its links (an assembled mesh): the same chain, without them.
   HealOptions unlinked = options;
   unlinked.chain_links = false;
-  const ChainTask plain{sent.index, ChainBand(), unlinked, sent.tetgen};
+  const ChainTask plain{sent.index, ChainShares(), unlinked, sent.tetgen};
   EXPECT_FALSE(deserialize_chain_task(serialize_chain_task(plain)).heal.chain_links);
-  ChainBand again = cut_out_chain(band, input, s.prepared.split, chains.back(),
-                                  std::move(chain_parts(band, s.prepared.split, chains, options).back()));
-  const HealedChain healed_bare = heal_chain(std::move(again), unlinked, regions_here(s.options));
+  const HealedChain healed_bare = heal_chain(weld_chain(ChainShares(chains.back())), unlinked, regions_here(s.options));
   const HealedChain bare = deserialize_chain_outcome(serialize_chain_outcome(7, healed_bare), index);
   EXPECT_EQ(bare.tets, here.tets);
   EXPECT_EQ(bare.neighbours, here.neighbours);
@@ -180,6 +182,12 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_TRUE(bare.links.keys.empty());
   EXPECT_EQ(back.stats.regions, here.stats.regions);
   EXPECT_EQ(back.stats.tets_out, here.stats.tets_out);
+  HealedChain astray = there;  // (a tet names a point the chain does not have)
+  astray.tets.front()[0] = static_cast<std::int32_t>(astray.global_ids.size() + astray.new_points.size());
+  EXPECT_THROW(deserialize_chain_outcome(serialize_chain_outcome(7, astray), index), InternalError);
+  ChainTask bad_split{0, chains.back(), options, TetgenOptions()};
+  bad_split.chain.split.parent.back() = static_cast<std::int32_t>(bad_split.chain.split.input_triangles.size());
+  EXPECT_THROW(deserialize_chain_task(serialize_chain_task(bad_split)), InternalError);
   HealedChain failed;
   failed.failure = Failure(FailureKind::other, -1, {1, 2}, "re-meshing the seam near cut plane(s) 1, 2: no");
   const HealedChain failure = deserialize_chain_outcome(serialize_chain_outcome(3, failed), index);

@@ -7,7 +7,9 @@
 #include "partet/errors.hpp"
 #include "stages/partition.hpp"
 #include "stages/piece_cost.hpp"
+#include "stages/seam_band.hpp"
 #include "stages/seam_chain_band.hpp"
+#include "stages/seam_chains.hpp"
 #include "stages/validate.hpp"
 
 namespace partet {
@@ -93,19 +95,39 @@ RegionMesher regions_here(const MeshOptions& options) {
   };
 }
 
-void heal_chain_by_chain(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
-                         const HealOptions& options, const RegionMesher& mesher, std::size_t& chains) {
+void heal_chain_by_chain(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
+                         const RegionMesher& mesher, std::size_t& chains) {
   const std::vector<std::vector<int>> planes = seam_chain_planes(mesh, split, options);
   chains = planes.size();
   std::vector<ChainParts> parts = chain_parts(mesh, split, planes, options);
-  std::vector<ChainBand> cut_out;
+  std::vector<std::vector<std::int32_t>> chain_tets;
   std::vector<HealedChain> healed;
   for (std::size_t c = 0; c < planes.size(); ++c) {
-    cut_out.push_back(cut_out_chain(mesh, input, split, planes[c], std::move(parts[c])));
-    healed.push_back(heal_chain(std::move(cut_out.back()), options, mesher));
+    ChainBand chain = cut_out_chain(mesh, input, split, planes[c], std::move(parts[c]));
+    chain_tets.push_back(chain.band_tets);
+    healed.push_back(heal_chain(std::move(chain), options, mesher));
     ASSERT_FALSE(healed.back().failure) << "chain " << c << ": " << healed.back().failure->text();
   }
-  put_back_chains(mesh, cut_out, std::move(healed));
+  put_back_chains(mesh, chain_tets, std::move(healed));
+}
+
+std::vector<ChainShares> gathered_chains(Welder& welder, const SurfaceMesh& input, const SplitSurface& split,
+                                         const HealOptions& options) {
+  welder.split_bands(seam_band_spec(split, options));
+  const SeamChainPlan plan = seam_chain_plan(welder.take_band_links(), split, options);
+  const std::vector<BandPartPlace> places = welder.band_part_places();
+  const std::vector<std::vector<std::int32_t>> triangles = chain_split_triangles(split, plan.planes);
+  std::vector<std::vector<ChainShare>> shares(plan.planes.size());
+  for (std::size_t p = 0; p < places.size(); ++p) {
+    const BandPartChains in_chains = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
+    for (std::size_t i = 0; i < in_chains.chains.size(); ++i)
+      shares.at(static_cast<std::size_t>(in_chains.chains[i]))
+          .push_back(chain_share(welder.band_part(p), in_chains, i, places[p], split.points));
+  }
+  std::vector<ChainShares> chains;
+  for (std::size_t c = 0; c < plan.planes.size(); ++c)
+    chains.push_back(chain_shares(std::move(shares[c]), input, split, plan.planes[c], triangles[c]));
+  return chains;
 }
 
 }  // namespace partet

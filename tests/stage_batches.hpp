@@ -9,6 +9,7 @@
 #include "stages/closure.hpp"
 #include "stages/merge.hpp"
 #include "stages/piece.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/seam_healing.hpp"
 
 namespace partet {
@@ -43,7 +44,12 @@ RegionMesher regions_here(const MeshOptions& options);
 // cut out, healed alone and put back (seam_chain_band.hpp); counts the chains in `chains`. A chain
 // that fails is a fatal test failure (the mesh is then as it was): call it in
 // ASSERT_NO_FATAL_FAILURE.
-void heal_chain_by_chain(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split,
-                         const HealOptions& options, const RegionMesher& mesher, std::size_t& chains);
+void heal_chain_by_chain(TetMesh& mesh, const SurfaceMesh& input, const SplitSurface& split, const HealOptions& options,
+                         const RegionMesher& mesher, std::size_t& chains);
+// The pipeline's chains, in chain order, as their pieces' shares with their splits, ready to weld:
+// the welder's bands split, the chains planned from their links, each piece's band part cut into
+// its shares (seam_chain_band.hpp).
+std::vector<ChainShares> gathered_chains(Welder& welder, const SurfaceMesh& input, const SplitSurface& split,
+                                         const HealOptions& options);
 
 }  // namespace partet

@@ -385,7 +385,7 @@ class RegionMeshers {
     if (count > 1 && scheduler_.heals_chains_on_ranks())
       return scheduler_.heal_chains(count, cut_out, options, tetgen_);
     std::vector<HealedChain> healed;
-    for (std::size_t i = 0; i < count; ++i) healed.push_back(heal_chain(cut_out(i), options, seams()));
+    for (std::size_t i = 0; i < count; ++i) healed.push_back(heal_chain(weld_chain(cut_out(i)), options, seams()));
     return healed;
   }
   PolishMesher polish() {
@@ -467,10 +467,10 @@ struct BandByChains {
       if (welder.band_part_here(p)) pieces[p] = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
     welder.cut_kept_shares(plan.chain_of_part, order);
   }
-  // Chain c welded from its pieces' shares: those of the band parts here, and those kept elsewhere
+  // Chain c as its pieces' shares, to weld: those of the band parts here, and those kept elsewhere
   // (the chains must be asked for in `order`).
-  ChainBand chain(Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
-                  const std::vector<Point3>& split_points) const {
+  ChainShares chain(Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
+                    const std::vector<Point3>& split_points) const {
     std::vector<ChainShare> shares = welder.kept_shares(static_cast<int>(c), split_points);
     for (std::size_t p = 0; p < pieces.size(); ++p) {
       const auto& chains = pieces[p].chains;
@@ -479,13 +479,14 @@ struct BandByChains {
       shares.push_back(chain_share(welder.band_part(p), pieces[p], static_cast<std::size_t>(it - chains.begin()),
                                    places[p], split_points));
     }
-    return weld_chain(std::move(shares), input, split, plan.planes[c], split_triangles[c]);
+    return chain_shares(std::move(shares), input, split, plan.planes[c], split_triangles[c]);
   }
 };
 
 // Heals the band chain by chain (seam_chain_band.hpp), the chains found from the links of the
-// pieces' band parts (the welder's): each chain is welded from its pieces' shares and healed (on
-// a rank of its own when there are several); the healed chains make the band, which is never
+// pieces' band parts (the welder's): each chain's shares are gathered here, and the chain is
+// welded from them and healed (on a rank of its own when there are several); the healed chains
+// make the band, which is never
 // welded when they hold all its tets (chain_links: then each chain's links, as its healing rank
 // found them); so the band is the same however many ranks healed it.
 // Throws the MeshingError of the first chain that failed; `band` is then as welded.
@@ -496,16 +497,15 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   const BandByChains by_chains(welder, split, options);
   const std::size_t count = by_chains.plan.planes.size();
   clock.lap("chains");
-  std::vector<ChainBand> chains(count);  // what stays here of each: its ids and tets in the band
+  std::vector<std::vector<std::int32_t>> chain_tets(count);  // what stays here of each: its tets in the band
   const std::vector<int>& order = by_chains.order;
-  double welding = 0;  // of the chains, here (between the ranks' healing)
+  double gathering = 0;  // the chains' shares, here (between the ranks' healing)
   const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
     const auto i = static_cast<std::size_t>(order[j]);
     const double start = now_seconds();
-    ChainBand chain = by_chains.chain(welder, i, input, split, split_points);
-    welding += now_seconds() - start;
-    chains[i].global_ids = chain.global_ids;
-    chains[i].band_tets = chain.band_tets;
+    ChainShares chain = by_chains.chain(welder, i, input, split, split_points);
+    gathering += now_seconds() - start;
+    chain_tets[i] = band_tets_of(chain);
     return chain;
   };
   std::vector<HealedChain> in_order = meshers.heal_chains(count, cut_out, options);
@@ -517,15 +517,15 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   if (failed || !by_chains.covers_band) {  // (the band as welded for the whole mesh, or its tets outside the chains)
     band = welder.weld_bands(std::move(split_points));
     stats = chains_stats(healed);
-    put_back_chains(band, chains, std::move(healed));
+    put_back_chains(band, chain_tets, std::move(healed));
   } else {
     band = welder.band_points(std::move(split_points));
     stats = chains_stats(healed);
-    chain_links = add_healed_chains(band, chains, std::move(healed), options.chain_links);
+    chain_links = add_healed_chains(band, std::move(healed), options.chain_links);
   }
   clock.lap("put back");
-  log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps + " (welding the chains " +
-             std::to_string(welding) + " s of the healing)");
+  log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps +
+             " (gathering the chains' shares " + std::to_string(gathering) + " s of the healing)");
   return stats;
 }
 

@@ -166,9 +166,9 @@ class PieceScheduler {
   // is free: false when this scheduler has no other rank (the chains then heal here, one after
   // another, their regions submitted as pieces).
   virtual bool heals_chains_on_ranks() const { return false; }
-  // Heals `count` chains, chain i cut out by cut_out(i) when it is handed out, its regions
-  // meshed with `tetgen`; returns each chain's outcome, by chain.
-  using ChainCutter = std::function<ChainBand(std::size_t)>;
+  // Heals `count` chains, chain i's shares gathered by cut_out(i) when it is handed out (the rank
+  // that heals it welds it), its regions meshed with `tetgen`; returns each chain's outcome, by chain.
+  using ChainCutter = std::function<ChainShares(std::size_t)>;
   virtual std::vector<HealedChain> heal_chains(std::size_t /*count*/, const ChainCutter& /*cut_out*/,
                                                const HealOptions& /*heal*/, const TetgenOptions& /*tetgen*/) {
     return {};

@@ -88,8 +88,8 @@ class RemoteBulks : public BulkStore {
     AddSeconds timer{stats_.receive_seconds};
     bytes = reply_from(rank, what);
     if (bytes.empty())
-      throw InternalError("rank " + std::to_string(rank) + " could not grow the band of piece " + std::to_string(piece) +
-                          " with the mesh it kept");
+      throw InternalError("rank " + std::to_string(rank) + " could not grow the band of piece " +
+                          std::to_string(piece) + " with the mesh it kept");
     return deserialize_grown_band(bytes);
   }
   PieceBand take_band(int piece) override {
@@ -109,9 +109,11 @@ class RemoteBulks : public BulkStore {
   // Asked for in the order given to cut_shares (the ranks sent them in that order). Every rank's
   // message is taken before an empty one (a rank that could not cut them) throws.
   std::vector<ChainShare> shares(int chain) override {
-    const auto it = std::find_if(pending_.begin(), pending_.end(), [&](const PendingChain& c) { return c.chain == chain; });
+    const auto it =
+        std::find_if(pending_.begin(), pending_.end(), [&](const PendingChain& c) { return c.chain == chain; });
     if (it == pending_.end()) return {};
-    if (it != pending_.begin()) throw InternalError("seam chain " + std::to_string(chain) + " was asked for out of order");
+    if (it != pending_.begin())
+      throw InternalError("seam chain " + std::to_string(chain) + " was asked for out of order");
     const PendingChain pending = std::move(*it);
     pending_.pop_front();
     std::vector<std::string> sent;
@@ -406,44 +408,45 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
-  struct WeldedChain {
+  struct GatheredChain {
     std::size_t index;  // the chain's
-    ChainBand band;
+    ChainShares shares;
   };
 
-  // The next chain in the order, welded (the one welded ahead, if any); none when it could not be
-  // welded (it failed) or none is left.
-  std::optional<WeldedChain> next_chain() {
-    std::optional<WeldedChain> next;
+  // The next chain in the order, its shares gathered (the one gathered ahead, if any); none when
+  // they could not be (it failed) or none is left.
+  std::optional<GatheredChain> next_chain() {
+    std::optional<GatheredChain> next;
     if (chain_round_->ahead) {
       next.swap(chain_round_->ahead);
     } else if (!chain_round_->queue.empty()) {
       const std::size_t chain = chain_round_->queue.front();
       chain_round_->queue.pop_front();
-      if (std::optional<ChainBand> cut = cut_out(chain)) next = WeldedChain{chain, std::move(*cut)};
+      if (std::optional<ChainShares> cut = cut_out(chain)) next = GatheredChain{chain, std::move(*cut)};
     }
     return next;
   }
 
-  // While this rank heals a chain and every worker is busy: the next chain welded now.
-  void weld_ahead() {
+  // While this rank heals a chain and every worker is busy: the next chain's shares gathered now.
+  void gather_ahead() {
     if (!idle_.empty() || chain_round_->ahead || chain_round_->queue.empty()) return;
     chain_round_->ahead = next_chain();
-    if (chain_round_->ahead) log::debug("seam chain " + std::to_string(chain_round_->ahead->index) + " welded ahead");
+    if (chain_round_->ahead)
+      log::debug("seam chain " + std::to_string(chain_round_->ahead->index) + "'s shares gathered ahead");
   }
 
   // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything,
   // from the worker's latest heartbeat (take_alive); its heartbeats, from the start, tell a
   // stopped or dead rank within kSilentSeconds.
   void send_chain(int worker) {
-    std::optional<WeldedChain> cut = next_chain();  // (its welding is not sending: the log has it)
+    std::optional<GatheredChain> cut = next_chain();  // (its gathering is not sending: the log has it)
     if (!cut) {
       idle_.push_back(worker);
       return;
     }
     AddSeconds timer{stats_.send_seconds};
     const std::size_t chain = cut->index;
-    ChainTask task{static_cast<std::int32_t>(chain), std::move(cut->band), chain_round_->heal, chain_round_->tetgen};
+    ChainTask task{static_cast<std::int32_t>(chain), std::move(cut->shares), chain_round_->heal, chain_round_->tetgen};
     cut.reset();
     const std::string bytes = serialize_chain_task(task);
     task = ChainTask();
@@ -459,9 +462,9 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
-  // The chain welded from its pieces' shares; a chain that cannot be is a chain that failed (its
-  // seams then heal over the whole mesh), not an end to the round the other ranks are in.
-  std::optional<ChainBand> cut_out(std::size_t chain) {
+  // The chain's shares gathered from its pieces; a chain whose shares cannot be is a chain that
+  // failed (its seams then heal over the whole mesh), not an end to the round the other ranks are in.
+  std::optional<ChainShares> cut_out(std::size_t chain) {
     std::string why;
     try {
       return (*chain_round_->cut_out)(chain);
@@ -470,7 +473,7 @@ class RootScheduler : public PieceScheduler {
     } catch (const std::exception& e) {
       why = e.what();
     }
-    log::warning("seam chain " + std::to_string(chain) + " could not be welded from its pieces' shares: " + why);
+    log::warning("seam chain " + std::to_string(chain) + " could not be gathered from its pieces' shares: " + why);
     HealedChain failed;
     failed.failure = Failure(FailureKind::other, -1, {}, why);
     chain_done(chain, std::move(failed), 0);
@@ -490,23 +493,43 @@ class RootScheduler : public PieceScheduler {
           }
           check_workers_answer();
           dispatch_chains();
-          weld_ahead();
+          gather_ahead();
         }
         outcomes.push_back(deserialize_outcome(run->take_reply()));
       }
       return outcomes;
     };
-    std::optional<WeldedChain> cut = next_chain();
+    std::optional<GatheredChain> cut = next_chain();
     if (!cut) return;
     const std::size_t chain = cut->index;
     AddSeconds timer{stats_.region_seconds};
     healing_here_ = true;
     account_meshing();
-    HealedChain healed = heal_chain(std::move(cut->band), chain_round_->heal, here);
+    HealedChain healed = weld_and_heal(std::move(cut->shares), chain_round_->heal, here);
     cut.reset();
     healing_here_ = false;
     account_meshing();
     chain_done(chain, std::move(healed), 0);
+  }
+
+  // The chain welded and healed here; one that cannot be welded failed, as one whose shares
+  // could not be gathered (cut_out).
+  static HealedChain weld_and_heal(ChainShares&& shares, const HealOptions& heal, const RegionMesher& here) {
+    std::vector<int> planes = shares.split.planes;
+    ChainBand band;
+    std::string why;
+    try {
+      band = weld_chain(std::move(shares));
+    } catch (const std::bad_alloc&) {
+      why = out_of_memory_message(0);
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+    if (why.empty()) return heal_chain(std::move(band), heal, here);
+    log::warning("a seam chain could not be welded from its pieces' shares: " + why);
+    HealedChain failed;
+    failed.failure = Failure(FailureKind::other, -1, std::move(planes), why);
+    return failed;
   }
 
   void chain_done(std::size_t chain, HealedChain&& healed, int rank) {
@@ -606,8 +629,10 @@ class RootScheduler : public PieceScheduler {
                   std::to_string(busy.piece) + " (stopped, hung, or its node lost?)");
       if (now > busy.deadline)
         abort_job("rank " + std::to_string(worker) + " has not answered for " +
-                  (busy.cap ? "the cap of plane " : busy.chain ? "seam chain " : "piece ") + std::to_string(busy.piece) +
-                  " within its time limit (stopped or dead?)");
+                  (busy.cap     ? "the cap of plane "
+                   : busy.chain ? "seam chain "
+                                : "piece ") +
+                  std::to_string(busy.piece) + " within its time limit (stopped or dead?)");
     }
   }
 
@@ -741,7 +766,7 @@ class RootScheduler : public PieceScheduler {
       records_[pieces_[position]->index].tets =
           outcome.band ? (outcome.band->band_kept ? outcome.band->band_tet_count
                                                   : static_cast<std::int64_t>(outcome.band->band.tets.size())) +
-                                 outcome.band->bulk_tets
+                             outcome.band->bulk_tets
                        : static_cast<std::int64_t>(outcome.result.mesh.tets.size());
     }
     outcomes_[position] = std::move(outcome);
@@ -783,7 +808,7 @@ class RootScheduler : public PieceScheduler {
     std::size_t done;
     // The next chain, welded ahead while this rank heals one and every worker is busy, so that
     // the next worker to be free gets it at once.
-    std::optional<WeldedChain> ahead;
+    std::optional<GatheredChain> ahead;
     bool waiting() const { return ahead || !queue.empty(); }
   };
   std::optional<ChainRound> chain_round_;  // while heal_chains runs

@@ -40,8 +40,9 @@ std::string reply_with_heartbeats(PieceJob& job, Heartbeat& heartbeat, int rank)
   return job.take_reply();
 }
 
-// A worker's part of seam healing: heals a chain of the seams whole, its regions in TetGen
-// processes here one after another, and sends rank 0 the healed chain or its failure. Its
+// A worker's part of seam healing: welds a chain of the seams from its pieces' shares and heals
+// it whole, its regions in TetGen processes here one after another, and sends rank 0 the healed
+// chain or its failure. Its
 // heartbeats go on from the start to the reply (heartbeat.hpp).
 void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob& job, int rank, RankStats& stats) {
   ChainTask chain = deserialize_chain_task(bytes);
@@ -58,10 +59,10 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
   };
   HealedChain healed;
   const std::int32_t index = chain.index;
-  const std::vector<int> planes = chain.chain.planes;
+  const std::vector<int> planes = chain.chain.split.planes;
   try {
     AddSeconds timer{stats.region_seconds};
-    healed = heal_chain(std::move(chain.chain), chain.heal, here);
+    healed = heal_chain(weld_chain(std::move(chain.chain)), chain.heal, here);
   } catch (const std::bad_alloc&) {
     healed = HealedChain();
     healed.failure = Failure(FailureKind::other, -1, planes, out_of_memory_message(rank));
@@ -341,7 +342,8 @@ void send_bulk_links(KeptBulks& kept, RankStats& stats) {
     for (int piece : kept.pieces()) {
       std::optional<TetBlock> bulk = kept.take(piece);
       std::vector<std::int32_t> label;
-      links.emplace_back(piece, block_links(bulk->tets, bulk->ids, bulk->neighbours, false, input_vertices, bulk->rim, label));
+      links.emplace_back(piece,
+                         block_links(bulk->tets, bulk->ids, bulk->neighbours, false, input_vertices, bulk->rim, label));
       kept.keep_numbered(piece, std::move(*bulk));
     }
   } catch (const std::exception& e) {  // rank 0 misses this rank's links and says so

@@ -1,5 +1,6 @@
 #include "runner/serialize.hpp"
 
+#include <algorithm>
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array_wrapper.hpp>
@@ -513,43 +514,58 @@ void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& p
   });
 }
 
-std::string serialize_chain_shares(const std::vector<ChainShare>& shares) {
+namespace {
+
+std::size_t chain_share_bytes(const std::vector<ChainShare>& shares) {
   std::size_t bytes = 64;
   for (const ChainShare& share : shares) bytes += 64 + share.tets.size() * 36 + share.points.size() * 28;
-  return encode(bytes, [&](auto& ar) {
-    const std::uint64_t count = shares.size();
-    ar << count;
-    for (const ChainShare& share : shares) {
-      const std::int32_t chain = share.chain, piece = share.piece;
-      ar << chain << piece;
-      save_block(ar, share.band_tets);
-      save_block(ar, share.tets);
-      save_block(ar, share.neighbours);
-      save_block(ar, share.point_ids);
-      save_block(ar, share.points);
-    }
-  });
+  return bytes;
+}
+
+template <class Archive>
+void save_chain_shares(Archive& ar, const std::vector<ChainShare>& shares) {
+  const std::uint64_t count = shares.size();
+  ar << count;
+  for (const ChainShare& share : shares) {
+    const std::int32_t chain = share.chain, piece = share.piece;
+    ar << chain << piece;
+    save_block(ar, share.band_tets);
+    save_block(ar, share.tets);
+    save_block(ar, share.neighbours);
+    save_block(ar, share.point_ids);
+    save_block(ar, share.points);
+  }
+}
+
+template <class Archive>
+void load_chain_shares(Archive& ar, std::vector<ChainShare>& shares) {
+  std::uint64_t count = 0;
+  ar >> count;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    ChainShare& share = shares.emplace_back();
+    std::int32_t chain = 0, piece = 0;
+    ar >> chain >> piece;
+    share.chain = chain, share.piece = piece;
+    load_block(ar, share.band_tets);
+    load_block(ar, share.tets);
+    load_block(ar, share.neighbours);
+    load_block(ar, share.point_ids);
+    load_block(ar, share.points);
+    if (share.neighbours.size() != share.tets.size() || share.band_tets.size() != share.tets.size() ||
+        share.points.size() != share.point_ids.size())
+      throw InternalError("a seam chain's share came with arrays of different lengths");
+  }
+}
+
+}  // namespace
+
+std::string serialize_chain_shares(const std::vector<ChainShare>& shares) {
+  return encode(chain_share_bytes(shares), [&](auto& ar) { save_chain_shares(ar, shares); });
 }
 
 std::vector<ChainShare> deserialize_chain_shares(std::string_view bytes) {
-  return decode<std::vector<ChainShare>>(bytes, [](auto& ar, std::vector<ChainShare>& shares) {
-    std::uint64_t count = 0;
-    ar >> count;
-    for (std::uint64_t i = 0; i < count; ++i) {
-      ChainShare& share = shares.emplace_back();
-      std::int32_t chain = 0, piece = 0;
-      ar >> chain >> piece;
-      share.chain = chain, share.piece = piece;
-      load_block(ar, share.band_tets);
-      load_block(ar, share.tets);
-      load_block(ar, share.neighbours);
-      load_block(ar, share.point_ids);
-      load_block(ar, share.points);
-      if (share.neighbours.size() != share.tets.size() || share.band_tets.size() != share.tets.size() ||
-          share.points.size() != share.point_ids.size())
-        throw InternalError("a seam chain's share came with arrays of different lengths");
-    }
-  });
+  return decode<std::vector<ChainShare>>(
+      bytes, [](auto& ar, std::vector<ChainShare>& shares) { load_chain_shares(ar, shares); });
 }
 
 std::string serialize_block(const TetBlock& block) {
@@ -756,28 +772,62 @@ void load_stats(Archive& ar, SeamStats& stats) {
 }
 }  // namespace
 
+namespace {
+
+template <class Archive>
+void save_chain_split(Archive& ar, const ChainSplit& split) {
+  const std::int32_t ranges[3] = {split.first_cut, split.first_cap, split.end_caps};
+  ar << boost::serialization::make_array(ranges, 3);
+  const std::vector<std::int32_t> planes(split.planes.begin(), split.planes.end());
+  save_block(ar, planes);
+  save_block(ar, split.cut_vertices);
+  save_block(ar, split.cut_vertex_plane);
+  save_block(ar, split.cap_points);
+  save_block(ar, split.cap_point_plane);
+  save_block(ar, split.triangles);
+  save_block(ar, split.parent);
+  save_block(ar, split.input_triangles);
+}
+
+template <class Archive>
+void load_chain_split(Archive& ar, ChainSplit& split) {
+  std::int32_t ranges[3] = {};
+  ar >> boost::serialization::make_array(ranges, 3);
+  split.first_cut = ranges[0], split.first_cap = ranges[1], split.end_caps = ranges[2];
+  std::vector<std::int32_t> planes;
+  load_block(ar, planes);
+  split.planes.assign(planes.begin(), planes.end());
+  load_block(ar, split.cut_vertices);
+  load_block(ar, split.cut_vertex_plane);
+  load_block(ar, split.cap_points);
+  load_block(ar, split.cap_point_plane);
+  load_block(ar, split.triangles);
+  load_block(ar, split.parent);
+  load_block(ar, split.input_triangles);
+  const auto parents = static_cast<std::int32_t>(split.input_triangles.size());
+  const bool parents_known =
+      std::all_of(split.parent.begin(), split.parent.end(), [&](std::int32_t p) { return p >= 0 && p < parents; });
+  if (split.cut_vertices.size() != split.cut_vertex_plane.size() ||
+      split.cap_points.size() != split.cap_point_plane.size() || split.parent.size() != split.triangles.size() ||
+      !parents_known)
+    throw InternalError("a seam chain's split came with arrays that do not match");
+}
+
+}  // namespace
+
 std::string serialize_chain_task(const ChainTask& task) {
-  const ChainBand& chain = task.chain;
-  const std::size_t bytes = 256 + chain.input.triangles.size() * 12 + chain.split.triangles.size() * 16 +
-                            chain.mesh.points.size() * 24 + chain.mesh.tets.size() * 36;
+  const ChainSplit& split = task.chain.split;
+  const std::size_t bytes = 256 + chain_share_bytes(task.chain.shares) + split.triangles.size() * 28 +
+                            (split.cut_vertices.size() + split.cap_points.size()) * 8;
   return encode(
       bytes,
       [&](auto& ar) {
-        const std::int32_t head[6] = {task.index,       chain.split.input_vertex_count, task.heal.remove_cap_points,
-                                      task.heal.layers, task.tetgen.boundary_points,    task.heal.chain_links};
-        ar << boost::serialization::make_array(head, 6);
+        const std::int32_t head[5] = {task.index, task.heal.remove_cap_points, task.heal.layers,
+                                      task.tetgen.boundary_points, task.heal.chain_links};
+        ar << boost::serialization::make_array(head, 5);
         ar << task.tetgen.quality << task.tetgen.tolerance << task.tetgen.optimization;
-        std::vector<std::int32_t> planes(chain.planes.begin(), chain.planes.end());
-        save_block(ar, planes);
-        save_block(ar, chain.input.triangles);
-        save_block(ar, chain.split.triangles);
-        save_block(ar, chain.split.parent);
-        save_block(ar, chain.split.cut_vertex_plane);
-        save_block(ar, chain.split.cap_point_plane);
-        save_block(ar, chain.mesh.points);
-        save_block(ar, chain.mesh.tets);
-        save_block(ar, chain.mesh.neighbours);
-        save_block(ar, chain.mesh.piece);
+        save_chain_split(ar, split);
+        save_chain_shares(ar, task.chain.shares);
       },
       std::string_view(&kChainTaskTag, 1));
 }
@@ -786,28 +836,16 @@ ChainTask deserialize_chain_task(std::string_view bytes) {
   if (task_kind(bytes) != TaskKind::chain) throw InternalError("a task was read as a chain of the seams");
   bytes.remove_prefix(1);
   return decode<ChainTask>(bytes, [](auto& ar, ChainTask& task) {
-    ChainBand& chain = task.chain;
-    std::int32_t head[6] = {};
-    ar >> boost::serialization::make_array(head, 6);
+    std::int32_t head[5] = {};
+    ar >> boost::serialization::make_array(head, 5);
     task.index = head[0];
-    chain.split.input_vertex_count = head[1];
-    task.heal.remove_cap_points = head[2] != 0;
-    task.heal.layers = head[3];
-    task.tetgen.boundary_points = head[4] != 0;
-    task.heal.chain_links = head[5] != 0;
+    task.heal.remove_cap_points = head[1] != 0;
+    task.heal.layers = head[2];
+    task.tetgen.boundary_points = head[3] != 0;
+    task.heal.chain_links = head[4] != 0;
     ar >> task.tetgen.quality >> task.tetgen.tolerance >> task.tetgen.optimization;
-    std::vector<std::int32_t> planes;
-    load_block(ar, planes);
-    chain.planes.assign(planes.begin(), planes.end());
-    load_block(ar, chain.input.triangles);
-    load_block(ar, chain.split.triangles);
-    load_block(ar, chain.split.parent);
-    load_block(ar, chain.split.cut_vertex_plane);
-    load_block(ar, chain.split.cap_point_plane);
-    load_block(ar, chain.mesh.points);
-    load_block(ar, chain.mesh.tets);
-    load_block(ar, chain.mesh.neighbours);
-    load_block(ar, chain.mesh.piece);
+    load_chain_split(ar, task.chain.split);
+    load_chain_shares(ar, task.chain.shares);
   });
 }
 
@@ -819,11 +857,12 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         64 + failure.size(), [&](auto& ar) { ar << index << failure; }, std::string_view(&tag, 1));
   }
   return encode(
-      160 + healed.new_points.size() * 24 + healed.tets.size() * 40 + healed.links.first_tet.size() * 4 +
-          healed.links.keys.size() * 20,
+      160 + healed.global_ids.size() * 4 + healed.new_points.size() * 24 + healed.tets.size() * 40 +
+          healed.links.first_tet.size() * 4 + healed.links.keys.size() * 20,
       [&](auto& ar) {
         ar << index << healed.seconds;
         save_stats(ar, healed.stats);
+        save_block(ar, healed.global_ids);
         save_block(ar, healed.new_points);
         save_block(ar, healed.tets);
         save_block(ar, healed.neighbours);
@@ -852,6 +891,7 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     }
     ar >> healed.seconds;
     load_stats(ar, healed.stats);
+    load_block(ar, healed.global_ids);
     load_block(ar, healed.new_points);
     load_block(ar, healed.tets);
     load_block(ar, healed.neighbours);
@@ -860,8 +900,13 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     load_chain_links(ar, healed.links);
   });
   const BlockLinks& links = chain.links;
+  const auto points = static_cast<std::int64_t>(chain.global_ids.size() + chain.new_points.size());
+  const bool points_known = std::all_of(chain.tets.begin(), chain.tets.end(), [&](const Tet& t) {
+    return std::all_of(t.begin(), t.end(), [&](std::int32_t v) { return v >= 0 && v < points; });
+  });
   if (links.keys.size() != links.component.size() || links.keys.size() != links.face.size() ||
-      chain.neighbours.size() != chain.tets.size() || (!chain.label.empty() && chain.label.size() != chain.tets.size()))
+      chain.neighbours.size() != chain.tets.size() ||
+      (!chain.label.empty() && chain.label.size() != chain.tets.size()) || !points_known)
     throw InternalError("malformed healed chain " + std::to_string(index) + " of the seams");
   return chain;
 }

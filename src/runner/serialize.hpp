@@ -36,12 +36,11 @@ PieceSurface deserialize_task(std::string_view bytes, TetgenOptions& tetgen, std
 std::string serialize_cap_task(const CapBorder& border);
 CapBorder deserialize_cap_task(std::string_view bytes);
 
-// A chain of the seams for a worker to heal (seam_chain_band.hpp; without its global_ids and
-// band_tets, which only rank 0 needs), its index, the healing's options and its regions' TetGen
-// options.
+// A chain of the seams for a worker to weld and heal (seam_chain_band.hpp: its pieces' shares
+// and its split), its index, the healing's options and its regions' TetGen options.
 struct ChainTask {
   std::int32_t index = 0;
-  ChainBand chain;
+  ChainShares chain;
   HealOptions heal;
   TetgenOptions tetgen;
 };

@@ -21,6 +21,8 @@ struct SplitRanges {
       : first_cut(split.input_vertex_count),
         first_cap(first_cut + split.cut_vertex_count()),
         end_caps(first_cap + static_cast<std::int32_t>(split.cap_point_plane.size())) {}
+  explicit SplitRanges(const ChainSplit& split)
+      : first_cut(split.first_cut), first_cap(split.first_cap), end_caps(split.end_caps) {}
 };
 
 std::vector<int> chain_of_planes(const SplitSurface& split, const std::vector<std::vector<int>>& chains) {
@@ -77,29 +79,63 @@ void cut_out_tets(const TetMesh& band, ChainBand& chain) {
   }
 }
 
-// What healing reads of the split surface, in the chain's ids: the planes of its cut vertices
-// and caps' points, and its split triangles, whose input triangles go into chain.input.
-void cut_out_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<std::int32_t>& triangles,
-                   ChainBand& chain) {
+// The chain's split in the band's ids: those of the chain's points `ids` (ascending) that are
+// cut vertices or caps' points with their planes, and its split triangles with their input
+// triangles, each input triangle once, in order of first use.
+ChainSplit chain_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<int>& planes,
+                       const std::vector<std::int32_t>& triangles, const std::vector<std::int32_t>& ids) {
   const SplitRanges ranges(split);
-  SplitSurface& local = chain.split;
-  for (auto id : chain.global_ids) {
-    if (id < ranges.first_cut)
-      ++local.input_vertex_count;
-    else if (id < ranges.first_cap)
-      local.cut_vertex_plane.push_back(split.cut_vertex_plane[id - ranges.first_cut]);
-    else if (id < ranges.end_caps)
-      local.cap_point_plane.push_back(split.cap_point_plane[id - ranges.first_cap]);
-  }
-  std::unordered_map<std::int32_t, std::int32_t> local_parent;
+  ChainSplit chain{planes, ranges.first_cut, ranges.first_cap, ranges.end_caps};
+  const auto first = std::lower_bound(ids.begin(), ids.end(), ranges.first_cut);
+  for (auto it = first; it != ids.end() && *it < ranges.end_caps; ++it)
+    if (*it < ranges.first_cap) {
+      chain.cut_vertices.push_back(*it);
+      chain.cut_vertex_plane.push_back(split.cut_vertex_plane[*it - ranges.first_cut]);
+    } else {
+      chain.cap_points.push_back(*it);
+      chain.cap_point_plane.push_back(split.cap_point_plane[*it - ranges.first_cap]);
+    }
+  std::unordered_map<std::int32_t, std::int32_t> place;  // by input triangle
   for (auto t : triangles) {
-    const Triangle& f = split.triangles[t];
-    const auto [it, fresh] =
-        local_parent.emplace(split.parent[t], static_cast<std::int32_t>(chain.input.triangles.size()));
-    if (fresh) chain.input.triangles.push_back(local_triangle(chain.global_ids, input.triangles[split.parent[t]]));
-    local.triangles.push_back(local_triangle(chain.global_ids, f));
-    local.parent.push_back(it->second);
+    const std::int32_t parent = split.parent[t];
+    const auto [it, fresh] = place.emplace(parent, static_cast<std::int32_t>(chain.input_triangles.size()));
+    if (fresh) chain.input_triangles.push_back(input.triangles[parent]);
+    chain.triangles.push_back(split.triangles[t]);
+    chain.parent.push_back(it->second);
   }
+  return chain;
+}
+
+// The planes of the chain's points (ids, ascending) in [from, to), from the ids listed (ascending)
+// with their planes. Throws InternalError when one is not listed.
+std::vector<std::int32_t> planes_of(const std::vector<std::int32_t>& ids, std::int32_t from, std::int32_t to,
+                                    const std::vector<std::int32_t>& listed, const std::vector<std::int32_t>& plane) {
+  std::vector<std::int32_t> planes;
+  std::size_t at = 0;
+  for (auto it = std::lower_bound(ids.begin(), ids.end(), from); it != ids.end() && *it < to; ++it) {
+    while (at < listed.size() && listed[at] < *it) ++at;
+    if (at == listed.size() || listed[at] != *it)
+      throw InternalError("a seam chain's split lacks a point its tets use");
+    planes.push_back(plane[at]);
+  }
+  return planes;
+}
+
+// What healing reads of the split surface, in the chain's ids (global_ids known): the planes of
+// its cut vertices and caps' points, its split triangles and their input triangles.
+void cut_out_split(ChainSplit&& split, ChainBand& chain) {
+  const std::vector<std::int32_t>& ids = chain.global_ids;
+  SplitSurface& local = chain.split;
+  chain.planes = std::move(split.planes);
+  local.input_vertex_count =
+      static_cast<std::int32_t>(std::lower_bound(ids.begin(), ids.end(), split.first_cut) - ids.begin());
+  local.cut_vertex_plane = planes_of(ids, split.first_cut, split.first_cap, split.cut_vertices, split.cut_vertex_plane);
+  local.cap_point_plane = planes_of(ids, split.first_cap, split.end_caps, split.cap_points, split.cap_point_plane);
+  local.triangles.reserve(split.triangles.size());
+  for (const Triangle& t : split.triangles) local.triangles.push_back(local_triangle(ids, t));
+  local.parent = std::move(split.parent);
+  chain.input.triangles.reserve(split.input_triangles.size());
+  for (const Triangle& t : split.input_triangles) chain.input.triangles.push_back(local_triangle(ids, t));
 }
 
 // The shares' points, merged by id, into the chain's points (global_ids, mesh.points); per point
@@ -244,8 +280,8 @@ void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_p
     share.points[i] = split_points[static_cast<std::size_t>(share.point_ids[i])];
 }
 
-ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
-                     const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles) {
+ChainShares chain_shares(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
+                         const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles) {
   for (const ChainShare& share : shares)
     if (share.chain != shares.front().chain)
       throw InternalError("a seam chain was welded from shares of several chains");
@@ -253,12 +289,30 @@ ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input,
                shares.end());
   std::sort(shares.begin(), shares.end(),
             [](const ChainShare& a, const ChainShare& b) { return a.band_tets.front() < b.band_tets.front(); });
+  const SplitRanges ranges(split);
+  std::vector<std::int32_t> ids;  // the shares' cut vertices and caps' points (a range of each share's sorted ids)
+  for (const ChainShare& share : shares) {
+    const auto first = std::lower_bound(share.point_ids.begin(), share.point_ids.end(), ranges.first_cut);
+    ids.insert(ids.end(), first, std::lower_bound(first, share.point_ids.end(), ranges.end_caps));
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  ChainSplit split_of_chain = chain_split(split, input, planes, split_triangles, ids);
+  return ChainShares{std::move(shares), std::move(split_of_chain)};
+}
+
+std::vector<std::int32_t> band_tets_of(const ChainShares& chain) {
+  std::vector<std::int32_t> tets;
+  for (const ChainShare& share : chain.shares) tets.insert(tets.end(), share.band_tets.begin(), share.band_tets.end());
+  return tets;
+}
+
+ChainBand weld_chain(ChainShares&& shares) {
   ChainBand chain;
-  chain.planes = planes;
-  const std::vector<std::int32_t> in_chain = weld_points(shares, chain);
-  weld_tets(shares, in_chain, SplitRanges(split), chain);
-  shares.clear();
-  cut_out_split(split, input, split_triangles, chain);
+  const std::vector<std::int32_t> in_chain = weld_points(shares.shares, chain);
+  weld_tets(shares.shares, in_chain, SplitRanges(shares.split), chain);
+  shares.shares.clear();
+  cut_out_split(std::move(shares.split), chain);
   return chain;
 }
 
@@ -296,10 +350,9 @@ std::vector<ChainParts> chain_parts(const TetMesh& band, const SplitSurface& spl
 ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const SplitSurface& split,
                         const std::vector<int>& planes, ChainParts&& parts) {
   ChainBand chain;
-  chain.planes = planes;
   chain.band_tets = std::move(parts.tets);
   cut_out_tets(band, chain);
-  cut_out_split(split, input, parts.split_triangles, chain);
+  cut_out_split(chain_split(split, input, planes, parts.split_triangles, chain.global_ids), chain);
   return chain;
 }
 
@@ -307,7 +360,7 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
   HealOptions whole_chain = options;
   whole_chain.drop_points = false;
   const double start = now_seconds();
-  const auto old_points = static_cast<std::ptrdiff_t>(chain.mesh.points.size());  // (global_ids stay on rank 0)
+  const auto old_points = static_cast<std::ptrdiff_t>(chain.mesh.points.size());
   HealedChain healed;
   try {
     healed.stats = heal_seams(chain.mesh, chain.input, chain.split, whole_chain, mesher);
@@ -315,6 +368,7 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
     healed.failure = error.failure;
     return healed;
   }
+  healed.global_ids = std::move(chain.global_ids);
   healed.new_points.assign(chain.mesh.points.begin() + old_points, chain.mesh.points.end());
   order_band_tets(chain.mesh);  // here, on the rank that healed it: not on rank 0, chain after chain
   healed.tets = std::move(chain.mesh.tets);
@@ -330,26 +384,25 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
 namespace {
 
 // Throws InternalError unless the healed chain came with its neighbours, its pieces (when the
-// band has them) and, when asked, its links.
+// band has them), its ids and, when asked, its links.
 void check_healed_chain(const HealedChain& chain, bool pieces, bool links) {
   const std::size_t tets = chain.tets.size();
   if (chain.neighbours.size() != tets || (pieces && chain.piece.size() != tets))
     throw InternalError("a healed chain of the seams came without its neighbours or pieces");
   if (links && chain.label.size() != tets) throw InternalError("a healed chain of the seams came without its links");
+  if (tets > 0 && chain.global_ids.empty()) throw InternalError("a healed chain of the seams came without its ids");
 }
 
 // The chains' points and tets after the band's, in the band's ids; their neighbours too (moved
 // past the band's tets), and, when `links`, their links (keys in the band's ids).
-std::vector<BandChainLinks> append_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
-                                                 std::vector<HealedChain>&& healed, bool links) {
-  if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
+std::vector<BandChainLinks> append_healed_chains(TetMesh& band, std::vector<HealedChain>&& healed, bool links) {
   const bool pieces = band.piece.size() == band.tets.size();
   band.neighbours.resize(band.tets.size(), Tet{-1, -1, -1, -1});
-  std::vector<BandChainLinks> chain_links(links ? chains.size() : 0);
-  for (std::size_t c = 0; c < chains.size(); ++c) {
+  std::vector<BandChainLinks> chain_links(links ? healed.size() : 0);
+  for (std::size_t c = 0; c < healed.size(); ++c) {
     HealedChain& chain = healed[c];
     check_healed_chain(chain, pieces, links);
-    const std::vector<std::int32_t>& global_ids = chains[c].global_ids;
+    const std::vector<std::int32_t>& global_ids = chain.global_ids;
     const auto old_points = static_cast<std::int64_t>(global_ids.size());
     const auto first_new = static_cast<std::int64_t>(band.points.size());
     const auto in_band = [&](std::int64_t v) { return v < old_points ? global_ids[v] : first_new + (v - old_points); };
@@ -378,12 +431,13 @@ std::vector<BandChainLinks> append_healed_chains(TetMesh& band, const std::vecto
 
 }  // namespace
 
-void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed) {
-  if (healed.size() != chains.size()) throw InternalError("seam healing lost a chain of the seams");
+void put_back_chains(TetMesh& band, const std::vector<std::vector<std::int32_t>>& chain_tets,
+                     std::vector<HealedChain>&& healed) {
+  if (healed.size() != chain_tets.size()) throw InternalError("seam healing lost a chain of the seams");
   const bool pieces = band.piece.size() == band.tets.size();
   std::vector<char> cut_out(band.tets.size(), 0);
-  for (const ChainBand& chain : chains)
-    for (auto t : chain.band_tets) cut_out[t] = 1;
+  for (const std::vector<std::int32_t>& tets : chain_tets)
+    for (auto t : tets) cut_out.at(static_cast<std::size_t>(t)) = 1;
   std::size_t kept = 0;
   for (std::size_t t = 0; t < band.tets.size(); ++t)
     if (!cut_out[t]) {
@@ -394,16 +448,15 @@ void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::v
   band.tets.resize(kept);
   if (pieces) band.piece.resize(kept);
   std::vector<Tet>().swap(band.neighbours);
-  append_healed_chains(band, chains, std::move(healed), false);
+  append_healed_chains(band, std::move(healed), false);
   // (The tets kept meet the chains': connected anew.)
   band.neighbours = compute_neighbours(band.tets, band.points.size());
   order_band_tets(band);
 }
 
-std::vector<BandChainLinks> add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
-                                              std::vector<HealedChain>&& healed, bool links) {
+std::vector<BandChainLinks> add_healed_chains(TetMesh& band, std::vector<HealedChain>&& healed, bool links) {
   if (!band.tets.empty()) throw InternalError("healed chains were added to a band that has tets");
-  return append_healed_chains(band, chains, std::move(healed), links);
+  return append_healed_chains(band, std::move(healed), links);
 }
 
 void order_band_tets(TetMesh& band) {

@@ -1,8 +1,8 @@
 // A chain's band (internal header): the part of the band that one chain of cuts heals
 // (seam_chains.hpp), welded from its pieces' shares of their band parts (or cut out of the welded
 // band) with ids of its own and with what its healing reads of the input and of the split
-// surface, so that it can heal anywhere (on a rank of its own); and the band with the healed
-// chains put back. The ids keep their order (a chain's points are numbered by their ids in the
+// surface, so that it can heal anywhere (on a rank of its own, which also welds it); and the band
+// with the healed chains put back. The ids keep their order (a chain's points are numbered by their ids in the
 // band, ascending), so a chain heals as it would in the band: its regions reach TetGen as the
 // same surfaces.
 #pragma once
@@ -78,18 +78,45 @@ ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, st
                        const std::vector<Point3>& split_points);
 void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points);
 
-// The chain of these planes welded from its pieces' shares (in any order) and its split
-// triangles (chain_split_triangles): the chain cut_out_chain cuts out of the welded band, without
-// the welded band. Throws InternalError when the shares are of several chains or overlap.
-ChainBand weld_chain(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
-                     const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles);
+// What healing reads of the split surface for one chain, in the band's ids: its planes, the
+// split surface's id ranges (input vertices, cut vertices, caps' points), the planes of the cut
+// vertices and caps' points its tets use, its split triangles and their input triangles (in
+// first-use order). Made where the split surface is (rank 0), so that any rank can weld the chain.
+struct ChainSplit {
+  std::vector<int> planes;
+  std::int32_t first_cut = 0, first_cap = 0, end_caps = 0;
+  std::vector<std::int32_t> cut_vertices, cut_vertex_plane;  // ids ascending; their planes
+  std::vector<std::int32_t> cap_points, cap_point_plane;     // ids ascending; their planes
+  std::vector<Triangle> triangles;                           // its split triangles
+  std::vector<std::int32_t> parent;                          // per split triangle: its place in input_triangles
+  std::vector<Triangle> input_triangles;
+};
+
+// A chain before welding: its pieces' shares (by their first tet in the band) and its split.
+struct ChainShares {
+  std::vector<ChainShare> shares;
+  ChainSplit split;
+};
+
+// The chain of these planes as its pieces' shares (in any order) and its split triangles
+// (chain_split_triangles), ready to weld anywhere. Throws InternalError when the shares are of
+// several chains.
+ChainShares chain_shares(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
+                         const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles);
+// The band's tets the chain holds, ascending (weld_chain's band_tets).
+std::vector<std::int32_t> band_tets_of(const ChainShares& chain);
+
+// The chain welded from its shares: the chain cut_out_chain cuts out of the welded band, without
+// the welded band. Throws InternalError when the shares overlap or the split lacks a point.
+ChainBand weld_chain(ChainShares&& chain);
 
 // A chain healed, wherever that was: in its ids, its points then new_points.
 // Its tets are in order_band_tets' order, with their neighbours within the chain (-1 at its edge):
 // its ids keep the band's order, so this is their order in the band too, and rank 0 puts the
 // chains into the band one after another without sorting or connecting its tets again.
 struct HealedChain {
-  std::vector<Point3> new_points;  // the points its healing added
+  std::vector<std::int32_t> global_ids;  // by point of its own before new_points: its id in the band
+  std::vector<Point3> new_points;        // the points its healing added
   std::vector<Tet> tets;
   std::vector<Tet> neighbours;
   std::vector<std::int32_t> piece;  // when the band has pieces
@@ -104,19 +131,19 @@ struct HealedChain {
 // result's failure.
 HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const RegionMesher& mesher);
 
-// The band with its chains (cut out of it, in the order of seam_chain_planes; their global_ids
-// and band_tets) healed and put back: their tets replace those they were cut from, and the points
-// healing added follow the band's, chain after chain, as heal_seams numbers them. The tets are
-// then in order_band_tets' order, as the band healed in one piece.
-void put_back_chains(TetMesh& band, const std::vector<ChainBand>& chains, std::vector<HealedChain>&& healed);
+// The band with its chains (cut out of it, in the order of seam_chain_planes; per chain, the
+// band's tets it was cut from) healed and put back: their tets replace those they were cut from,
+// and the points healing added follow the band's, chain after chain, as heal_seams numbers them.
+// The tets are then in order_band_tets' order, as the band healed in one piece.
+void put_back_chains(TetMesh& band, const std::vector<std::vector<std::int32_t>>& chain_tets,
+                     std::vector<HealedChain>&& healed);
 // The chains into a band of points alone (Welder::band_points) when they hold every tet of the
 // band (each tet of a band part is in the chain of its part, or in the one chain -1's share makes,
 // put back unhealed): the band's tets are the chains', chain after chain, each in its own order
 // with its own neighbours (chains share no face). So the band is the same however many ranks
 // healed it, and made in one pass. Returns each chain's links in the band's ids when `links` (the
 // chains were healed with HealOptions::chain_links), else none.
-std::vector<BandChainLinks> add_healed_chains(TetMesh& band, const std::vector<ChainBand>& chains,
-                                              std::vector<HealedChain>&& healed, bool links);
+std::vector<BandChainLinks> add_healed_chains(TetMesh& band, std::vector<HealedChain>&& healed, bool links);
 
 // Orders tets by their vertices (and neighbours to match): a healed chain's, or a band's healed
 // in one piece (the same whether it healed on one rank or on several).

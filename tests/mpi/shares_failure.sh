@@ -19,7 +19,7 @@ PARTET_INJECT_FAILURE=worker:shares-error timeout -k 5 120 "$mpiexec" -n 2 -x PA
 code=$?
 [ "$code" -ne 124 ] || fail "the job hung (killed after 120 s)"
 [ "$code" -eq 0 ] || fail "exit code $code: a rank that cannot cut its shares must not end the job"
-expected="seam chain [0-9]+ could not be welded from its pieces' shares: .*rank 1 could not cut its shares"
+expected="seam chain [0-9]+ could not be gathered from its pieces' shares: .*rank 1 could not cut its shares"
 grep -qE "$expected" "$work/log" || fail "no warning naming the chain and rank 1"
 grep -q "injected failure to cut the shares" "$work/log" || fail "rank 1's own message is not in the log"
 [ "$(tets_of "$work/report.json")" = "$(tets_of "$work/one.json")" ] ||
