@@ -505,7 +505,7 @@ class RootScheduler : public PieceScheduler {
     AddSeconds timer{stats_.region_seconds};
     healing_here_ = true;
     account_meshing();
-    HealedChain healed = weld_and_heal(std::move(cut->shares), chain_round_->heal, here);
+    HealedChain healed = weld_and_heal(chain, std::move(cut->shares), chain_round_->heal, here);
     cut.reset();
     healing_here_ = false;
     account_meshing();
@@ -514,7 +514,8 @@ class RootScheduler : public PieceScheduler {
 
   // The chain welded and healed here; one that cannot be welded failed, as one whose shares
   // could not be gathered (cut_out).
-  static HealedChain weld_and_heal(ChainShares&& shares, const HealOptions& heal, const RegionMesher& here) {
+  static HealedChain weld_and_heal(std::size_t chain, ChainShares&& shares, const HealOptions& heal,
+                                   const RegionMesher& here) {
     std::vector<int> planes = shares.split.planes;
     ChainBand band;
     std::string why;
@@ -526,7 +527,7 @@ class RootScheduler : public PieceScheduler {
       why = e.what();
     }
     if (why.empty()) return heal_chain(std::move(band), heal, here);
-    log::warning("a seam chain could not be welded from its pieces' shares: " + why);
+    log::warning("seam chain " + std::to_string(chain) + " could not be welded from its pieces' shares: " + why);
     HealedChain failed;
     failed.failure = Failure(FailureKind::other, -1, std::move(planes), why);
     return failed;
