@@ -465,19 +465,33 @@ class RootScheduler : public PieceScheduler {
   // The chain's shares gathered from its pieces; a chain whose shares cannot be is a chain that
   // failed (its seams then heal over the whole mesh), not an end to the round the other ranks are in.
   std::optional<ChainShares> cut_out(std::size_t chain) {
-    std::string why;
-    try {
-      return (*chain_round_->cut_out)(chain);
-    } catch (const std::bad_alloc&) {
-      why = out_of_memory_message(0);
-    } catch (const std::exception& e) {
-      why = e.what();
-    }
-    log::warning("seam chain " + std::to_string(chain) + " could not be gathered from its pieces' shares: " + why);
-    HealedChain failed;
-    failed.failure = Failure(FailureKind::other, -1, {}, why);
-    chain_done(chain, std::move(failed), 0);
+    std::optional<ChainShares> shares;
+    const std::optional<std::string> why = error_of([&] { shares = (*chain_round_->cut_out)(chain); });
+    if (!why) return shares;
+    chain_done(chain, failed_chain(chain, "gathered", {}, *why), 0);
     return std::nullopt;
+  }
+
+  // What `work` threw, as a chain's failure says it (none when it did not throw).
+  template <class Work>
+  static std::optional<std::string> error_of(Work&& work) {
+    try {
+      work();
+    } catch (const std::bad_alloc&) {
+      return out_of_memory_message(0);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::nullopt;
+  }
+
+  // A chain that could not be gathered or welded from its pieces' shares: it failed (its seams
+  // then heal over the whole mesh), and the log says why.
+  static HealedChain failed_chain(std::size_t chain, const char* how, std::vector<int> planes, const std::string& why) {
+    log::warning("seam chain " + std::to_string(chain) + " could not be " + how + " from its pieces' shares: " + why);
+    HealedChain failed;
+    failed.failure = Failure(FailureKind::other, -1, std::move(planes), why);
+    return failed;
   }
 
   // Heals the next chain here, its regions in TetGen processes one after another; between looks
@@ -518,19 +532,9 @@ class RootScheduler : public PieceScheduler {
                                    const RegionMesher& here) {
     std::vector<int> planes = shares.split.planes;
     ChainBand band;
-    std::string why;
-    try {
-      band = weld_chain(std::move(shares));
-    } catch (const std::bad_alloc&) {
-      why = out_of_memory_message(0);
-    } catch (const std::exception& e) {
-      why = e.what();
-    }
-    if (why.empty()) return heal_chain(std::move(band), heal, here);
-    log::warning("seam chain " + std::to_string(chain) + " could not be welded from its pieces' shares: " + why);
-    HealedChain failed;
-    failed.failure = Failure(FailureKind::other, -1, std::move(planes), why);
-    return failed;
+    const std::optional<std::string> why = error_of([&] { band = weld_chain(std::move(shares)); });
+    if (!why) return heal_chain(std::move(band), heal, here);
+    return failed_chain(chain, "welded", std::move(planes), *why);
   }
 
   void chain_done(std::size_t chain, HealedChain&& healed, int rank) {
