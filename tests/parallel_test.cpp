@@ -1,6 +1,7 @@
 // parallel_for: every index once, whatever the number of threads; the first failure comes back.
 // CpuLoan: a thread confined to one CPU gets the lent ones for the loan's lifetime (and so do the
 // threads it starts meanwhile), then its own mask back.
+// balanced_ranks: no rank ends with more than the average work plus one item.
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
@@ -15,11 +16,41 @@
 #include <thread>
 #include <vector>
 
+#include "common/balanced_ranks.hpp"
 #include "common/parallel.hpp"
 #include "test_support.hpp"
 
 namespace partet {
 namespace {
+
+// The seam chains' plan (largest first): each rank's work at most the average plus the largest
+// item, every rank given work when there are as many items, and rank 0 (which hands them out)
+// never given more items than another rank when all are the same size.
+TEST(BalancedRanks, NoRankEndsWithMoreThanTheAveragePlusOneItem) {
+  for (int ranks : {1, 2, 3, 4, 7})
+    for (std::size_t count : {std::size_t(0), std::size_t(1), std::size_t(5), std::size_t(63)}) {
+      std::vector<std::size_t> sizes;
+      for (std::size_t i = 0; i < count; ++i) sizes.push_back(1000 + (i * 7919) % 5000);
+      std::sort(sizes.rbegin(), sizes.rend());
+      const std::vector<int> rank_of = balanced_ranks(sizes, ranks);
+      ASSERT_EQ(rank_of.size(), count);
+      std::vector<std::size_t> load(static_cast<std::size_t>(ranks), 0), items(load.size(), 0);
+      for (std::size_t i = 0; i < count; ++i) {
+        ASSERT_GE(rank_of[i], 0);
+        ASSERT_LT(rank_of[i], ranks);
+        load[static_cast<std::size_t>(rank_of[i])] += sizes[i];
+        ++items[static_cast<std::size_t>(rank_of[i])];
+      }
+      std::size_t total = 0;
+      for (std::size_t l : load) total += l;
+      for (int r = 0; r < ranks; ++r) {
+        EXPECT_LE(load[r], total / static_cast<std::size_t>(ranks) + (count ? sizes.front() : 0)) << ranks << " ranks";
+        if (count >= static_cast<std::size_t>(ranks)) EXPECT_GT(items[r], 0u) << "rank " << r << " of " << ranks;
+      }
+    }
+  const std::vector<int> same = balanced_ranks(std::vector<std::size_t>(5, 10), 2);
+  EXPECT_EQ(std::count(same.begin(), same.end(), 0), 2);  // (rank 1 takes the odd one)
+}
 
 TEST(ParallelFor, EveryIndexExactlyOnce) {
   for (unsigned threads : {1u, 2u, 3u, 8u})

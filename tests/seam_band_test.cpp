@@ -538,11 +538,13 @@ class KeptWhereMeshed : public BulkStore {
     return deserialize_grown_band(serialize_grown_band(bands_.take(piece)));
   }
   int bands_taken() const { return bands_taken_; }
-  void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) override {
+  void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order,
+                  const std::vector<int>& healers) override {
+    EXPECT_TRUE(std::all_of(healers.begin(), healers.end(), [](int rank) { return rank == 0; }));  // (one process)
     cut_ = std::deque<std::pair<int, std::vector<ChainShare>>>();
     std::vector<BandPartPlan> plans_there;
-    std::vector<int> order_there;
-    deserialize_share_plan(serialize_share_plan(plans, order), plans_there, order_there);
+    std::vector<int> order_there, healers_there;
+    deserialize_share_plan(serialize_share_plan(plans, order, healers), plans_there, order_there, healers_there);
     bands_.cut_shares(plans_there, order_there, [&](int chain, std::vector<ChainShare>&& shares) {
       cut_.emplace_back(chain, deserialize_chain_shares(serialize_chain_shares(shares)));
     });
@@ -828,7 +830,9 @@ void expect_same_chain(ChainBand&& welded, const ChainBand& cut) {
 // cut by the chains of its parts, as the links plan them; issue 22, item 2: the owners of the
 // band parts can send these to the rank that heals the chain, which welds it): the chain is the
 // one cut out of the welded band, point for point and tet for tet, here or after travelling in a
-// chain task with its split (chain_split), whatever the order of the shares, whether
+// chain task with its split (chain_split, made from the pieces' band parts' split points, without
+// the chain's tets, and the only source of those points' coordinates: a split without one of them
+// cannot weld it), whatever the order of the shares, whether
 // the pieces were split at the end or where they were meshed with their bands grown there (their
 // links made there too, as they are made from the band part here); and the chains hold every tet
 // of the band.
@@ -858,6 +862,7 @@ TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
             const std::vector<BandPartLinks> links = welder.take_band_links();
             const SeamChainPlan plan = seam_chain_plan(links, split, options);
             const std::vector<BandPartPlace> places = welder.band_part_places();
+            const std::vector<std::vector<std::int32_t>> triangles = chain_split_triangles(split, plan.planes);
             for (std::size_t p = 0; p < places.size(); ++p) {  // made where split (and grown) as here
               const BandPartLinks here = band_part_links(welder.band_part(p), spec);
               EXPECT_EQ(links[p].removed, here.removed);
@@ -869,21 +874,34 @@ TEST(SeamBand, AChainWeldedFromItsPiecesSharesIsTheChainCutOutOfTheBand) {
               for (std::size_t i = 0; i < in_chains.chains.size(); ++i) {
                 const int c = in_chains.chains[i];
                 shares.at(static_cast<std::size_t>(c))
-                    .push_back(chain_share(welder.band_part(p), in_chains, i, places[p], split.points));
+                    .push_back(chain_share(welder.band_part(p), in_chains, i, places[p]));
               }
             }
+            std::vector<ChainSplit> splits;  // made before the band parts are welded, as rank 0 makes them
+            for (std::size_t c = 0; c < plan.planes.size(); ++c)
+              splits.push_back(chain_split(split, input, split.points, plan.planes[c], triangles[c],
+                                           welder.band_split_points(plan.pieces_in(static_cast<int>(c)))));
             TetMesh band = welder.weld_bands(split.points);
             std::vector<ChainParts> parts = chain_parts(band, split, plan.planes, options);
-            const std::vector<std::vector<std::int32_t>> triangles = chain_split_triangles(split, plan.planes);
             std::size_t in_chains = 0;
             for (std::size_t c = 0; c < plan.planes.size(); ++c) {
               most_shares = std::max(most_shares, shares[c].size());
               std::reverse(shares[c].begin(), shares[c].end());  // (any order)
               const ChainBand cut = cut_out_chain(band, input, split, plan.planes[c], std::move(parts[c]));
-              ChainShares gathered = chain_shares(std::move(shares[c]), input, split, plan.planes[c], triangles[c]);
+              ChainShares gathered = chain_shares(std::move(shares[c]), std::move(splits[c]));
               EXPECT_EQ(band_tets_of(gathered), cut.band_tets);
+              if (c == 0) {  // a split without one of the chain's points cannot weld it
+                ChainShares lacking = gathered;
+                std::vector<std::int32_t>& ids = lacking.split.point_ids;
+                const auto at = std::lower_bound(ids.begin(), ids.end(), cut.global_ids.front());
+                ASSERT_TRUE(at != ids.end() && *at == cut.global_ids.front());
+                lacking.split.points.erase(lacking.split.points.begin() + (at - ids.begin()));
+                ids.erase(at);
+                EXPECT_THROW(weld_chain(std::move(lacking)), InternalError);
+              }
               // Welded here, and where a chain task takes it (another rank): the same chain.
-              const ChainTask task{static_cast<std::int32_t>(c), gathered, options, TetgenOptions()};
+              ChainTask task{static_cast<std::int32_t>(c), gathered, options, TetgenOptions()};
+              std::reverse(task.chain.shares.begin(), task.chain.shares.end());  // (a rank appends those it takes)
               expect_same_chain(weld_chain(std::move(gathered)), cut);
               expect_same_chain(weld_chain(deserialize_chain_task(serialize_chain_task(task)).chain), cut);
               in_chains += cut.band_tets.size();

@@ -122,14 +122,24 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   ChainTask sent{static_cast<std::int32_t>(chains.size() - 1), chains.back(), options, TetgenOptions()};
   sent.tetgen.quality = "1.414";
   sent.tetgen.boundary_points = false;
+  sent.heal.chain_band_tets = true;
+  sent.share_ranks = {1, 3};
+  sent.shares_of = 5;
   ChainTask received = deserialize_chain_task(serialize_chain_task(sent));
   EXPECT_EQ(received.index, sent.index);
+  EXPECT_EQ(received.share_ranks, sent.share_ranks);
+  EXPECT_EQ(received.shares_of, 5);
+  EXPECT_TRUE(received.failure.empty());
+  EXPECT_TRUE(received.heal.chain_band_tets);
   EXPECT_EQ(received.chain.split.planes, sent.chain.split.planes);
   EXPECT_EQ(received.heal.remove_cap_points, true);
   EXPECT_EQ(received.heal.layers, 2);
   EXPECT_TRUE(received.heal.chain_links);
   EXPECT_EQ(received.tetgen.quality, "1.414");
   EXPECT_FALSE(received.tetgen.boundary_points);
+  EXPECT_EQ(received.chain.split.point_ids, sent.chain.split.point_ids);
+  EXPECT_TRUE(same_bits(received.chain.split.points, sent.chain.split.points));
+  EXPECT_FALSE(sent.chain.split.points.empty());
   EXPECT_EQ(received.chain.split.cut_vertices, sent.chain.split.cut_vertices);
   EXPECT_EQ(received.chain.split.cap_point_plane, sent.chain.split.cap_point_plane);
   EXPECT_EQ(received.chain.split.parent, sent.chain.split.parent);
@@ -144,6 +154,7 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_EQ(there.global_ids, here.global_ids);
   EXPECT_EQ(there.new_points, here.new_points);
   EXPECT_EQ(there.tets, here.tets);
+  EXPECT_EQ(there.band_tets, band_tets_of(chains.back()));  // (asked for: chain_band_tets)
   // Its tets come in order_band_tets' order, with their neighbours: rank 0 does not sort them.
   TetMesh ordered;
   ordered.tets = here.tets, ordered.neighbours = here.neighbours, ordered.piece = here.piece;
@@ -159,6 +170,7 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_EQ(back.tets, here.tets);
   EXPECT_EQ(back.neighbours, here.neighbours);
   EXPECT_EQ(back.neighbours.size(), here.tets.size());
+  EXPECT_EQ(back.band_tets, there.band_tets);
   // With its links (every open face, in its ids) and its tets' components, as block_links finds them.
   std::vector<std::int32_t> label;
   const BlockLinks links = block_links(here.tets, PointIds(), here.neighbours, true, 0, {}, label);
@@ -172,14 +184,20 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   // Not asked for its links (an assembled mesh): the same chain, without them.
   HealOptions unlinked = options;
   unlinked.chain_links = false;
-  const ChainTask plain{sent.index, ChainShares(), unlinked, sent.tetgen};
-  EXPECT_FALSE(deserialize_chain_task(serialize_chain_task(plain)).heal.chain_links);
+  unlinked.chain_band_tets = false;
+  ChainTask plain{sent.index, ChainShares(), unlinked, sent.tetgen};
+  plain.failure = "rank 2 could not cut its shares";
+  const ChainTask plain_back = deserialize_chain_task(serialize_chain_task(plain));
+  EXPECT_FALSE(plain_back.heal.chain_links);
+  EXPECT_FALSE(plain_back.heal.chain_band_tets);
+  EXPECT_EQ(plain_back.failure, plain.failure);
   const HealedChain healed_bare = heal_chain(weld_chain(ChainShares(chains.back())), unlinked, regions_here(s.options));
   const HealedChain bare = deserialize_chain_outcome(serialize_chain_outcome(7, healed_bare), index);
   EXPECT_EQ(bare.tets, here.tets);
   EXPECT_EQ(bare.neighbours, here.neighbours);
   EXPECT_TRUE(bare.label.empty());
   EXPECT_TRUE(bare.links.keys.empty());
+  EXPECT_TRUE(bare.band_tets.empty());
   EXPECT_EQ(back.stats.regions, here.stats.regions);
   EXPECT_EQ(back.stats.tets_out, here.stats.tets_out);
   HealedChain astray = there;  // (a tet names a point the chain does not have)
@@ -188,6 +206,9 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   ChainTask bad_split{0, chains.back(), options, TetgenOptions()};
   bad_split.chain.split.parent.back() = static_cast<std::int32_t>(bad_split.chain.split.input_triangles.size());
   EXPECT_THROW(deserialize_chain_task(serialize_chain_task(bad_split)), InternalError);
+  ChainTask no_coordinates{0, chains.back(), options, TetgenOptions()};
+  no_coordinates.chain.split.points.pop_back();
+  EXPECT_THROW(deserialize_chain_task(serialize_chain_task(no_coordinates)), InternalError);
   HealedChain failed;
   failed.failure = Failure(FailureKind::other, -1, {1, 2}, "re-meshing the seam near cut plane(s) 1, 2: no");
   const HealedChain failure = deserialize_chain_outcome(serialize_chain_outcome(3, failed), index);
@@ -351,16 +372,20 @@ TEST(Serialize, ABandToGrowAndTheBandGrownRoundTrip) {
   EXPECT_THROW(serialize_grown_band(here), InternalError);
 }
 
-// The plan of the band parts a rank keeps goes to it, and their shares of a chain come back.
+// The plan of the band parts a rank keeps goes to it, with the rank that heals each chain, and
+// their shares of a chain go there; a plan naming a chain without a healing rank is refused.
 TEST(Serialize, TheSharePlanAndAChainsSharesRoundTrip) {
   std::vector<BandPartPlan> plans(2);
   plans[0] = {BandPartPlace{3, 100, 1 << 30, 5000}, {2, -1, 0}};
   plans[1] = {BandPartPlace{65535, 0, 7, 7}, {}};
-  const std::vector<int> order{2, 0, 1};
+  const std::vector<int> order{2, 0, 1}, healers{3, 0, 1};
   std::vector<BandPartPlan> plans_back;
-  std::vector<int> order_back;
-  deserialize_share_plan(serialize_share_plan(plans, order), plans_back, order_back);
+  std::vector<int> order_back, healers_back;
+  deserialize_share_plan(serialize_share_plan(plans, order, healers), plans_back, order_back, healers_back);
   EXPECT_EQ(order_back, order);
+  EXPECT_EQ(healers_back, healers);
+  EXPECT_THROW(deserialize_share_plan(serialize_share_plan(plans, order, {3, 0}), plans_back, order_back, healers_back),
+               InternalError);
   ASSERT_EQ(plans_back.size(), plans.size());
   for (std::size_t i = 0; i < plans.size(); ++i) {
     EXPECT_EQ(plans_back[i].place.piece, plans[i].place.piece);
@@ -375,7 +400,7 @@ TEST(Serialize, TheSharePlanAndAChainsSharesRoundTrip) {
   shares[0].tets = {{{1, 2, 3, 5000}}, {{1, 2, 5000, 5001}}};
   shares[0].neighbours = {{{-1, -1, 1, -1}}, {{-1, 0, -1, -1}}};
   shares[0].point_ids = {1, 2, 3, 5000, 5001};
-  shares[0].points = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0.1, -2.5e300, 3}, {4, 5, 6}};
+  shares[0].points = {{0.1, -2.5e300, 3}, {4, 5, 6}};  // (its Steiner points': 5000 and 5001)
   shares[1].chain = 4, shares[1].piece = 10;
   const std::vector<ChainShare> back = deserialize_chain_shares(serialize_chain_shares(shares));
   ASSERT_EQ(back.size(), shares.size());
@@ -390,6 +415,9 @@ TEST(Serialize, TheSharePlanAndAChainsSharesRoundTrip) {
   }
   EXPECT_TRUE(deserialize_chain_shares(serialize_chain_shares({})).empty());
   shares[0].neighbours.pop_back();
+  EXPECT_THROW(deserialize_chain_shares(serialize_chain_shares(shares)), InternalError);
+  shares[0].neighbours.push_back({{-1, 0, -1, -1}});
+  shares[0].points.resize(6);  // (more coordinates than points)
   EXPECT_THROW(deserialize_chain_shares(serialize_chain_shares(shares)), InternalError);
 }
 

@@ -122,11 +122,14 @@ std::vector<ChainShares> gathered_chains(Welder& welder, const SurfaceMesh& inpu
     const BandPartChains in_chains = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
     for (std::size_t i = 0; i < in_chains.chains.size(); ++i)
       shares.at(static_cast<std::size_t>(in_chains.chains[i]))
-          .push_back(chain_share(welder.band_part(p), in_chains, i, places[p], split.points));
+          .push_back(chain_share(welder.band_part(p), in_chains, i, places[p]));
   }
   std::vector<ChainShares> chains;
-  for (std::size_t c = 0; c < plan.planes.size(); ++c)
-    chains.push_back(chain_shares(std::move(shares[c]), input, split, plan.planes[c], triangles[c]));
+  for (std::size_t c = 0; c < plan.planes.size(); ++c) {
+    const std::vector<std::int32_t> ids = welder.band_split_points(plan.pieces_in(static_cast<int>(c)));
+    chains.push_back(chain_shares(std::move(shares[c]),
+                                  chain_split(split, input, split.points, plan.planes[c], triangles[c], ids)));
+  }
   return chains;
 }
 

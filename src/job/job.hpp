@@ -57,8 +57,11 @@ struct RankStats {
   double pieces_from_checkpoint = 0;         // pieces taken from --checkpoint instead of meshed (in `pieces` too)
   double bands_grown = 0;  // a worker: bands of its pieces grown here by their neighbours' crossings (their bulks stayed)
   double share_cut_seconds = 0;  // a worker: cutting its shares of the seam chains from the band parts it keeps
+  // A worker: the seam chains' shares it healed from that never passed through rank 0 (its own,
+  // or sent straight here by the worker keeping them), one per chain and rank.
+  double chain_shares_direct = 0;
 };
-constexpr int kRankStatsDoubles = 21;
+constexpr int kRankStatsDoubles = 22;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

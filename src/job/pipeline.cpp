@@ -1,6 +1,7 @@
 #include "job/pipeline.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "io/scratch_bulks.hpp"
 #include "job/retry_plan.hpp"
 #include "partet/errors.hpp"
+#include "stages/kept_band_parts.hpp"
 #include "stages/merge.hpp"
 #include "stages/piece_cost.hpp"
 #include "stages/topology.hpp"
@@ -380,6 +382,13 @@ class RegionMeshers {
   // The chains of the seams: on the ranks, each whole on one, when there are several of both;
   // else here, one after another, their regions meshed on every rank. Every chain heals, even
   // after one failed: the band's failure is the first in chain order, as on the ranks.
+  // The rank that heals each chain (by place): those heal_chains hands them to (0: here).
+  std::vector<int> chain_ranks(const std::vector<std::size_t>& tets) {
+    std::vector<int> ranks;
+    if (tets.size() > 1 && scheduler_.heals_chains_on_ranks()) ranks = scheduler_.chain_ranks(tets);
+    if (ranks.size() != tets.size()) ranks.assign(tets.size(), 0);
+    return ranks;
+  }
   std::vector<HealedChain> heal_chains(std::size_t count, const PieceScheduler::ChainCutter& cut_out,
                                        const HealOptions& options) {
     if (count > 1 && scheduler_.heals_chains_on_ranks())
@@ -445,6 +454,7 @@ struct BandByChains {
   std::vector<BandPartChains> pieces;                      // by piece, of the band parts here
   std::vector<std::vector<std::int32_t>> split_triangles;  // by chain
   std::vector<std::size_t> tets;                           // by chain
+  std::vector<std::vector<std::int32_t>> split_points;      // by piece: those its band part uses (chain_split)
   std::vector<int> order;    // the chains, largest first, so that no rank is left with a large one at the end
   bool covers_band = false;  // every tet of the band parts is in a chain
 
@@ -465,21 +475,49 @@ struct BandByChains {
     pieces.resize(places.size());
     for (std::size_t p = 0; p < places.size(); ++p)
       if (welder.band_part_here(p)) pieces[p] = band_part_chains(welder.band_part(p), plan.chain_of_part[p]);
-    welder.cut_kept_shares(plan.chain_of_part, order);
+    for (std::size_t p = 0; p < places.size(); ++p)  // (once: each piece's part is in one or two chains)
+      split_points.push_back(welder.band_split_points({p}));
   }
-  // Chain c as its pieces' shares, to weld: those of the band parts here, and those kept elsewhere
-  // (the chains must be asked for in `order`).
+  // The band parts kept elsewhere cut into the chains' shares there, each sent to the rank that
+  // heals its chain (meshers.chain_ranks).
+  void cut_kept_shares(Welder& welder, RegionMeshers& meshers) const {
+    std::vector<std::size_t> sizes;  // by place in order
+    for (const int c : order) sizes.push_back(tets[static_cast<std::size_t>(c)]);
+    const std::vector<int> ranks = meshers.chain_ranks(sizes);
+    std::vector<int> healers(order.size());  // by chain
+    for (std::size_t j = 0; j < order.size(); ++j) healers[static_cast<std::size_t>(order[j])] = ranks[j];
+    welder.cut_kept_shares(plan.chain_of_part, order, healers);
+  }
+  // Chain c's split with its pieces' shares that this rank gives: those of the band parts here,
+  // and, when it heals the chain here, those kept elsewhere (the chains must be asked for in
+  // `order`); the rank that heals it elsewhere gets those from their owners.
+  // (times: seconds taking the shares kept elsewhere, cutting those here, making the split)
   ChainShares chain(Welder& welder, std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
-                    const std::vector<Point3>& split_points) const {
-    std::vector<ChainShare> shares = welder.kept_shares(static_cast<int>(c), split_points);
+                    const std::vector<Point3>& split_points, std::array<double, 3>& times) const {
+    double start = now_seconds();
+    std::vector<ChainShare> shares = welder.kept_shares(static_cast<int>(c));
+    times[0] += now_seconds() - start;
+    start = now_seconds();
     for (std::size_t p = 0; p < pieces.size(); ++p) {
       const auto& chains = pieces[p].chains;
       const auto it = std::lower_bound(chains.begin(), chains.end(), static_cast<int>(c));
       if (it == chains.end() || *it != static_cast<int>(c)) continue;
-      shares.push_back(chain_share(welder.band_part(p), pieces[p], static_cast<std::size_t>(it - chains.begin()),
-                                   places[p], split_points));
+      shares.push_back(
+          chain_share(welder.band_part(p), pieces[p], static_cast<std::size_t>(it - chains.begin()), places[p]));
     }
-    return chain_shares(std::move(shares), input, split, plan.planes[c], split_triangles[c]);
+    times[1] += now_seconds() - start;
+    start = now_seconds();
+    ChainSplit split_of_chain = split_of(c, input, split, split_points);
+    times[2] += now_seconds() - start;
+    return chain_shares(std::move(shares), std::move(split_of_chain));
+  }
+  // Chain c's split, made here without its tets: from every split surface's point its pieces'
+  // band parts use (rank 0 does not know which of them the chain's own tets use).
+  ChainSplit split_of(std::size_t c, const SurfaceMesh& input, const SplitSurface& split,
+                      const std::vector<Point3>& coordinates) const {
+    std::vector<const std::vector<std::int32_t>*> parts;
+    for (const std::size_t p : plan.pieces_in(static_cast<int>(c))) parts.push_back(&split_points[p]);
+    return chain_split(split, input, coordinates, plan.planes[c], split_triangles[c], merged_split_points(parts));
   }
 };
 
@@ -495,20 +533,22 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
                               const SplitSurface& split, const HealOptions& options, RegionMeshers& meshers) {
   StepClock clock;
   const BandByChains by_chains(welder, split, options);
+  by_chains.cut_kept_shares(welder, meshers);
   const std::size_t count = by_chains.plan.planes.size();
   clock.lap("chains");
-  std::vector<std::vector<std::int32_t>> chain_tets(count);  // what stays here of each: its tets in the band
+  HealOptions heal = options;
+  heal.chain_band_tets = !by_chains.covers_band;  // (the chains are then put back into the welded band)
   const std::vector<int>& order = by_chains.order;
-  double gathering = 0;  // the chains' shares, here (between the ranks' healing)
+  double gathering = 0;                 // the chains' shares, here (between the ranks' healing)
+  std::array<double, 3> steps{0, 0, 0};  // of it: (taking those kept elsewhere, cutting those here, the splits)
   const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
     const auto i = static_cast<std::size_t>(order[j]);
     const double start = now_seconds();
-    ChainShares chain = by_chains.chain(welder, i, input, split, split_points);
+    ChainShares chain = by_chains.chain(welder, i, input, split, split_points, steps);
     gathering += now_seconds() - start;
-    chain_tets[i] = band_tets_of(chain);
     return chain;
   };
-  std::vector<HealedChain> in_order = meshers.heal_chains(count, cut_out, options);
+  std::vector<HealedChain> in_order = meshers.heal_chains(count, cut_out, heal);
   std::vector<HealedChain> healed(count);
   for (std::size_t j = 0; j < in_order.size(); ++j) healed[order[j]] = std::move(in_order[j]);
   clock.lap("healing");
@@ -517,6 +557,8 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   if (failed || !by_chains.covers_band) {  // (the band as welded for the whole mesh, or its tets outside the chains)
     band = welder.weld_bands(std::move(split_points));
     stats = chains_stats(healed);
+    std::vector<std::vector<std::int32_t>> chain_tets;  // each chain's tets in the band
+    for (HealedChain& chain : healed) chain_tets.push_back(std::move(chain.band_tets));
     put_back_chains(band, chain_tets, std::move(healed));
   } else {
     band = welder.band_points(std::move(split_points));
@@ -525,7 +567,9 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   }
   clock.lap("put back");
   log::debug("seam healing by " + std::to_string(count) + " chains of cuts: " + clock.steps +
-             " (gathering the chains' shares " + std::to_string(gathering) + " s of the healing)");
+             " (gathering the chains' shares " + std::to_string(gathering) + " s of the healing: taking those kept " +
+             "elsewhere " + std::to_string(steps[0]) + " s, cutting those here " + std::to_string(steps[1]) +
+             " s, the splits " + std::to_string(steps[2]) + " s)");
   return stats;
 }
 

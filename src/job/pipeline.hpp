@@ -166,8 +166,13 @@ class PieceScheduler {
   // is free: false when this scheduler has no other rank (the chains then heal here, one after
   // another, their regions submitted as pieces).
   virtual bool heals_chains_on_ranks() const { return false; }
-  // Heals `count` chains, chain i's shares gathered by cut_out(i) when it is handed out (the rank
-  // that heals it welds it), its regions meshed with `tetgen`; returns each chain's outcome, by chain.
+  // The rank to heal each chain (by its place in the order heal_chains hands them out; tets: each
+  // one's size), decided before any is handed out, so that the ranks keeping the band parts send
+  // each chain's shares straight there. Empty: every chain heals here.
+  virtual std::vector<int> chain_ranks(const std::vector<std::size_t>& /*tets*/) { return {}; }
+  // Heals `count` chains (on the ranks chain_ranks gave), chain i's split and the shares of the
+  // band parts here gathered by cut_out(i) when it is handed out (the rank that heals it welds
+  // it), its regions meshed with `tetgen`; returns each chain's outcome, by chain.
   using ChainCutter = std::function<ChainShares(std::size_t)>;
   virtual std::vector<HealedChain> heal_chains(std::size_t /*count*/, const ChainCutter& /*cut_out*/,
                                                const HealOptions& /*heal*/, const TetgenOptions& /*tetgen*/) {

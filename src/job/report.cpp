@@ -126,6 +126,7 @@ std::string report_json(const JobSummary& s) {
                               {"bands_grown", stats.bands_grown},
                               {"bulk_number_seconds", stats.bulk_number_seconds},
                               {"share_cut_seconds", stats.share_cut_seconds},
+                              {"chain_shares_direct", stats.chain_shares_direct},
                               {"pieces_from_checkpoint", stats.pieces_from_checkpoint},
                               {"bytes_received", stats.bytes_received}});
   }

@@ -55,7 +55,11 @@ std::string broadcast_text(const std::string& text) {
       bounded([&] { return broadcast_int(static_cast<int>(text.size()), 0, job_comm(), collective_limit()); });
   std::string received = text;
   received.resize(static_cast<std::size_t>(size));
-  MPI_Bcast(received.data(), size, MPI_CHAR, 0, job_comm());
+  // (Bounded too: past MPI's eager limit rank 0 waits for every rank to take the text.)
+  bounded([&] {
+    broadcast_bytes(received.data(), received.size(), 0, job_comm(), collective_limit());
+    return 0;
+  });
   return received;
 }
 

@@ -18,7 +18,7 @@ constexpr int kTagBlock = 3;
 constexpr int kTagVerdict = 5;   // rank 1's verdict on the input
 constexpr int kTagFindings = 6;  // another checking rank's findings, to rank 1
 constexpr int kTagBulk = 8;      // a kept bulk, back to rank 0
-constexpr int kTagShare = 10;    // the shares of a seam chain of the band parts a rank keeps, to rank 0 (kTagAlive is 9)
+constexpr int kTagShare = 10;    // the shares of a seam chain of the band parts a rank keeps, to its healing rank (kTagAlive is 9)
 constexpr int kTagText = 6;      // during the writes, a worker's text or answer to rank 0 (no findings then)
 enum Command : int {
   kDone = 0,

@@ -7,9 +7,11 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "common/awake_clock.hpp"
+#include "common/balanced_ranks.hpp"
 #include "common/log.hpp"
 #include "common/test_hooks.hpp"
 #include "mpi/heartbeat.hpp"
@@ -37,9 +39,10 @@ constexpr std::chrono::microseconds kShortestIdle{50}, kLongestIdle{5000};
 // owner the band, and gets the band grown ("" when it could not). The workers wait for commands
 // then. The owners keep the band parts too: their crossings alone travel to grow them (the band
 // part stays with its owner), and before the chains are welded rank 0 broadcasts kCutShares and
-// the plan: each owner cuts its shares of every chain and sends them at once, one message per
-// chain in rank 0's order, which rank 0 takes as it welds each chain, while the owners heal
-// others. A band part comes back (kSendBand) only when the band must be welded after all.
+// the plan with the rank that heals each chain: each owner cuts its shares of every chain and
+// sends them at once straight to that rank, one message per chain in rank 0's order, which the
+// healing rank takes as it welds the chain (rank 0 those of its own chains). A band part comes
+// back (kSendBand) only when the band must be welded after all.
 class RemoteBulks : public BulkStore {
  public:
   explicit RemoteBulks(RankStats& stats) : stats_(stats), limit_(test_hooks::kept_bulk_seconds(kWorkerSeconds)) {}
@@ -95,17 +98,47 @@ class RemoteBulks : public BulkStore {
   PieceBand take_band(int piece) override {
     return deserialize_grown_band(ask_owner(kSendBand, piece, "the band part of piece " + std::to_string(piece)));
   }
-  void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) override {
+  void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order,
+                  const std::vector<int>& healers) override {
     take_pending_shares();
-    std::map<int, std::set<int>> ranks;  // by chain: those with a share of it
-    for (const BandPartPlan& plan : plans)
-      for (const int chain : chains_of(plan)) ranks[chain].insert(owner_of(plan.place.piece));
+    std::map<int, std::set<int>> ranks;                // by chain: those with a share of it
+    std::map<int, std::vector<BandPartPlan>> of_rank;  // the plans of the band parts each rank keeps
+    for (const BandPartPlan& plan : plans) {
+      const int owner = owner_of(plan.place.piece);
+      for (const int chain : chains_of(plan)) ranks[chain].insert(owner);
+      of_rank[owner].push_back(plan);
+    }
     broadcast(kCutShares);
-    broadcast_text(serialize_share_plan(plans, order));
-    for (const int chain : order)
-      if (const auto it = ranks.find(chain); it != ranks.end())
-        pending_.push_back({chain, std::vector<int>(it->second.begin(), it->second.end())});
+    int size = 1;
+    MPI_Comm_size(job_comm(), &size);
+    for (int rank = 1; rank < size; ++rank)  // (to each its own: a stopped rank is named, not waited for)
+      try {
+        stats_.bytes_sent += static_cast<double>(send_bytes(serialize_share_plan(of_rank[rank], order, healers), rank,
+                                                            kTagBulk, job_comm(), kMaxChunk, limit_));
+      } catch (const Stalled&) {
+        silent(rank, "take the plan of the seam chains' shares");
+      }
+    elsewhere_.assign(order.size(), ChainElsewhere());
+    for (std::size_t j = 0; j < order.size(); ++j) {
+      const int chain = order[j];
+      elsewhere_[j].chain = chain;
+      const auto it = ranks.find(chain);
+      if (it == ranks.end()) continue;
+      std::vector<int> with_shares(it->second.begin(), it->second.end());
+      if (healers.at(static_cast<std::size_t>(chain)) == 0)
+        pending_.push_back({chain, std::move(with_shares)});
+      else
+        elsewhere_[j].ranks.assign(with_shares.begin(), with_shares.end());
+    }
   }
+  // The chain handed out j-th: its number in the owners' plan and the ranks that send its shares
+  // to the rank that heals it (none when cut_shares was not asked; cleared by end_chains).
+  std::pair<std::int32_t, std::vector<std::int32_t>> shares_elsewhere(std::size_t j) const {
+    if (j >= elsewhere_.size()) return {-1, {}};
+    return {elsewhere_[j].chain, elsewhere_[j].ranks};
+  }
+  void end_chains() { elsewhere_.clear(); }
+  double limit() const { return limit_; }
   // Asked for in the order given to cut_shares (the ranks sent them in that order). Every rank's
   // message is taken before an empty one (a rank that could not cut them) throws.
   std::vector<ChainShare> shares(int chain) override {
@@ -192,6 +225,11 @@ class RemoteBulks : public BulkStore {
     std::vector<int> ranks;  // those whose shares of it rank 0 has not taken yet, ascending
   };
   std::deque<PendingChain> pending_;  // in the order the ranks send them
+  struct ChainElsewhere {
+    std::int32_t chain = -1;
+    std::vector<std::int32_t> ranks;  // those sending their shares of it to its healing rank
+  };
+  std::vector<ChainElsewhere> elsewhere_;  // by place in the order, for the chains healed elsewhere
 };
 
 // Rank 0's side of the meshing, a dynamic master/worker queue: each piece goes to whichever
@@ -312,23 +350,30 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
-  // Seam healing chain by chain: a free worker takes the next chain whole (its regions meshed
-  // there), and this rank heals chains too, looking at MPI while its regions are meshed, so that
-  // a worker done with its chain gets the next at once.
+  // Seam healing chain by chain: each chain is healed whole (its regions meshed there) by the
+  // rank planned for it (chain_ranks), which the owners of its band parts send their shares to;
+  // a worker takes the next of its chains as soon as it is free, and this rank heals its own,
+  // looking at MPI while its regions are meshed.
   bool heals_chains_on_ranks() const override { return size_ > 1; }
+
+  std::vector<int> chain_ranks(const std::vector<std::size_t>& tets) override {
+    chain_ranks_ = balanced_ranks(tets, size_);
+    return chain_ranks_;
+  }
 
   std::vector<HealedChain> heal_chains(std::size_t count, const ChainCutter& cut_out, const HealOptions& heal,
                                        const TetgenOptions& tetgen) override {
+    if (chain_ranks_.size() != count) throw InternalError("the seam chains were handed out without a plan");
     begin_round(tetgen);
-    chain_round_.emplace(ChainRound{&cut_out, heal, tetgen, {}, std::vector<HealedChain>(count), 0, std::nullopt});
-    for (std::size_t i = 0; i < count; ++i) chain_round_->queue.push_back(i);
+    chain_round_.emplace(ChainRound{&cut_out, heal, tetgen, {}, std::vector<HealedChain>(count), 0, {}});
+    for (std::size_t i = 0; i < count; ++i) chain_round_->queues[chain_ranks_[i]].push_back(i);
     std::chrono::microseconds idle = kShortestIdle;
     while (chain_round_->done < count) {
       dispatch_chains();
       bool replied = false;
       while (receive_reply()) replied = true;
       check_workers_answer();
-      if (chain_round_->waiting()) {
+      if (chain_round_->waiting(0)) {
         heal_chain_here();
         idle = kShortestIdle;
       } else {
@@ -339,6 +384,8 @@ class RootScheduler : public PieceScheduler {
     take_alive();
     std::vector<HealedChain> healed = std::move(chain_round_->healed);
     chain_round_.reset();
+    chain_ranks_.clear();
+    remote_.end_chains();
     return healed;
   }
 
@@ -400,10 +447,15 @@ class RootScheduler : public PieceScheduler {
     }
   }
 
+  // Each free worker takes the next of the chains planned for it.
   void dispatch_chains() {
-    while (!idle_.empty() && chain_round_->waiting()) {
-      const int worker = idle_.back();
-      idle_.pop_back();
+    for (auto it = idle_.begin(); it != idle_.end();) {
+      const int worker = *it;
+      if (!chain_round_->waiting(worker)) {
+        ++it;
+        continue;
+      }
+      it = idle_.erase(it);
       send_chain(worker);
     }
   }
@@ -411,65 +463,71 @@ class RootScheduler : public PieceScheduler {
   struct GatheredChain {
     std::size_t index;  // the chain's
     ChainShares shares;
+    std::optional<std::string> failure;  // why it could not be gathered here (then no shares)
   };
 
-  // The next chain in the order, its shares gathered (the one gathered ahead, if any); none when
-  // they could not be (it failed) or none is left.
-  std::optional<GatheredChain> next_chain() {
+  // The next chain planned for `rank`, gathered (the one gathered ahead, if any); none when none
+  // is left.
+  std::optional<GatheredChain> next_chain(int rank) {
     std::optional<GatheredChain> next;
-    if (chain_round_->ahead) {
-      next.swap(chain_round_->ahead);
-    } else if (!chain_round_->queue.empty()) {
-      const std::size_t chain = chain_round_->queue.front();
-      chain_round_->queue.pop_front();
-      if (std::optional<ChainShares> cut = cut_out(chain)) next = GatheredChain{chain, std::move(*cut)};
+    if (const auto ahead = chain_round_->ahead.find(rank); ahead != chain_round_->ahead.end()) {
+      next = std::move(ahead->second);
+      chain_round_->ahead.erase(ahead);
+    } else if (std::deque<std::size_t>& queue = chain_round_->queues[rank]; !queue.empty()) {
+      const std::size_t chain = queue.front();
+      queue.pop_front();
+      next = GatheredChain{chain, {}, std::nullopt};
+      next->failure = error_of([&] { next->shares = (*chain_round_->cut_out)(chain); });
+      if (next->failure) warn_unmade(chain, "gathered", *next->failure);
     }
     return next;
   }
 
-  // While this rank heals a chain and every worker is busy: the next chain's shares gathered now.
+  // While this rank heals a chain: the next chain of a busy worker gathered now, so that it gets
+  // it at once when it is free.
   void gather_ahead() {
-    if (!idle_.empty() || chain_round_->ahead || chain_round_->queue.empty()) return;
-    chain_round_->ahead = next_chain();
-    if (chain_round_->ahead)
-      log::debug("seam chain " + std::to_string(chain_round_->ahead->index) + "'s shares gathered ahead");
+    for (const auto& [worker, busy] : busy_)
+      if (!chain_round_->ahead.count(worker) && !chain_round_->queues[worker].empty()) {
+        std::optional<GatheredChain> next = next_chain(worker);
+        log::debug("seam chain " + std::to_string(next->index) + " gathered ahead for rank " + std::to_string(worker));
+        chain_round_->ahead.emplace(worker, std::move(*next));
+        return;
+      }
   }
 
   // A chain takes as long as its regions: its deadline is the longest rank 0 waits for anything,
   // from the worker's latest heartbeat (take_alive); its heartbeats, from the start, tell a
-  // stopped or dead rank within kSilentSeconds.
+  // stopped or dead rank within kSilentSeconds. The worker takes the rest of its shares from the
+  // ranks that keep them; a chain that could not be gathered here still goes, so that the worker
+  // takes them, and fails there.
   void send_chain(int worker) {
-    std::optional<GatheredChain> cut = next_chain();  // (its gathering is not sending: the log has it)
+    std::optional<GatheredChain> cut = next_chain(worker);  // (its gathering is not sending: the log has it)
     if (!cut) {
       idle_.push_back(worker);
       return;
     }
     AddSeconds timer{stats_.send_seconds};
     const std::size_t chain = cut->index;
-    ChainTask task{static_cast<std::int32_t>(chain), std::move(cut->shares), chain_round_->heal, chain_round_->tetgen};
+    ChainTask task;
+    task.index = static_cast<std::int32_t>(chain);
+    task.chain = std::move(cut->shares);
+    task.heal = chain_round_->heal;
+    task.tetgen = chain_round_->tetgen;
+    std::tie(task.shares_of, task.share_ranks) = remote_.shares_elsewhere(chain);
+    task.failure = cut->failure.value_or("");
     cut.reset();
     const std::string bytes = serialize_chain_task(task);
     task = ChainTask();
     busy_[worker] = {awake_seconds() + kRootSeconds, static_cast<int>(chain), false, ++tasks_[worker]};
     busy_[worker].chain = true;
     account_meshing();
+    const double limit = remote_.limit();  // (as for the shares it sends the chain's rank)
     try {
-      stats_.bytes_sent +=
-          static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, kWorkerSeconds));
+      stats_.bytes_sent += static_cast<double>(send_bytes(bytes, worker, kTagPiece, job_comm(), kMaxChunk, limit));
     } catch (const Stalled&) {
       abort_job("rank " + std::to_string(worker) + " did not take seam chain " + std::to_string(chain) + " within " +
-                std::to_string(static_cast<int>(kWorkerSeconds)) + " s (stopped or dead?)");
+                std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)");
     }
-  }
-
-  // The chain's shares gathered from its pieces; a chain whose shares cannot be is a chain that
-  // failed (its seams then heal over the whole mesh), not an end to the round the other ranks are in.
-  std::optional<ChainShares> cut_out(std::size_t chain) {
-    std::optional<ChainShares> shares;
-    const std::optional<std::string> why = error_of([&] { shares = (*chain_round_->cut_out)(chain); });
-    if (!why) return shares;
-    chain_done(chain, failed_chain(chain, "gathered", {}, *why), 0);
-    return std::nullopt;
   }
 
   // What `work` threw, as a chain's failure says it (none when it did not throw).
@@ -485,10 +543,12 @@ class RootScheduler : public PieceScheduler {
     return std::nullopt;
   }
 
-  // A chain that could not be gathered or welded from its pieces' shares: it failed (its seams
-  // then heal over the whole mesh), and the log says why.
-  static HealedChain failed_chain(std::size_t chain, const char* how, std::vector<int> planes, const std::string& why) {
+  // A chain that could not be gathered or welded from its pieces' shares failed (its seams then
+  // heal over the whole mesh); the log says why.
+  static void warn_unmade(std::size_t chain, const char* how, const std::string& why) {
     log::warning("seam chain " + std::to_string(chain) + " could not be " + how + " from its pieces' shares: " + why);
+  }
+  static HealedChain failed_chain(std::vector<int> planes, const std::string& why) {
     HealedChain failed;
     failed.failure = Failure(FailureKind::other, -1, std::move(planes), why);
     return failed;
@@ -513,9 +573,13 @@ class RootScheduler : public PieceScheduler {
       }
       return outcomes;
     };
-    std::optional<GatheredChain> cut = next_chain();
+    std::optional<GatheredChain> cut = next_chain(0);
     if (!cut) return;
     const std::size_t chain = cut->index;
+    if (cut->failure) {  // (a chain failed is not an end to the round the other ranks are in)
+      chain_done(chain, failed_chain({}, *cut->failure), 0);
+      return;
+    }
     AddSeconds timer{stats_.region_seconds};
     healing_here_ = true;
     account_meshing();
@@ -527,14 +591,15 @@ class RootScheduler : public PieceScheduler {
   }
 
   // The chain welded and healed here; one that cannot be welded failed, as one whose shares
-  // could not be gathered (cut_out).
+  // could not be gathered.
   static HealedChain weld_and_heal(std::size_t chain, ChainShares&& shares, const HealOptions& heal,
                                    const RegionMesher& here) {
     std::vector<int> planes = shares.split.planes;
     ChainBand band;
     const std::optional<std::string> why = error_of([&] { band = weld_chain(std::move(shares)); });
     if (!why) return heal_chain(std::move(band), heal, here);
-    return failed_chain(chain, "welded", std::move(planes), *why);
+    warn_unmade(chain, "welded", *why);
+    return failed_chain(std::move(planes), *why);
   }
 
   void chain_done(std::size_t chain, HealedChain&& healed, int rank) {
@@ -808,14 +873,17 @@ class RootScheduler : public PieceScheduler {
     const ChainCutter* cut_out;
     HealOptions heal;
     TetgenOptions tetgen;
-    std::deque<std::size_t> queue;  // chains not handed out yet
+    std::map<int, std::deque<std::size_t>> queues;  // by rank: its chains not handed out yet
     std::vector<HealedChain> healed;
     std::size_t done;
-    // The next chain, welded ahead while this rank heals one and every worker is busy, so that
-    // the next worker to be free gets it at once.
-    std::optional<GatheredChain> ahead;
-    bool waiting() const { return ahead || !queue.empty(); }
+    // By worker: its next chain, gathered while this rank heals one (gather_ahead).
+    std::map<int, GatheredChain> ahead;
+    bool waiting(int rank) const {
+      const auto queue = queues.find(rank);
+      return ahead.count(rank) || (queue != queues.end() && !queue->second.empty());
+    }
   };
+  std::vector<int> chain_ranks_;           // the rank planned for each chain (by place)
   std::optional<ChainRound> chain_round_;  // while heal_chains runs
   bool healing_here_ = false;              // this rank heals a chain
   std::unique_ptr<PieceJob> own_;

@@ -40,44 +40,6 @@ std::string reply_with_heartbeats(PieceJob& job, Heartbeat& heartbeat, int rank)
   return job.take_reply();
 }
 
-// A worker's part of seam healing: welds a chain of the seams from its pieces' shares and heals
-// it whole, its regions in TetGen processes here one after another, and sends rank 0 the healed
-// chain or its failure. Its
-// heartbeats go on from the start to the reply (heartbeat.hpp).
-void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob& job, int rank, RankStats& stats) {
-  ChainTask chain = deserialize_chain_task(bytes);
-  std::string().swap(bytes);
-  const PieceRunner runner(chain.tetgen, job.options.run);
-  Heartbeat heartbeat(job_comm(), task);
-  heartbeat.meshing();
-  test_hooks::chain_stop(rank);
-  const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
-    std::vector<PieceOutcome> outcomes;
-    for (const PieceSurface& region : regions)
-      outcomes.push_back(deserialize_outcome(reply_with_heartbeats(*runner.start(region), heartbeat, rank)));
-    return outcomes;
-  };
-  HealedChain healed;
-  const std::int32_t index = chain.index;
-  const std::vector<int> planes = chain.chain.split.planes;
-  try {
-    AddSeconds timer{stats.region_seconds};
-    healed = heal_chain(weld_chain(std::move(chain.chain)), chain.heal, here);
-  } catch (const std::bad_alloc&) {
-    healed = HealedChain();
-    healed.failure = Failure(FailureKind::other, -1, planes, out_of_memory_message(rank));
-  } catch (const std::exception& e) {
-    healed = HealedChain();
-    healed.failure = Failure(FailureKind::other, -1, planes, e.what());
-  }
-  chain = ChainTask();
-  heartbeat.done();
-  const std::string reply = serialize_chain_outcome(index, healed);
-  AddSeconds timer{stats.send_seconds};
-  stats.bytes_sent += static_cast<double>(
-      bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
-}
-
 }  // namespace
 
 // The bulks a worker keeps: of the pieces it meshed and split in rank 0's latest attempt; with
@@ -86,14 +48,12 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
 // from them wait here until rank 0 takes them.
 class KeptBulks {
  public:
-  KeptBulks(const std::string& scratch, RankStats& stats)
-      : scratch_(scratch), stats_(stats), shares_out_(0, kTagShare, job_comm(), kRootSeconds) {
-    new_attempt(-1);
-  }
-  // Rank 0 takes every share before it ends the job (RemoteBulks).
+  KeptBulks(const std::string& scratch, RankStats& stats) : scratch_(scratch), stats_(stats) { new_attempt(-1); }
+  // The ranks that heal the chains take every share before the job ends (rank 0 those it did
+  // not heal: RemoteBulks).
   ~KeptBulks() {
     bounded([this] {
-      shares_out_.wait_all();
+      for (auto& [rank, queue] : shares_out_) queue.wait_all();
       return 0;
     });
   }
@@ -103,6 +63,7 @@ class KeptBulks {
     attempt_ = attempt;
     bulks_.clear();
     shares_.clear();
+    own_shares_.clear();
     bands_.clear();
     on_disk_.reset();
     if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
@@ -152,13 +113,32 @@ class KeptBulks {
     return kept;
   }
   KeptBandParts& bands() { return bands_; }
-  // A chain's shares, to rank 0 as soon as it takes them (in the order pushed).
-  void push_shares(std::string bytes) {
+  // A chain's shares ("": they could not be cut) for the rank that heals it: sent at once (taken
+  // in the order pushed), or kept when it is this one.
+  void push_shares(int healer, int chain, std::string bytes) {
+    if (healer == my_rank()) {
+      own_shares_[chain] = std::move(bytes);
+      return;
+    }
     stats_.bytes_sent += static_cast<double>(bytes.size());
-    shares_out_.push(std::move(bytes));
+    auto queue = shares_out_.find(healer);
+    if (queue == shares_out_.end())
+      queue = shares_out_.try_emplace(healer, healer, kTagShare, job_comm(), kRootSeconds).first;
+    queue->second.push(std::move(bytes));
   }
-  // Lets go of the shares rank 0 has taken.
-  void release_taken_shares() { shares_out_.bytes_waiting(); }
+  // The shares this rank cut of a chain it heals, once.
+  std::string take_own_shares(int chain) {
+    const auto it = own_shares_.find(chain);
+    if (it == own_shares_.end())
+      throw InternalError("this rank kept no shares of seam chain " + std::to_string(chain) + " of its plan");
+    std::string bytes = std::move(it->second);
+    own_shares_.erase(it);
+    return bytes;
+  }
+  // Lets go of the shares the healing ranks have taken.
+  void release_taken_shares() {
+    for (auto& [rank, queue] : shares_out_) queue.bytes_waiting();
+  }
   // Piece's bulk, once; nothing when this rank does not keep it.
   std::optional<TetBlock> take(int piece) {
     if (auto it = bulks_.find(piece); it != bulks_.end()) {
@@ -185,7 +165,8 @@ class KeptBulks {
   std::unique_ptr<ScratchBulks> on_disk_;
   std::map<int, BulkShare> shares_;  // by piece: the numbering of a bulk on disk, for its take
   KeptBandParts bands_;
-  SendQueue shares_out_;  // the chains' shares of the band parts, not yet taken by rank 0
+  std::map<int, SendQueue> shares_out_;    // by healing rank: the chains' shares not yet taken there
+  std::map<int, std::string> own_shares_;  // by chain: the shares of those this rank heals
 };
 
 namespace {
@@ -292,15 +273,109 @@ void send_kept_band(KeptBulks& kept, RankStats& stats) {
       static_cast<double>(bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
 }
 
+// The rest of a chain's shares, after those rank 0 gave: from the ranks that keep them (this one
+// among them), each taken even after one could not be cut, so that no rank waits on a message
+// nobody takes; returns why the chain cannot be welded (none: it can). A rank silent for the
+// wait on kept bulks ends the job, named.
+std::optional<std::string> take_chain_shares(ChainTask& task, KeptBulks& kept, RankStats& stats) {
+  std::optional<std::string> why;
+  if (!task.failure.empty()) why = task.failure;
+  const std::string chain = "seam chain " + std::to_string(task.index);
+  const double limit = test_hooks::kept_bulk_seconds(kWorkerSeconds);
+  for (const std::int32_t from : task.share_ranks) {
+    const std::string rank = "rank " + std::to_string(from);
+    std::optional<std::string> bytes;
+    if (from == my_rank()) {
+      try {
+        bytes = kept.take_own_shares(task.shares_of);
+      } catch (const std::exception& e) {
+        if (!why) why = e.what();
+        continue;
+      }
+    } else {
+      AddSeconds timer{stats.receive_seconds};
+      try {
+        bytes = recv_bytes(from, kTagShare, job_comm(), kMaxChunk, limit);
+      } catch (const Stalled&) {
+        abort_job(rank + " did not send its shares of " + chain + " of the band parts it kept within " +
+                  std::to_string(static_cast<int>(limit)) + " s (stopped or dead?)");
+      }
+      stats.bytes_received += static_cast<double>(bytes->size());
+    }
+    if (why) continue;
+    if (bytes->empty()) {
+      why = rank + " could not cut its shares of " + chain + " from the band parts it kept (its log says why)";
+      continue;
+    }
+    try {
+      for (ChainShare& share : deserialize_chain_shares(*bytes)) {
+        if (share.chain != task.shares_of) throw InternalError(rank + " sent the shares of another seam chain");
+        task.chain.shares.push_back(std::move(share));
+      }
+      stats.chain_shares_direct += 1;
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+  }
+  return why;
+}
+
+// A worker's part of seam healing: welds a chain of the seams from its pieces' shares (rank 0's
+// in the task, the others' from the ranks that keep them) and heals it whole, its regions in
+// TetGen processes here one after another, and sends rank 0 the healed chain or its failure.
+// Its heartbeats go on from the start to the reply (heartbeat.hpp).
+void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob& job, int rank, KeptBulks& kept,
+                         RankStats& stats) {
+  ChainTask chain = deserialize_chain_task(bytes);
+  std::string().swap(bytes);
+  const PieceRunner runner(chain.tetgen, job.options.run);
+  Heartbeat heartbeat(job_comm(), task);
+  heartbeat.meshing();
+  test_hooks::chain_stop(rank);
+  const RegionMesher here = [&](const std::vector<PieceSurface>& regions) {
+    std::vector<PieceOutcome> outcomes;
+    for (const PieceSurface& region : regions)
+      outcomes.push_back(deserialize_outcome(reply_with_heartbeats(*runner.start(region), heartbeat, rank)));
+    return outcomes;
+  };
+  HealedChain healed;
+  const std::int32_t index = chain.index;
+  const std::vector<int> planes = chain.chain.split.planes;
+  try {
+    AddSeconds timer{stats.region_seconds};
+    if (const std::optional<std::string> why = take_chain_shares(chain, kept, stats)) {
+      log::warning("seam chain " + std::to_string(index) + " could not be gathered from its pieces' shares: " + *why);
+      healed.failure = Failure(FailureKind::other, -1, planes, *why);
+    } else {
+      healed = heal_chain(weld_chain(std::move(chain.chain)), chain.heal, here);
+    }
+  } catch (const std::bad_alloc&) {
+    healed = HealedChain();
+    healed.failure = Failure(FailureKind::other, -1, planes, out_of_memory_message(rank));
+  } catch (const std::exception& e) {
+    healed = HealedChain();
+    healed.failure = Failure(FailureKind::other, -1, planes, e.what());
+  }
+  chain = ChainTask();
+  heartbeat.done();
+  const std::string reply = serialize_chain_outcome(index, healed);
+  AddSeconds timer{stats.send_seconds};
+  stats.bytes_sent += static_cast<double>(
+      bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
+}
+
 // A worker's side of kCutShares: the shares of every chain of the band parts it keeps, cut now
-// and sent to rank 0 in its order, to take as it welds each chain (kTagShare). A chain whose
-// shares could not be cut gets an empty message: rank 0 takes that chain for failed.
+// and sent in rank 0's order straight to the rank that heals the chain (kept here when it is this
+// one), to take as it welds the chain (kTagShare). A chain whose shares could not be cut gets an
+// empty message: its healing rank takes that chain for failed.
 void cut_kept_shares(KeptBulks& kept, RankStats& stats) {
   AddSeconds timer{stats.share_cut_seconds};
   std::vector<BandPartPlan> plans, here;
-  std::vector<int> order;
-  deserialize_share_plan(broadcast_text(""), plans, order);
-  std::set<int> chains;  // those rank 0 waits for from this rank
+  std::vector<int> order, healers;
+  const std::string plan = bounded([] { return recv_bytes(0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); });
+  stats.bytes_received += static_cast<double>(plan.size());
+  deserialize_share_plan(plan, plans, order, healers);
+  std::set<int> chains;  // those whose healing ranks wait for shares from this rank
   for (BandPartPlan& plan : plans) {
     if (!kept.bands().holds(plan.place.piece)) continue;
     for (const int chain : chains_of(plan)) chains.insert(chain);
@@ -311,13 +386,14 @@ void cut_kept_shares(KeptBulks& kept, RankStats& stats) {
   try {
     test_hooks::kept_shares_failure(my_rank());
     kept.bands().cut_shares(here, order, [&](int chain, std::vector<ChainShare>&& shares) {
-      kept.push_shares(serialize_chain_shares(shares));
+      kept.push_shares(healers.at(static_cast<std::size_t>(chain)), chain, serialize_chain_shares(shares));
       sent.insert(chain);
     });
   } catch (const std::exception& e) {
     log::error(std::string("the seam chains' shares of the band parts kept here: ") + e.what());
     for (const int chain : order)
-      if (chains.count(chain) && !sent.count(chain)) kept.push_shares("");
+      if (chains.count(chain) && !sent.count(chain))
+        kept.push_shares(healers.at(static_cast<std::size_t>(chain)), chain, "");
   }
 }
 
@@ -441,7 +517,7 @@ void Worker::mesh_rounds() {
         continue;
       }
       if (task_kind(bytes) == TaskKind::chain) {
-        heal_chain_for_root(std::move(bytes), tasks, job, rank, stats);
+        heal_chain_for_root(std::move(bytes), tasks, job, rank, kept, stats);
         continue;
       }
       TetgenOptions tetgen;

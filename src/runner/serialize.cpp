@@ -484,9 +484,11 @@ std::string serialize_grown_band(const PieceBand& grown) {
 
 PieceBand deserialize_grown_band(std::string_view bytes) { return deserialize_band(bytes); }
 
-std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const std::vector<int>& order) {
-  return encode(64 + plans.size() * 64 + order.size() * 4, [&](auto& ar) {
+std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const std::vector<int>& order,
+                                 const std::vector<int>& healers) {
+  return encode(64 + plans.size() * 64 + order.size() * 8, [&](auto& ar) {
     save_block(ar, order);
+    save_block(ar, healers);
     const std::uint64_t count = plans.size();
     ar << count;
     for (const BandPartPlan& plan : plans) {
@@ -498,9 +500,14 @@ std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const s
   });
 }
 
-void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& plans, std::vector<int>& order) {
+void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& plans, std::vector<int>& order,
+                            std::vector<int>& healers) {
   plans = decode<std::vector<BandPartPlan>>(bytes, [&](auto& ar, std::vector<BandPartPlan>& all) {
     load_block(ar, order);
+    load_block(ar, healers);
+    const auto chains = static_cast<int>(healers.size());
+    if (std::any_of(order.begin(), order.end(), [&](int c) { return c < 0 || c >= chains; }))
+      throw InternalError("the seam chains' plan names a chain without a healing rank");
     std::uint64_t count = 0;
     ar >> count;
     for (std::uint64_t i = 0; i < count; ++i) {
@@ -552,7 +559,7 @@ void load_chain_shares(Archive& ar, std::vector<ChainShare>& shares) {
     load_block(ar, share.point_ids);
     load_block(ar, share.points);
     if (share.neighbours.size() != share.tets.size() || share.band_tets.size() != share.tets.size() ||
-        share.points.size() != share.point_ids.size())
+        share.points.size() > share.point_ids.size())
       throw InternalError("a seam chain's share came with arrays of different lengths");
   }
 }
@@ -780,6 +787,8 @@ void save_chain_split(Archive& ar, const ChainSplit& split) {
   ar << boost::serialization::make_array(ranges, 3);
   const std::vector<std::int32_t> planes(split.planes.begin(), split.planes.end());
   save_block(ar, planes);
+  save_block(ar, split.point_ids);
+  save_block(ar, split.points);
   save_block(ar, split.cut_vertices);
   save_block(ar, split.cut_vertex_plane);
   save_block(ar, split.cap_points);
@@ -797,6 +806,8 @@ void load_chain_split(Archive& ar, ChainSplit& split) {
   std::vector<std::int32_t> planes;
   load_block(ar, planes);
   split.planes.assign(planes.begin(), planes.end());
+  load_block(ar, split.point_ids);
+  load_block(ar, split.points);
   load_block(ar, split.cut_vertices);
   load_block(ar, split.cut_vertex_plane);
   load_block(ar, split.cap_points);
@@ -807,7 +818,7 @@ void load_chain_split(Archive& ar, ChainSplit& split) {
   const auto parents = static_cast<std::int32_t>(split.input_triangles.size());
   const bool parents_known =
       std::all_of(split.parent.begin(), split.parent.end(), [&](std::int32_t p) { return p >= 0 && p < parents; });
-  if (split.cut_vertices.size() != split.cut_vertex_plane.size() ||
+  if (split.point_ids.size() != split.points.size() || split.cut_vertices.size() != split.cut_vertex_plane.size() ||
       split.cap_points.size() != split.cap_point_plane.size() || split.parent.size() != split.triangles.size() ||
       !parents_known)
     throw InternalError("a seam chain's split came with arrays that do not match");
@@ -818,14 +829,20 @@ void load_chain_split(Archive& ar, ChainSplit& split) {
 std::string serialize_chain_task(const ChainTask& task) {
   const ChainSplit& split = task.chain.split;
   const std::size_t bytes = 256 + chain_share_bytes(task.chain.shares) + split.triangles.size() * 28 +
-                            (split.cut_vertices.size() + split.cap_points.size()) * 8;
+                            split.point_ids.size() * 28 + (split.cut_vertices.size() + split.cap_points.size()) * 8;
   return encode(
       bytes,
       [&](auto& ar) {
-        const std::int32_t head[5] = {task.index, task.heal.remove_cap_points, task.heal.layers,
-                                      task.tetgen.boundary_points, task.heal.chain_links};
-        ar << boost::serialization::make_array(head, 5);
-        ar << task.tetgen.quality << task.tetgen.tolerance << task.tetgen.optimization;
+        const std::int32_t head[7] = {task.index,
+                                      task.heal.remove_cap_points,
+                                      task.heal.layers,
+                                      task.tetgen.boundary_points,
+                                      task.heal.chain_links,
+                                      task.heal.chain_band_tets,
+                                      task.shares_of};
+        ar << boost::serialization::make_array(head, 7);
+        ar << task.tetgen.quality << task.tetgen.tolerance << task.tetgen.optimization << task.failure;
+        save_block(ar, task.share_ranks);
         save_chain_split(ar, split);
         save_chain_shares(ar, task.chain.shares);
       },
@@ -836,14 +853,17 @@ ChainTask deserialize_chain_task(std::string_view bytes) {
   if (task_kind(bytes) != TaskKind::chain) throw InternalError("a task was read as a chain of the seams");
   bytes.remove_prefix(1);
   return decode<ChainTask>(bytes, [](auto& ar, ChainTask& task) {
-    std::int32_t head[5] = {};
-    ar >> boost::serialization::make_array(head, 5);
+    std::int32_t head[7] = {};
+    ar >> boost::serialization::make_array(head, 7);
     task.index = head[0];
     task.heal.remove_cap_points = head[1] != 0;
     task.heal.layers = head[2];
     task.tetgen.boundary_points = head[3] != 0;
     task.heal.chain_links = head[4] != 0;
-    ar >> task.tetgen.quality >> task.tetgen.tolerance >> task.tetgen.optimization;
+    task.heal.chain_band_tets = head[5] != 0;
+    task.shares_of = head[6];
+    ar >> task.tetgen.quality >> task.tetgen.tolerance >> task.tetgen.optimization >> task.failure;
+    load_block(ar, task.share_ranks);
     load_chain_split(ar, task.chain.split);
     load_chain_shares(ar, task.chain.shares);
   });
@@ -857,8 +877,8 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         64 + failure.size(), [&](auto& ar) { ar << index << failure; }, std::string_view(&tag, 1));
   }
   return encode(
-      160 + healed.global_ids.size() * 4 + healed.new_points.size() * 24 + healed.tets.size() * 40 +
-          healed.links.first_tet.size() * 4 + healed.links.keys.size() * 20,
+      160 + (healed.global_ids.size() + healed.band_tets.size()) * 4 + healed.new_points.size() * 24 +
+          healed.tets.size() * 40 + healed.links.first_tet.size() * 4 + healed.links.keys.size() * 20,
       [&](auto& ar) {
         ar << index << healed.seconds;
         save_stats(ar, healed.stats);
@@ -868,6 +888,7 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         save_block(ar, healed.neighbours);
         save_block(ar, healed.piece);
         save_block(ar, healed.label);
+        save_block(ar, healed.band_tets);
         save_chain_links(ar, healed.links);
       },
       std::string_view(&tag, 1));
@@ -897,6 +918,7 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     load_block(ar, healed.neighbours);
     load_block(ar, healed.piece);
     load_block(ar, healed.label);
+    load_block(ar, healed.band_tets);
     load_chain_links(ar, healed.links);
   });
   const BlockLinks& links = chain.links;

@@ -40,9 +40,14 @@ CapBorder deserialize_cap_task(std::string_view bytes);
 // and its split), its index, the healing's options and its regions' TetGen options.
 struct ChainTask {
   std::int32_t index = 0;
-  ChainShares chain;
+  ChainShares chain;  // its split, and the shares rank 0 gives
   HealOptions heal;
   TetgenOptions tetgen;
+  // The ranks that send the rest of its shares straight to the healing rank (the healing rank
+  // itself among them when it keeps some), ascending, and the chain's number in their plan.
+  std::vector<std::int32_t> share_ranks;
+  std::int32_t shares_of = -1;
+  std::string failure;  // why rank 0 could not gather its part: the chain fails once its shares are taken
 };
 std::string serialize_chain_task(const ChainTask& task);
 ChainTask deserialize_chain_task(std::string_view bytes);
@@ -85,8 +90,10 @@ std::string serialize_grown_band(const PieceBand& grown);
 PieceBand deserialize_grown_band(std::string_view bytes);
 // The plan of the band parts a rank keeps (their places and chains of parts) and the order in
 // which rank 0 takes the chains, to the ranks that keep them; and their shares of one chain back.
-std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const std::vector<int>& order);
-void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& plans, std::vector<int>& order);
+std::string serialize_share_plan(const std::vector<BandPartPlan>& plans, const std::vector<int>& order,
+                                 const std::vector<int>& healers);
+void deserialize_share_plan(std::string_view bytes, std::vector<BandPartPlan>& plans, std::vector<int>& order,
+                            std::vector<int>& healers);
 std::string serialize_chain_shares(const std::vector<ChainShare>& shares);
 std::vector<ChainShare> deserialize_chain_shares(std::string_view bytes);
 // The numbering's shares of the bulks a rank keeps, from rank 0 (BulkStore::number).

@@ -22,6 +22,12 @@ struct BandPartPlan {
   std::vector<int> chain_of_part;
 };
 
+// The split surface's points (those below first_steiner) a band part's tets use, ascending: what
+// the chains' splits need of it (chain_split).
+std::vector<std::int32_t> split_points_of(const std::vector<Tet>& tets, std::int32_t first_steiner);
+// Those of several band parts (each ascending), merged: ascending, each once.
+std::vector<std::int32_t> merged_split_points(const std::vector<const std::vector<std::int32_t>*>& parts);
+
 // The seam chains the parts of plan's band part belong to, each once.
 std::set<int> chains_of(const BandPartPlan& plan);
 
@@ -37,9 +43,8 @@ class KeptBandParts {
   void fill(BandToGrow& band);
   // Piece's band part (band, band_steiner, band_tets), given back once.
   PieceBand take(int piece);
-  // Each chain's shares of the band parts kept here (chain_share; the split points' coordinates
-  // left to the welder), chain after chain in `order`, skipping chains without one here; a
-  // chain's shares in piece order.
+  // Each chain's shares of the band parts kept here (chain_share), chain after chain in `order`,
+  // skipping chains without one here; a chain's shares in piece order.
   void cut_shares(const std::vector<BandPartPlan>& plans, const std::vector<int>& order,
                   const std::function<void(int chain, std::vector<ChainShare>&& shares)>& each) const;
 

@@ -411,7 +411,8 @@ std::vector<BandPartPlace> Welder::band_part_places() const {
   return places;
 }
 
-void Welder::cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part, const std::vector<int>& order) {
+void Welder::cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part, const std::vector<int>& order,
+                             const std::vector<int>& healers) {
   const std::vector<BandPartPlace> places = band_part_places();
   std::map<BulkStore*, std::vector<BandPartPlan>> plans;
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
@@ -422,12 +423,12 @@ void Welder::cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part,
   }
   share_stores_.clear();
   for (auto& [store, kept] : plans) {
-    store->cut_shares(kept, order);
+    store->cut_shares(kept, order, healers);
     share_stores_.push_back(store);
   }
 }
 
-std::vector<ChainShare> Welder::kept_shares(int chain, const std::vector<Point3>& split_points) {
+std::vector<ChainShare> Welder::kept_shares(int chain) {
   std::vector<ChainShare> shares;
   for (BulkStore* store : share_stores_)
     for (ChainShare& share : store->shares(chain)) {
@@ -435,10 +436,23 @@ std::vector<ChainShare> Welder::kept_shares(int chain, const std::vector<Point3>
       if (share.chain != chain || p < 0 || static_cast<std::size_t>(p) >= blocks_.size() || !band_elsewhere_[p].kept ||
           stored_[p].store != store)
         mismatch(p, "'s band part gave a share of another chain or piece");
-      add_split_coordinates(share, split_points);
       shares.push_back(std::move(share));
     }
   return shares;
+}
+
+std::vector<std::int32_t> Welder::band_split_points(const std::vector<std::size_t>& pieces) const {
+  std::vector<std::vector<std::int32_t>> here;  // (those kept elsewhere came with the parts' links)
+  std::vector<const std::vector<std::int32_t>*> parts;
+  here.reserve(pieces.size());
+  for (const std::size_t p : pieces)
+    if (band_elsewhere_.at(p).kept) {
+      parts.push_back(&band_elsewhere_[p].split_points);
+    } else {
+      here.push_back(split_points_of(blocks_[p].tets, first_steiner_));
+      parts.push_back(&here.back());
+    }
+  return merged_split_points(parts);
 }
 
 void Welder::reserve_for_assembly(std::vector<Point3>& split_points) const {

@@ -49,9 +49,11 @@ class BulkStore {
   // once, when the band must be welded after all. Throws Error when it was lost.
   virtual PieceBand take_band(int piece);
   // Before the chains are welded: the band parts kept here cut into the chains' shares (plans:
-  // those parts' places, in the store's Steiner ids, and chains of parts), which `shares` then
-  // gives chain by chain, in `order` (their split points' coordinates left to the welder).
-  virtual void cut_shares(const std::vector<BandPartPlan>& /*plans*/, const std::vector<int>& /*order*/) {}
+  // those parts' places, in the store's Steiner ids, and chains of parts), each chain's sent to the
+  // rank that heals it (healers, by chain); `shares` then gives those of the chains healed by the
+  // welder's rank (0) chain by chain, in `order`.
+  virtual void cut_shares(const std::vector<BandPartPlan>& /*plans*/, const std::vector<int>& /*order*/,
+                          const std::vector<int>& /*healers*/) {}
   virtual std::vector<ChainShare> shares(int chain);
 };
 
@@ -107,13 +109,18 @@ class Welder {
   // Between the two: piece p's band part (its Steiner point b is split_point_count + b), and where
   // each piece's band part goes in the welded band (chain_share).
   // A band part kept where its piece was split (band_part_here false) has no tets here: its store
-  // cuts its shares (cut_kept_shares before the first chain, then kept_shares chain by chain, in
-  // `order`), and gives it back when the band is welded after all.
+  // cuts its shares (cut_kept_shares before the first chain, sending each chain's to the rank
+  // that heals it, then kept_shares chain by chain, in `order`, for those healed here), and gives
+  // it back when the band is welded after all.
   const TetBlock& band_part(std::size_t p) const { return blocks_.at(p); }
   bool band_part_here(std::size_t p) const { return !band_elsewhere_.at(p).kept; }
   std::vector<BandPartPlace> band_part_places() const;
-  void cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part, const std::vector<int>& order);
-  std::vector<ChainShare> kept_shares(int chain, const std::vector<Point3>& split_points);
+  void cut_kept_shares(const std::vector<std::vector<int>>& chain_of_part, const std::vector<int>& order,
+                       const std::vector<int>& healers);
+  std::vector<ChainShare> kept_shares(int chain);
+  // The split surface's points these pieces' band parts use, ascending: those a chain of them may
+  // use (its split: chain_split).
+  std::vector<std::int32_t> band_split_points(const std::vector<std::size_t>& pieces) const;
   // After split_bands, once: the links of each piece's band (band_part_links), which give the
   // chains (seam_chain_plan) without the welded band.
   std::vector<BandPartLinks> take_band_links() { return std::move(band_links_); }

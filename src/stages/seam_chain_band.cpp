@@ -79,33 +79,6 @@ void cut_out_tets(const TetMesh& band, ChainBand& chain) {
   }
 }
 
-// The chain's split in the band's ids: those of the chain's points `ids` (ascending) that are
-// cut vertices or caps' points with their planes, and its split triangles with their input
-// triangles, each input triangle once, in order of first use.
-ChainSplit chain_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<int>& planes,
-                       const std::vector<std::int32_t>& triangles, const std::vector<std::int32_t>& ids) {
-  const SplitRanges ranges(split);
-  ChainSplit chain{planes, ranges.first_cut, ranges.first_cap, ranges.end_caps};
-  const auto first = std::lower_bound(ids.begin(), ids.end(), ranges.first_cut);
-  for (auto it = first; it != ids.end() && *it < ranges.end_caps; ++it)
-    if (*it < ranges.first_cap) {
-      chain.cut_vertices.push_back(*it);
-      chain.cut_vertex_plane.push_back(split.cut_vertex_plane[*it - ranges.first_cut]);
-    } else {
-      chain.cap_points.push_back(*it);
-      chain.cap_point_plane.push_back(split.cap_point_plane[*it - ranges.first_cap]);
-    }
-  std::unordered_map<std::int32_t, std::int32_t> place;  // by input triangle
-  for (auto t : triangles) {
-    const std::int32_t parent = split.parent[t];
-    const auto [it, fresh] = place.emplace(parent, static_cast<std::int32_t>(chain.input_triangles.size()));
-    if (fresh) chain.input_triangles.push_back(input.triangles[parent]);
-    chain.triangles.push_back(split.triangles[t]);
-    chain.parent.push_back(it->second);
-  }
-  return chain;
-}
-
 // The planes of the chain's points (ids, ascending) in [from, to), from the ids listed (ascending)
 // with their planes. Throws InternalError when one is not listed.
 std::vector<std::int32_t> planes_of(const std::vector<std::int32_t>& ids, std::int32_t from, std::int32_t to,
@@ -138,16 +111,33 @@ void cut_out_split(ChainSplit&& split, ChainBand& chain) {
   for (const Triangle& t : split.input_triangles) chain.input.triangles.push_back(local_triangle(ids, t));
 }
 
+// Where the coordinates of each of the share's points are: its Steiner points' in the share, the
+// split surface's in the chain's split. Throws InternalError when the split lacks one.
+void coordinates_of(const ChainShare& share, const ChainSplit& split, std::vector<const Point3*>& where) {
+  const std::size_t steiner_from = share.point_ids.size() - share.points.size();
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < steiner_from; ++i) {
+    const std::int32_t id = share.point_ids[i];
+    while (at < split.point_ids.size() && split.point_ids[at] < id) ++at;
+    if (at == split.point_ids.size() || split.point_ids[at] != id)
+      throw InternalError("a seam chain's split lacks a point of the split surface its tets use");
+    where.push_back(&split.points[at]);
+  }
+  if (steiner_from < share.point_ids.size() && share.point_ids[steiner_from] < split.end_caps)
+    throw InternalError("a seam chain's share holds coordinates of the split surface's points");
+  for (const Point3& point : share.points) where.push_back(&point);
+}
+
 // The shares' points, merged by id, into the chain's points (global_ids, mesh.points); per point
 // of every share, in share order, its id in the chain (the shares' tets are numbered through it).
-std::vector<std::int32_t> weld_points(const std::vector<ChainShare>& shares, ChainBand& chain) {
+std::vector<std::int32_t> weld_points(const std::vector<ChainShare>& shares, const ChainSplit& split,
+                                      ChainBand& chain) {
   std::vector<std::pair<std::int32_t, std::uint32_t>> points;  // (band id, place among every share's points)
   std::vector<const Point3*> where;                            // by place
-  for (const ChainShare& share : shares)
-    for (std::size_t i = 0; i < share.point_ids.size(); ++i) {
-      points.emplace_back(share.point_ids[i], static_cast<std::uint32_t>(where.size()));
-      where.push_back(&share.points[i]);
-    }
+  for (const ChainShare& share : shares) {
+    for (const std::int32_t id : share.point_ids) points.emplace_back(id, static_cast<std::uint32_t>(points.size()));
+    coordinates_of(share, split, where);
+  }
   radix_sort(points, [](const auto& p) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(p.first)); });
   std::vector<std::int32_t> in_chain(points.size());
   for (const auto& [id, place] : points) {
@@ -205,6 +195,18 @@ void weld_tets(const std::vector<ChainShare>& shares, const std::vector<std::int
   connect_faces(chain.mesh.tets, chain.mesh.neighbours, open_faces_on_planes(chain, ranges));
 }
 
+// The shares with tets, by their first tet in the band (as weld_tets takes them). Throws
+// InternalError when they are of several chains.
+void order_shares(std::vector<ChainShare>& shares) {
+  for (const ChainShare& share : shares)
+    if (share.chain != shares.front().chain)
+      throw InternalError("a seam chain was welded from shares of several chains");
+  shares.erase(std::remove_if(shares.begin(), shares.end(), [](const ChainShare& s) { return s.band_tets.empty(); }),
+               shares.end());
+  std::sort(shares.begin(), shares.end(),
+            [](const ChainShare& a, const ChainShare& b) { return a.band_tets.front() < b.band_tets.front(); });
+}
+
 }  // namespace
 
 std::vector<std::vector<std::int32_t>> chain_split_triangles(const SplitSurface& split,
@@ -241,8 +243,8 @@ BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& ch
   return chains;
 }
 
-ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i, const BandPartPlace& place,
-                       const std::vector<Point3>& split_points) {
+ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
+                       const BandPartPlace& place) {
   const std::vector<std::int32_t>& tets = in_chains.tets.at(i);
   ChainShare share;
   share.chain = in_chains.chains.at(i);
@@ -264,41 +266,50 @@ ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, st
     share.tets.push_back(tet);
     share.neighbours.push_back(across);
   }
-  share.point_ids = renumber_locally(share.tets);  // (so that rank 0 welds without searching)
-  share.points.reserve(share.point_ids.size());
-  for (const std::int32_t id : share.point_ids)
-    share.points.push_back(id >= place.steiner_to
-                               ? band.steiner_points.at(static_cast<std::size_t>(id - place.steiner_to))
-                           : split_points.empty() ? Point3{}
-                                                  : split_points.at(static_cast<std::size_t>(id)));
+  share.point_ids = renumber_locally(share.tets);  // (so that the healing rank welds without searching)
+  const auto steiner = std::lower_bound(share.point_ids.begin(), share.point_ids.end(), place.steiner_to);
+  for (auto it = steiner; it != share.point_ids.end(); ++it)
+    share.points.push_back(band.steiner_points.at(static_cast<std::size_t>(*it - place.steiner_to)));
   return share;
 }
 
-void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points) {
-  for (std::size_t i = 0;
-       i < share.point_ids.size() && share.point_ids[i] < static_cast<std::int32_t>(split_points.size()); ++i)
-    share.points[i] = split_points[static_cast<std::size_t>(share.point_ids[i])];
+// Those of `ids` that are cut vertices or caps' points with their planes (of any plane: a chain's
+// tets decide which it uses), and the coordinates of all.
+ChainSplit chain_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<Point3>& split_points,
+                       const std::vector<int>& planes, const std::vector<std::int32_t>& triangles,
+                       const std::vector<std::int32_t>& ids) {
+  const SplitRanges ranges(split);
+  ChainSplit chain;
+  chain.planes = planes;
+  chain.first_cut = ranges.first_cut, chain.first_cap = ranges.first_cap, chain.end_caps = ranges.end_caps;
+  chain.point_ids = ids;
+  chain.points.reserve(ids.size());
+  for (const std::int32_t id : ids) {
+    if (id < 0 || id >= ranges.end_caps) throw InternalError("a seam chain's split was asked for a point it has not");
+    chain.points.push_back(split_points.at(static_cast<std::size_t>(id)));
+    if (id >= ranges.first_cap) {
+      chain.cap_points.push_back(id);
+      chain.cap_point_plane.push_back(split.cap_point_plane[id - ranges.first_cap]);
+    } else if (id >= ranges.first_cut) {
+      chain.cut_vertices.push_back(id);
+      chain.cut_vertex_plane.push_back(split.cut_vertex_plane[id - ranges.first_cut]);
+    }
+  }
+  std::unordered_map<std::int32_t, std::int32_t> place;  // by input triangle
+  for (auto t : triangles) {
+    const std::int32_t parent = split.parent[t];
+    const auto [it, fresh] = place.emplace(parent, static_cast<std::int32_t>(chain.input_triangles.size()));
+    if (fresh) chain.input_triangles.push_back(input.triangles[parent]);
+    chain.triangles.push_back(split.triangles[t]);
+    chain.parent.push_back(it->second);
+  }
+  return chain;
 }
 
-ChainShares chain_shares(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
-                         const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles) {
-  for (const ChainShare& share : shares)
-    if (share.chain != shares.front().chain)
-      throw InternalError("a seam chain was welded from shares of several chains");
-  shares.erase(std::remove_if(shares.begin(), shares.end(), [](const ChainShare& s) { return s.band_tets.empty(); }),
-               shares.end());
-  std::sort(shares.begin(), shares.end(),
-            [](const ChainShare& a, const ChainShare& b) { return a.band_tets.front() < b.band_tets.front(); });
-  const SplitRanges ranges(split);
-  std::vector<std::int32_t> ids;  // the shares' cut vertices and caps' points (a range of each share's sorted ids)
-  for (const ChainShare& share : shares) {
-    const auto first = std::lower_bound(share.point_ids.begin(), share.point_ids.end(), ranges.first_cut);
-    ids.insert(ids.end(), first, std::lower_bound(first, share.point_ids.end(), ranges.end_caps));
-  }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  ChainSplit split_of_chain = chain_split(split, input, planes, split_triangles, ids);
-  return ChainShares{std::move(shares), std::move(split_of_chain)};
+ChainShares chain_shares(std::vector<ChainShare>&& shares, ChainSplit&& split) {
+  ChainShares chain{std::move(shares), std::move(split)};
+  order_shares(chain.shares);
+  return chain;
 }
 
 std::vector<std::int32_t> band_tets_of(const ChainShares& chain) {
@@ -308,8 +319,9 @@ std::vector<std::int32_t> band_tets_of(const ChainShares& chain) {
 }
 
 ChainBand weld_chain(ChainShares&& shares) {
+  order_shares(shares.shares);  // (those a rank took from others come after rank 0's)
   ChainBand chain;
-  const std::vector<std::int32_t> in_chain = weld_points(shares.shares, chain);
+  const std::vector<std::int32_t> in_chain = weld_points(shares.shares, shares.split, chain);
   weld_tets(shares.shares, in_chain, SplitRanges(shares.split), chain);
   shares.shares.clear();
   cut_out_split(std::move(shares.split), chain);
@@ -352,7 +364,10 @@ ChainBand cut_out_chain(const TetMesh& band, const SurfaceMesh& input, const Spl
   ChainBand chain;
   chain.band_tets = std::move(parts.tets);
   cut_out_tets(band, chain);
-  cut_out_split(chain_split(split, input, planes, parts.split_triangles, chain.global_ids), chain);
+  const std::vector<std::int32_t> split_ids(
+      chain.global_ids.begin(),
+      std::lower_bound(chain.global_ids.begin(), chain.global_ids.end(), SplitRanges(split).end_caps));
+  cut_out_split(chain_split(split, input, band.points, planes, parts.split_triangles, split_ids), chain);
   return chain;
 }
 
@@ -369,6 +384,7 @@ HealedChain heal_chain(ChainBand&& chain, const HealOptions& options, const Regi
     return healed;
   }
   healed.global_ids = std::move(chain.global_ids);
+  if (options.chain_band_tets) healed.band_tets = std::move(chain.band_tets);
   healed.new_points.assign(chain.mesh.points.begin() + old_points, chain.mesh.points.end());
   order_band_tets(chain.mesh);  // here, on the rank that healed it: not on rank 0, chain after chain
   healed.tets = std::move(chain.mesh.tets);

@@ -58,7 +58,9 @@ struct ChainShare {
   std::vector<Tet> tets;                // by place in point_ids (so that rank 0 welds without searching)
   std::vector<Tet> neighbours;          // within the share, -1 elsewhere
   std::vector<std::int32_t> point_ids;  // the band's ids of the points its tets use, ascending
-  std::vector<Point3> points;           // their coordinates
+  // The coordinates of the last points.size() of them: its Steiner points. The split surface's
+  // points come with the chain's split (ChainSplit), from where the split surface is.
+  std::vector<Point3> points;
 };
 
 // A piece's band part's tets by chain (chain_of_part: the piece's SeamChainPlan::chain_of_part):
@@ -71,20 +73,21 @@ struct BandPartChains {
 BandPartChains band_part_chains(const TetBlock& band, const std::vector<int>& chain_of_part);
 
 // The share of the i-th chain of `in_chains` (band_part_chains) of a piece's band part
-// (Welder::band_part); `place` where the part goes in the band (Welder::band_part_places),
-// split_points the split surface's points (none where the part is kept: add_split_coordinates
-// then fills them in where they are).
-ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i, const BandPartPlace& place,
-                       const std::vector<Point3>& split_points);
-void add_split_coordinates(ChainShare& share, const std::vector<Point3>& split_points);
+// (Welder::band_part); `place` where the part goes in the band (Welder::band_part_places).
+ChainShare chain_share(const TetBlock& band, const BandPartChains& in_chains, std::size_t i,
+                       const BandPartPlace& place);
 
 // What healing reads of the split surface for one chain, in the band's ids: its planes, the
-// split surface's id ranges (input vertices, cut vertices, caps' points), the planes of the cut
-// vertices and caps' points its tets use, its split triangles and their input triangles (in
-// first-use order). Made where the split surface is (rank 0), so that any rank can weld the chain.
+// split surface's id ranges (input vertices, cut vertices, caps' points), the split surface's
+// points its tets may use with their coordinates, the planes of the cut vertices and caps' points
+// among them, its split triangles and their input triangles (in first-use order). Made where the
+// split surface is (rank 0) without the chain's tets, so that any rank can weld the chain from
+// shares that never pass through rank 0.
 struct ChainSplit {
   std::vector<int> planes;
   std::int32_t first_cut = 0, first_cap = 0, end_caps = 0;
+  std::vector<std::int32_t> point_ids;  // ascending: every one the chain's shares use, perhaps more
+  std::vector<Point3> points;           // their coordinates
   std::vector<std::int32_t> cut_vertices, cut_vertex_plane;  // ids ascending; their planes
   std::vector<std::int32_t> cap_points, cap_point_plane;     // ids ascending; their planes
   std::vector<Triangle> triangles;                           // its split triangles
@@ -92,17 +95,22 @@ struct ChainSplit {
   std::vector<Triangle> input_triangles;
 };
 
-// A chain before welding: its pieces' shares (by their first tet in the band) and its split.
+// A chain before welding: its pieces' shares (by their first tet in the band, as chain_shares
+// orders them; weld_chain takes them in any order) and its split.
 struct ChainShares {
   std::vector<ChainShare> shares;
   ChainSplit split;
 };
 
-// The chain of these planes as its pieces' shares (in any order) and its split triangles
-// (chain_split_triangles), ready to weld anywhere. Throws InternalError when the shares are of
-// several chains.
-ChainShares chain_shares(std::vector<ChainShare>&& shares, const SurfaceMesh& input, const SplitSurface& split,
-                         const std::vector<int>& planes, const std::vector<std::int32_t>& split_triangles);
+// The split of the chain of these planes and split triangles (chain_split_triangles), from the
+// split surface's points `ids` (ascending) its tets may use: those of its pieces' band parts
+// (Welder::band_split_points), or the chain's own; split_points their coordinates by id.
+ChainSplit chain_split(const SplitSurface& split, const SurfaceMesh& input, const std::vector<Point3>& split_points,
+                       const std::vector<int>& planes, const std::vector<std::int32_t>& triangles,
+                       const std::vector<std::int32_t>& ids);
+// The chain as its pieces' shares (in any order) and its split, ready to weld anywhere. Throws
+// InternalError when the shares are of several chains.
+ChainShares chain_shares(std::vector<ChainShare>&& shares, ChainSplit&& split);
 // The band's tets the chain holds, ascending (weld_chain's band_tets).
 std::vector<std::int32_t> band_tets_of(const ChainShares& chain);
 
@@ -119,9 +127,10 @@ struct HealedChain {
   std::vector<Point3> new_points;        // the points its healing added
   std::vector<Tet> tets;
   std::vector<Tet> neighbours;
-  std::vector<std::int32_t> piece;  // when the band has pieces
-  BlockLinks links;                 // block_links of its tets (every open face, keys in its ids)
-  std::vector<std::int32_t> label;  // per tet: its component in links
+  std::vector<std::int32_t> piece;      // when the band has pieces
+  BlockLinks links;                     // block_links of its tets (every open face, keys in its ids)
+  std::vector<std::int32_t> label;      // per tet: its component in links
+  std::vector<std::int32_t> band_tets;  // when asked (chain_band_tets): the band's tets it replaces, ascending
   SeamStats stats;
   std::optional<Failure> failure;  // of the MeshingError its healing threw (then nothing else)
   double seconds = 0;

@@ -510,6 +510,13 @@ std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const Split
   }));
 }
 
+std::vector<std::size_t> SeamChainPlan::pieces_in(int c) const {
+  std::vector<std::size_t> pieces;
+  for (std::size_t p = 0; p < chain_of_part.size(); ++p)
+    if (std::find(chain_of_part[p].begin(), chain_of_part[p].end(), c) != chain_of_part[p].end()) pieces.push_back(p);
+  return pieces;
+}
+
 SeamChainPlan seam_chain_plan(const std::vector<BandPartLinks>& band_parts, const SplitSurface& split,
                               const HealOptions& options) {
   const Removed all = removed_vertices(split, options);

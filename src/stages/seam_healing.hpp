@@ -39,6 +39,9 @@ struct HealOptions {
   // Each healed chain also finds its links (components, open faces: block_links), for a mesh left
   // spread, whose band is linked chain by chain (Welder::spread); an assembled mesh needs none.
   bool chain_links = false;
+  // Each healed chain also says which of the band's tets it replaces (HealedChain::band_tets), for
+  // a band whose tets are not all in chains: it is welded, and the chains put back into it.
+  bool chain_band_tets = false;
 };
 
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with
@@ -72,6 +75,8 @@ std::vector<std::vector<int>> seam_chain_planes(const TetMesh& mesh, const Split
 struct SeamChainPlan {
   std::vector<std::vector<int>> planes;         // by chain
   std::vector<std::vector<int>> chain_of_part;  // by piece, then part
+  // The pieces with a part in chain c, ascending.
+  std::vector<std::size_t> pieces_in(int c) const;
 };
 SeamChainPlan seam_chain_plan(const std::vector<BandPartLinks>& band_parts, const SplitSurface& split,
                               const HealOptions& options);

@@ -3,10 +3,11 @@
 # A rank that cannot (PARTET_INJECT_FAILURE=worker:shares-error: rank 1 fails to cut any) must not
 # cost the run: every chain it has a share of fails, rank 0 says so, takes the band parts back,
 # heals the seams over the whole mesh, and the job ends with exit code 0, a mesh that passes the
-# check, and as many tets as on one rank.
-# Usage: shares_failure.sh PARTET MPIEXEC
+# check, and as many tets as on one rank. On 3 ranks rank 2 heals chains too, from the empty
+# messages rank 1 sends it straight, and must say so itself.
+# Usage: shares_failure.sh PARTET MPIEXEC [RANKS]
 set -uo pipefail
-partet=$1 mpiexec=$2
+partet=$1 mpiexec=$2 ranks=${3:-2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; cat "$work/log" 2>/dev/null; exit 1; }
@@ -14,7 +15,7 @@ fail() { echo "FAIL: $*"; cat "$work/log" 2>/dev/null; exit 1; }
 tets_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["counts"]["output_tets"])' "$1"; }
 "$partet" mesh "$work/torus.off" -o "$work/one" --pieces 12 --report "$work/one.json" > "$work/log" 2>&1 ||
   fail "one rank: exit code $?"
-PARTET_INJECT_FAILURE=worker:shares-error timeout -k 5 120 "$mpiexec" -n 2 -x PARTET_INJECT_FAILURE \
+PARTET_INJECT_FAILURE=worker:shares-error timeout -k 5 120 "$mpiexec" -n "$ranks" --oversubscribe -x PARTET_INJECT_FAILURE \
   "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 12 --report "$work/report.json" > "$work/log" 2>&1
 code=$?
 [ "$code" -ne 124 ] || fail "the job hung (killed after 120 s)"
@@ -22,6 +23,7 @@ code=$?
 expected="seam chain [0-9]+ could not be gathered from its pieces' shares: .*rank 1 could not cut its shares"
 grep -qE "$expected" "$work/log" || fail "no warning naming the chain and rank 1"
 grep -q "injected failure to cut the shares" "$work/log" || fail "rank 1's own message is not in the log"
+(( ranks < 3 )) || grep -qE "^partet\[rank 2\]: .*$expected" "$work/log" || fail "rank 2 did not say which chain it could not gather"
 [ "$(tets_of "$work/report.json")" = "$(tets_of "$work/one.json")" ] ||
   fail "$(tets_of "$work/report.json") tets, one rank gave $(tets_of "$work/one.json")"
 "$partet" check "$work/torus.off" "$work/out" > "$work/check" 2>&1 || fail "the mesh fails its check: $(cat "$work/check")"
