@@ -454,7 +454,7 @@ struct BandByChains {
   std::vector<BandPartChains> pieces;                      // by piece, of the band parts here
   std::vector<std::vector<std::int32_t>> split_triangles;  // by chain
   std::vector<std::size_t> tets;                           // by chain
-  std::vector<std::vector<std::int32_t>> split_points;      // by piece: those its band part uses (chain_split)
+  std::vector<std::vector<std::int32_t>> split_points;     // by piece: those its band part uses (chain_split)
   std::vector<int> order;    // the chains, largest first, so that no rank is left with a large one at the end
   bool covers_band = false;  // every tet of the band parts is in a chain
 
@@ -539,7 +539,7 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   HealOptions heal = options;
   heal.chain_band_tets = !by_chains.covers_band;  // (the chains are then put back into the welded band)
   const std::vector<int>& order = by_chains.order;
-  double gathering = 0;                 // the chains' shares, here (between the ranks' healing)
+  double gathering = 0;                  // the chains' shares, here (between the ranks' healing)
   std::array<double, 3> steps{0, 0, 0};  // of it: (taking those kept elsewhere, cutting those here, the splits)
   const PieceScheduler::ChainCutter cut_out = [&](std::size_t j) {
     const auto i = static_cast<std::size_t>(order[j]);
