@@ -379,20 +379,19 @@ class RegionMeshers {
   RegionMesher seams() {
     return [this](const std::vector<PieceSurface>& regions) { return mesh(regions, tetgen_); };
   }
-  // The chains of the seams: on the ranks, each whole on one, when there are several of both;
-  // else here, one after another, their regions meshed on every rank. Every chain heals, even
-  // after one failed: the band's failure is the first in chain order, as on the ranks.
   // The rank that heals each chain (by place): those heal_chains hands them to (0: here).
   std::vector<int> chain_ranks(const std::vector<std::size_t>& tets) {
     std::vector<int> ranks;
-    if (tets.size() > 1 && scheduler_.heals_chains_on_ranks()) ranks = scheduler_.chain_ranks(tets);
+    if (chains_on_ranks(tets.size())) ranks = scheduler_.chain_ranks(tets);
     if (ranks.size() != tets.size()) ranks.assign(tets.size(), 0);
     return ranks;
   }
+  // The chains of the seams: on the ranks, each whole on one, when there are several of both;
+  // else here, one after another, their regions meshed on every rank. Every chain heals, even
+  // after one failed: the band's failure is the first in chain order, as on the ranks.
   std::vector<HealedChain> heal_chains(std::size_t count, const PieceScheduler::ChainCutter& cut_out,
                                        const HealOptions& options) {
-    if (count > 1 && scheduler_.heals_chains_on_ranks())
-      return scheduler_.heal_chains(count, cut_out, options, tetgen_);
+    if (chains_on_ranks(count)) return scheduler_.heal_chains(count, cut_out, options, tetgen_);
     std::vector<HealedChain> healed;
     for (std::size_t i = 0; i < count; ++i) healed.push_back(heal_chain(weld_chain(cut_out(i)), options, seams()));
     return healed;
@@ -406,6 +405,7 @@ class RegionMeshers {
   }
 
  private:
+  bool chains_on_ranks(std::size_t count) const { return count > 1 && scheduler_.heals_chains_on_ranks(); }
   std::vector<PieceOutcome> mesh(const std::vector<PieceSurface>& regions, const TetgenOptions& tetgen) {
     scheduler_.begin_round(tetgen);
     for (const auto& region : regions) scheduler_.submit(region);
