@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <deque>
 #include <filesystem>
-#include <map>
 #include <initializer_list>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -98,14 +98,22 @@ TEST(SeamBand, HealingTheBandsGivesTheMeshHealingTheWholeGives) {
 // The chains welded from the pieces' band parts (the pipeline's way), healed, and put into the
 // band's points alone (Welder::band_points, add_healed_chains): the band is never welded. The
 // chains find their links only when asked for them (`links`).
+// With `kept`, every other chain stays where it healed (HealOptions::keep_healed): the band gets
+// only what rank 0 is sent of it (kept_elsewhere, as kept on rank 1), and `kept` the chain itself.
 TetMesh heal_chains_of_band_parts(Welder& welder, const SurfaceMesh& input, const SplitSurface& split,
                                   HealOptions options, const RegionMesher& mesher,
-                                  std::vector<BandChainLinks>* links = nullptr) {
+                                  std::vector<BandChainLinks>* links = nullptr,
+                                  std::map<int, HealedChain>* kept = nullptr) {
   options.chain_links = links != nullptr;
   std::vector<HealedChain> healed;
   for (ChainShares& chain : gathered_chains(welder, input, split, options)) {
     healed.push_back(heal_chain(weld_chain(std::move(chain)), options, mesher));
     EXPECT_FALSE(healed.back().failure);
+    const auto c = static_cast<int>(healed.size()) - 1;
+    if (kept && c % 2 == 1) {
+      (*kept)[c] = std::move(healed.back());
+      healed.back() = kept_elsewhere(kept->at(c), 1, c);
+    }
   }
   const std::size_t chains = healed.size();
   TetMesh band = welder.band_points(split.points);
@@ -363,6 +371,58 @@ TEST(SeamBand, ABandOfHealedChainsLinkedChainByChainIsLinkedAsOneBand) {
       });
   EXPECT_GE(most_chains, 3u);
   EXPECT_GT(faces_across, 0u);  // (small pieces with their caps healed may be band alone)
+}
+
+// Healed chains kept by the rank that healed them (HealOptions::keep_healed; rank 0 gets their
+// points, links and the points their tets use): the spread mesh is the one whose band rank 0
+// holds whole, the same points, rows and solids; each chain here is its rows of that band, and
+// each chain kept elsewhere, its tets through the ids rank 0 gives its rank, too.
+TEST(SeamBand, HealedChainsKeptWhereTheyHealedAreTheirRowsOfTheBand) {
+  std::size_t kept_chains = 0;
+  for_each_small_case({"torus", "genus3"}, [&](const std::string&, const SurfaceMesh& input,
+                                               const MeshedPieces& s, bool caps) {
+        const SplitSurface& split = s.prepared.split;
+        HealOptions options{caps, 0};
+        options.drop_points = false;
+        Welder kept_apart(split, s.prepared.pieces), all_here(split, s.prepared.pieces);
+        for (const auto& result : s.results)
+          kept_apart.add(PieceTetMesh(result)), all_here.add(PieceTetMesh(result));
+        std::vector<BandChainLinks> links_apart, links_here;
+        std::map<int, HealedChain> kept;
+        const RegionMesher here = regions_here(s.options);
+        TetMesh a = heal_chains_of_band_parts(kept_apart, input, split, options, here, &links_apart, &kept);
+        TetMesh b = heal_chains_of_band_parts(all_here, input, split, options, here, &links_here);
+        const SpreadMesh got = kept_apart.spread(std::move(a), false, std::move(links_apart));
+        const SpreadMesh want = all_here.spread(std::move(b), false, std::move(links_here));
+        EXPECT_EQ(got.points, want.points);
+        EXPECT_EQ(got.tets, want.tets);
+        EXPECT_EQ(got.split_points, want.split_points);
+        EXPECT_EQ(got.healing_points, want.healing_points);
+        EXPECT_EQ(got.first_band_tet, want.first_band_tet);
+        for (std::size_t p = 0; p < got.bulks.size(); ++p) EXPECT_EQ(got.bulks[p].solid, want.bulks[p].solid);
+        ASSERT_EQ(got.band_elsewhere(), !kept.empty());
+        if (kept.empty()) return;
+        std::int64_t row = got.first_band_tet;
+        const PointIds here_ids = got.band_ids(), want_ids = want.band_ids();
+        for (const BandRun& run : got.band_runs) {
+          ASSERT_EQ(run.first_row, row);
+          const bool elsewhere = run.rank != 0;
+          const HealedChain* chain = elsewhere ? &kept.at(run.chain) : nullptr;
+          if (elsewhere) ASSERT_EQ(static_cast<std::int64_t>(chain->tets.size()), run.tets);
+          for (std::int64_t t = 0; t < run.tets; ++t, ++row) {
+            const auto w = static_cast<std::size_t>(row - want.first_band_tet);
+            const auto h = static_cast<std::size_t>(run.first_here + t);
+            const GlobalTet tet =
+                elsewhere ? PointIds{0, 0, run.point_ids.data()}(chain->tets[t]) : here_ids(got.band_tets[h]);
+            EXPECT_EQ(tet, want_ids(want.band_tets[w]));
+            EXPECT_EQ(elsewhere ? run.solid.at(chain->label[t]) : got.band_solid[h], want.band_solid[w]);
+            EXPECT_EQ(elsewhere ? chain->piece[t] : got.band_piece[h], want.band_piece[w]);
+          }
+        }
+        EXPECT_EQ(row, want.tets);
+        kept_chains += kept.size();
+      });
+  EXPECT_GE(kept_chains, 4u);
 }
 
 TEST(SeamBand, ASpreadMeshHasTheAssembledMeshsRows) {

@@ -181,6 +181,25 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   EXPECT_EQ(back.links.face, links.face);
   EXPECT_FALSE(links.keys.empty());
   EXPECT_EQ(back.piece, here.piece);
+  // Kept where it healed (keep_healed): rank 0 is sent its points, links and the points its tets
+  // use, not its tets.
+  HealOptions keeping = options;
+  keeping.keep_healed = true;
+  EXPECT_TRUE(deserialize_chain_task(serialize_chain_task(ChainTask{sent.index, ChainShares(), keeping, sent.tetgen}))
+                  .heal.keep_healed);
+  const HealedChain kept = deserialize_chain_outcome(serialize_chain_outcome(7, kept_elsewhere(there, 2, 7)), index);
+  EXPECT_EQ(kept.kept_on, 2);
+  EXPECT_EQ(kept.kept_as, 7);
+  EXPECT_EQ(kept.kept_tets, static_cast<std::int32_t>(here.tets.size()));
+  EXPECT_TRUE(kept.tets.empty() && kept.neighbours.empty() && kept.label.empty() && kept.piece.empty());
+  EXPECT_EQ(kept.global_ids, here.global_ids);
+  EXPECT_EQ(kept.new_points, here.new_points);
+  EXPECT_EQ(kept.links.keys, links.keys);
+  std::vector<char> used(here.global_ids.size() + here.new_points.size(), 0);
+  for (const Tet& t : here.tets)
+    for (const std::int32_t v : t) used[static_cast<std::size_t>(v)] = 1;
+  EXPECT_EQ(kept.used, used);
+  EXPECT_NE(std::count(used.begin(), used.end(), 1), 0);
   // Not asked for its links (an assembled mesh): the same chain, without them.
   HealOptions unlinked = options;
   unlinked.chain_links = false;
@@ -190,6 +209,7 @@ TEST(Serialize, ChainsOfTheSeamsRoundTrip) {
   const ChainTask plain_back = deserialize_chain_task(serialize_chain_task(plain));
   EXPECT_FALSE(plain_back.heal.chain_links);
   EXPECT_FALSE(plain_back.heal.chain_band_tets);
+  EXPECT_FALSE(plain_back.heal.keep_healed);
   EXPECT_EQ(plain_back.failure, plain.failure);
   const HealedChain healed_bare = heal_chain(weld_chain(ChainShares(chains.back())), unlinked, regions_here(s.options));
   const HealedChain bare = deserialize_chain_outcome(serialize_chain_outcome(7, healed_bare), index);
@@ -480,6 +500,21 @@ TEST(Serialize, BulkLinksAndPlacementRoundTrip) {
   bulks[0].piece = 7, bulks[0].first_point = std::int64_t{1} << 33, bulks[0].points = 5;
   bulks[0].first_tet = 9, bulks[0].tets = 11, bulks[0].solid = {1, 2};
   bulks[0].here = true, bulks[0].block.tets = {{0, 1, 2, 3}};  // neither travels
+  std::vector<BandRun> runs(3);
+  runs[0].chain = 4, runs[0].rank = 0, runs[0].first_row = 20, runs[0].tets = 3;  // here: does not travel
+  runs[1].chain = 5, runs[1].rank = 3, runs[1].first_row = std::int64_t{1} << 32, runs[1].tets = 2;
+  runs[1].solid = {1, 4}, runs[1].point_ids = {7, -1, std::int64_t{1} << 33};
+  runs[2].chain = 6, runs[2].rank = 1;
+  const std::vector<BandRun> runs_back = deserialize_band_runs(serialize_band_runs(runs, true));
+  ASSERT_EQ(runs_back.size(), 2u);
+  EXPECT_EQ(runs_back[0].chain, 5);
+  EXPECT_EQ(runs_back[0].rank, 3);
+  EXPECT_EQ(runs_back[0].first_row, std::int64_t{1} << 32);
+  EXPECT_EQ(runs_back[0].tets, 2);
+  EXPECT_EQ(runs_back[0].solid, runs[1].solid);
+  EXPECT_EQ(runs_back[0].point_ids, runs[1].point_ids);
+  EXPECT_EQ(runs_back[1].chain, 6);
+  EXPECT_EQ(deserialize_band_runs(serialize_band_runs(runs, false)).size(), 3u);
   const std::vector<SpreadBulk> placed = deserialize_placement(serialize_placement(bulks));
   ASSERT_EQ(placed.size(), 2u);
   EXPECT_EQ(placed[0].piece, 7);

@@ -60,8 +60,11 @@ struct RankStats {
   // A worker: the seam chains' shares it healed from that never passed through rank 0 (its own,
   // or sent straight here by the worker keeping them), one per chain and rank.
   double chain_shares_direct = 0;
+  // A worker: the seam chains it healed and kept for the writers (HealOptions::keep_healed; rank 0
+  // got only their points and links), and their tets.
+  double chains_kept = 0, chain_tets_kept = 0;
 };
-constexpr int kRankStatsDoubles = 22;
+constexpr int kRankStatsDoubles = 24;
 static_assert(std::is_standard_layout_v<RankStats> && sizeof(RankStats) == kRankStatsDoubles * sizeof(double),
               "RankStats is gathered as kRankStatsDoubles raw doubles");
 

@@ -61,7 +61,9 @@ class ResultCache {
 };
 
 HealOptions heal_options(const MeshOptions& options) {
-  return HealOptions{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
+  HealOptions heal{heals(options), heals(options) && !options.tetgen.quality.empty() ? 2 : 0};
+  heal.keep_healed = options.spread_output && options.spread_band && !options.spread_neighbours;
+  return heal;
 }
 
 // The planes around piece p (p-1 below it, p above it) among piece_count pieces.
@@ -538,6 +540,7 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   clock.lap("chains");
   HealOptions heal = options;
   heal.chain_band_tets = !by_chains.covers_band;  // (the chains are then put back into the welded band)
+  heal.keep_healed = options.keep_healed && options.chain_links && by_chains.covers_band;
   const std::vector<int>& order = by_chains.order;
   double gathering = 0;                  // the chains' shares, here (between the ranks' healing)
   std::array<double, 3> steps{0, 0, 0};  // of it: (taking those kept elsewhere, cutting those here, the splits)
@@ -555,6 +558,13 @@ SeamStats heal_band_by_chains(Welder& welder, std::vector<Point3>&& split_points
   const bool failed = std::any_of(healed.begin(), healed.end(), [](const HealedChain& c) { return c.failure; });
   SeamStats stats;
   if (failed || !by_chains.covers_band) {  // (the band as welded for the whole mesh, or its tets outside the chains)
+    if (heal.keep_healed) {                // (the chains healed elsewhere stayed there: they come back now)
+      std::vector<std::pair<int, HealedChain>> kept = welder.take_kept_chains();
+      log::info("took back the " + std::to_string(kept.size()) + " healed seam chains kept where they healed");
+      for (auto& [j, chain] : kept) healed.at(static_cast<std::size_t>(order.at(j))) = std::move(chain);
+    }
+    if (std::any_of(healed.begin(), healed.end(), [](const HealedChain& c) { return c.kept_on >= 0; }))
+      throw InternalError("a healed seam chain kept elsewhere did not come back");
     band = welder.weld_bands(std::move(split_points));
     stats = chains_stats(healed);
     std::vector<std::vector<std::int32_t>> chain_tets;  // each chain's tets in the band
@@ -583,6 +593,7 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, std::vect
   HealOptions on_band = options;
   on_band.drop_points = false;
   on_band.chain_links = spread && welder.keeps_bulks_elsewhere();  // (an assembled mesh needs no links)
+  on_band.keep_healed = on_band.keep_healed && on_band.chain_links;
   TetMesh band;
   try {
     std::vector<BandChainLinks> chain_links;  // (when the chains make the band)
@@ -591,7 +602,8 @@ TetMesh heal_band(const SurfaceMesh& input, const SplitSurface& split, std::vect
     if (spread && welder.keeps_bulks_elsewhere()) {
       *spread = std::make_shared<SpreadMesh>(welder.spread(std::move(band), spread_neighbours, std::move(chain_links)));
       log::debug("left the mesh spread: " + std::to_string((*spread)->tets) + " tets, " +
-                 std::to_string((*spread)->band_tets.size()) + " of them here, in " +
+                 std::to_string((*spread)->band_rows()) + " of them in the healed band, " +
+                 std::to_string((*spread)->band_tets.size()) + " of those here, in " +
                  std::to_string(now_seconds() - start) + " s");
       return TetMesh();
     }

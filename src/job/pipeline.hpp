@@ -60,6 +60,10 @@ struct MeshOptions {
   // With spread_output: keep the tets across the faces the parts share (16 bytes per face), which
   // only TetGen's .neigh file needs.
   bool spread_neighbours = false;
+  // With spread_output: each seam chain healed on another rank stays there (HealOptions::
+  // keep_healed), so rank 0 holds no band it did not heal; only when every format is written by
+  // each rank from its own rows (the XDMF set).
+  bool spread_band = false;
   TetgenOptions tetgen;
   RunOptions run;
 };

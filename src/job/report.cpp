@@ -127,6 +127,8 @@ std::string report_json(const JobSummary& s) {
                               {"bulk_number_seconds", stats.bulk_number_seconds},
                               {"share_cut_seconds", stats.share_cut_seconds},
                               {"chain_shares_direct", stats.chain_shares_direct},
+                              {"chains_kept", stats.chains_kept},
+                              {"chain_tets_kept", stats.chain_tets_kept},
                               {"pieces_from_checkpoint", stats.pieces_from_checkpoint},
                               {"bytes_received", stats.bytes_received}});
   }

@@ -79,6 +79,8 @@ void RootRun::mesh(PieceScheduler& scheduler) {
     options.spread_output = may_spread(job_);
     if (job_.check_output) options.assemble_if_available_bytes = assembled_check_bytes(input_.triangles.size());
     options.spread_neighbours = std::count(job_.formats.begin(), job_.formats.end(), MeshFormat::tetgen) > 0;
+    options.spread_band = std::all_of(job_.formats.begin(), job_.formats.end(),
+                                      [](MeshFormat format) { return format == MeshFormat::xdmf; });
     result_ = mesh_with_retries(input_, options, scheduler, &times_);
     scheduler.confirm_input();  // heard already, unless no piece was meshed
   } catch (...) {

@@ -20,8 +20,8 @@
 #include "mpi/input_check_ranks.hpp"
 #include "mpi/rank_writes.hpp"
 #include "mpi/ranks.hpp"
-#include "mpi/set_check.hpp"
 #include "mpi/root_scheduler.hpp"
+#include "mpi/set_check.hpp"
 #include "mpi/worker.hpp"
 #include "partet/errors.hpp"
 #include "runner/interrupts.hpp"
@@ -258,7 +258,9 @@ JobStatus run_mesh_job(const MeshJob& job) {
   } else {
     Worker worker(job, state.rank, state.stats);  // keeps its bulks until the writes (spread mesh)
     worker.mesh_rounds();
-    join_writes(state.status, state.stats, [&worker] { return worker.take_kept_bulks(); });
+    join_writes(
+        state.status, state.stats, [&worker] { return worker.take_kept_bulks(); },
+        [&worker] { return worker.take_kept_chains(); });
   }
   // 10. Every rank agrees; rank 0 publishes and reports.
   agree_and_publish(state, root);

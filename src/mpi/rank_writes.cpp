@@ -135,6 +135,53 @@ void add_bulk_runs(std::vector<std::pair<const SpreadBulk*, const TetBlock*>> bu
   }
 }
 
+// Rank 0's runs of the healed band: all of it, or the chains it healed when the others stayed on
+// the ranks that healed them.
+void add_band_runs(const SpreadMesh& mesh, MeshRowRuns& runs) {
+  if (!mesh.band_elsewhere()) {
+    runs.tets.push_back({static_cast<std::uint64_t>(mesh.first_band_tet), run_of(mesh.band_tets),
+                         run_of(mesh.band_solid), run_of(mesh.band_piece), mesh.band_ids()});
+    return;
+  }
+  for (const BandRun& run : mesh.band_runs) {
+    if (run.rank != 0) continue;
+    const auto from = static_cast<std::size_t>(run.first_here), count = static_cast<std::size_t>(run.tets);
+    if (from + count > mesh.band_tets.size()) throw InternalError("a healed seam chain's rows are not in the band");
+    runs.tets.push_back({static_cast<std::uint64_t>(run.first_row),
+                         {mesh.band_tets.data() + from, count},
+                         {mesh.band_solid.data() + from, count},
+                         {mesh.band_piece.data() + from, count},
+                         mesh.band_ids()});
+  }
+}
+
+// The rows of the healed chains this rank kept (the placement's runs on it), with their cell data
+// (made into `columns`, which must outlive the runs).
+void add_kept_chain_runs(const std::vector<BandRun>& places, std::map<int, HealedChain>& chains,
+                         std::vector<std::vector<std::int32_t>>& columns, MeshRowRuns& runs) {
+  std::size_t found = 0;
+  for (const BandRun& place : places) {
+    if (place.rank != my_rank()) continue;
+    const auto it = chains.find(place.chain);
+    if (it == chains.end())
+      throw InternalError("rank " + std::to_string(my_rank()) + " keeps no seam chain " + std::to_string(place.chain));
+    const HealedChain& chain = it->second;
+    ++found;
+    if (static_cast<std::int64_t>(chain.tets.size()) != place.tets || chain.label.size() != chain.tets.size() ||
+        place.point_ids.size() != chain.global_ids.size() + chain.new_points.size())
+      throw InternalError("seam chain " + std::to_string(place.chain) + " does not match its placement");
+    std::vector<std::int32_t>& solid = columns.emplace_back();
+    for (const std::int32_t component : chain.label)
+      solid.push_back(place.solid.at(static_cast<std::size_t>(component)));
+    std::vector<std::int32_t>& piece = columns.emplace_back(chain.piece);
+    if (piece.empty()) piece.assign(chain.tets.size(), -1);
+    runs.tets.push_back({static_cast<std::uint64_t>(place.first_row), run_of(chain.tets), run_of(solid), run_of(piece),
+                         PointIds{0, 0, place.point_ids.data()}});
+  }
+  if (found != chains.size())
+    throw InternalError("rank " + std::to_string(my_rank()) + " keeps a seam chain rank 0 did not place");
+}
+
 // Rank 0's Hdf5Write for a mesh left spread: it tells the owners where every bulk's rows are, then
 // every rank writes its own rows at once: rank 0 the split surface's points, the points healing
 // added, the healed band, its own bulks and the boundary; each other rank the bulks it keeps.
@@ -145,10 +192,12 @@ MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const Mesh
   const MeshTotals totals{static_cast<std::uint64_t>(mesh.points), static_cast<std::uint64_t>(mesh.tets),
                           output.boundary.size()};
   const std::string placement = serialize_placement(mesh.bulks);  // before the order: no rank waits for it
+  const std::string band_placement = serialize_band_runs(mesh.band_runs, true);
   broadcast_text(std::string(kSpreadOrder) + "\n" + paths.mesh + '\n' + paths.boundary + '\n' + paths.mesh_shown +
                  '\n' + paths.boundary_shown + '\n' + std::to_string(exponent) + '\n' + std::to_string(totals.points) +
                  '\n' + std::to_string(totals.tets) + '\n' + std::to_string(totals.faces));
   broadcast_text(placement);
+  broadcast_text(band_placement);
   // Rows rank 0 cannot make go as none, so every rank still joins the write and fails there.
   MeshRowRuns runs;
   std::vector<std::vector<std::int32_t>> columns;
@@ -161,8 +210,7 @@ MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const Mesh
     for (SpreadBulk& bulk : mesh.bulks)
       if (bulk.here) own.push_back({&bulk, &bulk.block});
     add_bulk_runs(own, columns, runs);
-    runs.tets.push_back({static_cast<std::uint64_t>(mesh.first_band_tet), run_of(mesh.band_tets),
-                         run_of(mesh.band_solid), run_of(mesh.band_piece), mesh.band_ids()});
+    add_band_runs(mesh, runs);
     markers.resize(output.boundary.size());
     for (std::size_t f = 0; f < markers.size(); ++f) markers[f] = f < output.split_from ? 1 : 2;
     runs.faces = run_of(output.boundary);
@@ -400,12 +448,15 @@ void join_spread_write(std::istringstream& lines, JobStatus& status, BulksForWri
   std::getline(lines, paths.mesh_shown), std::getline(lines, paths.boundary_shown);
   std::getline(lines, exponent), std::getline(lines, points), std::getline(lines, tets), std::getline(lines, faces);
   const std::string placement = broadcast_text("");
+  const std::string band_placement = broadcast_text("");
   WriteTrouble trouble = WriteTrouble::none;
   MeshRowRuns runs;
   std::vector<std::vector<std::int32_t>> columns;
   std::vector<SpreadBulk> places;
+  std::vector<BandRun> band_places;
   try {
     places = deserialize_placement(placement);
+    band_places = deserialize_band_runs(band_placement);
     const std::map<int, TetBlock>& bulks = kept.get(std::stoi(exponent));
     std::vector<std::pair<const SpreadBulk*, const TetBlock*>> mine;
     for (const SpreadBulk& place : places)
@@ -413,6 +464,7 @@ void join_spread_write(std::istringstream& lines, JobStatus& status, BulksForWri
     if (mine.size() != bulks.size())
       throw InternalError("rank " + std::to_string(my_rank()) + " keeps a bulk rank 0 did not place");
     add_bulk_runs(mine, columns, runs);
+    add_kept_chain_runs(band_places, kept.chains(), columns, runs);
   } catch (const std::exception& e) {
     log::error(e.what());
     trouble = WriteTrouble::no_block;
@@ -472,9 +524,10 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread, int sca
 
 void end_writes() { broadcast_text(""); }
 
-void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks) {
+void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks,
+                 const KeptChainsTaker& take_chains) {
   const AddSeconds timer{stats.write_seconds};
-  BulksForWrites kept(take_bulks);
+  BulksForWrites kept(take_bulks, take_chains);
   const std::string error_before = status.error;
   for (std::string order = broadcast_text(""); !order.empty(); order = broadcast_text("")) {
     std::istringstream lines(order);

@@ -22,6 +22,7 @@
 #include "io/mesh_formats.hpp"
 #include "job/job.hpp"
 #include "mpi/driver.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/spread_mesh.hpp"
 
 namespace partet::mpi {
@@ -34,7 +35,9 @@ RankWriters rank_writers(int size, RankStats& stats, SpreadMesh* spread = nullpt
 void end_writes();
 // A worker's bulks, numbered, by piece (Worker::take_kept_bulks): for a spread mesh's write.
 using KeptBulksTaker = std::function<std::map<int, TetBlock>()>;
+using KeptChainsTaker = std::function<std::map<int, HealedChain>()>;
 // A worker's side: joins each write rank 0 orders until it says there are no more.
-void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks);
+void join_writes(JobStatus& status, RankStats& stats, const KeptBulksTaker& take_bulks,
+                 const KeptChainsTaker& take_chains = nullptr);
 
 }  // namespace partet::mpi

@@ -28,7 +28,8 @@ enum Command : int {
   kLinkBulks = 4,
   kGrowBand = 5,
   kSendBand = 6,
-  kCutShares = 7
+  kCutShares = 7,
+  kSendChains = 8
 };
 
 // A stopped or dead rank must end the job within a bounded time, naming it. Rank 0 allows a

@@ -95,6 +95,23 @@ class RemoteBulks : public BulkStore {
                           std::to_string(piece) + " with the mesh it kept");
     return deserialize_grown_band(bytes);
   }
+  // Every worker sends back the seam chains it healed and kept: how many, then each.
+  std::vector<std::pair<int, HealedChain>> take_chains() override {
+    broadcast(kSendChains);
+    int size = 1;
+    MPI_Comm_size(job_comm(), &size);
+    std::vector<std::pair<int, HealedChain>> all;
+    for (int rank = 1; rank < size; ++rank) {
+      const std::string what = "send back the seam chains it healed";
+      const std::string count = reply_from(rank, what);
+      for (unsigned long i = 0, n = std::stoul(count); i < n; ++i) {
+        std::int32_t index = 0;
+        HealedChain chain = deserialize_chain_outcome(reply_from(rank, what), index);
+        all.emplace_back(index, std::move(chain));
+      }
+    }
+    return all;
+  }
   PieceBand take_band(int piece) override {
     return deserialize_grown_band(ask_owner(kSendBand, piece, "the band part of piece " + std::to_string(piece)));
   }

@@ -457,7 +457,14 @@ void write_one(const SetOrder& set, std::size_t files, OwnFile& own, const std::
 
 void write_spread_piece_files(MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output, int exponent,
                               const std::vector<PieceFile>& files, RankStats& stats) {
+  if (mesh.band_elsewhere()) throw InternalError("piece files were asked of a band left on the ranks that healed it");
   SpreadPieceFileWrite(format, mesh, output, exponent, files, stats).run();
+}
+
+std::map<int, HealedChain>& BulksForWrites::chains() {
+  if (!chains_taken_ && take_chains_) chains_ = take_chains_();
+  chains_taken_ = true;
+  return chains_;
 }
 
 std::map<int, TetBlock>& BulksForWrites::get(int exponent) {

@@ -25,6 +25,7 @@
 
 #include "io/mesh_formats.hpp"
 #include "mpi/driver.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/spread_mesh.hpp"
 
 namespace partet::mpi {
@@ -41,13 +42,19 @@ void write_spread_piece_files(MeshFormat format, const SpreadMesh& mesh, const M
 class BulksForWrites {
  public:
   using Taker = std::function<std::map<int, TetBlock>()>;
-  explicit BulksForWrites(Taker take) : take_(std::move(take)) {}
+  using ChainTaker = std::function<std::map<int, HealedChain>()>;
+  explicit BulksForWrites(Taker take, ChainTaker take_chains = nullptr)
+      : take_(std::move(take)), take_chains_(std::move(take_chains)) {}
   std::map<int, TetBlock>& get(int exponent);
+  // The seam chains it healed and kept (HealOptions::keep_healed), by the index rank 0 gave them.
+  std::map<int, HealedChain>& chains();
 
  private:
   Taker take_;
-  bool taken_ = false;
+  ChainTaker take_chains_;
+  bool taken_ = false, chains_taken_ = false;
   std::map<int, TetBlock> bulks_;
+  std::map<int, HealedChain> chains_;
 };
 
 // A worker's side of a kSpreadPiecesOrder (its first line read).

@@ -308,6 +308,7 @@ class SpreadRowsWrite {
 
 void add_spread_row_files(OutputSet& set, MeshFormat format, const SpreadMesh& mesh, const MeshOutput& output,
                           const std::string& prefix, int exponent, const TetgenLines& face_lines) {
+  if (mesh.band_elsewhere()) throw InternalError("a single file was asked of a band left on the ranks that healed it");
   SpreadRowsWrite(format, mesh, output, exponent, face_lines).run(set, prefix);
 }
 

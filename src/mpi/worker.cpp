@@ -65,6 +65,7 @@ class KeptBulks {
     shares_.clear();
     own_shares_.clear();
     bands_.clear();
+    chains_.clear();
     on_disk_.reset();
     if (!scratch_.empty()) on_disk_ = std::make_unique<ScratchBulks>(scratch_);
   }
@@ -113,6 +114,10 @@ class KeptBulks {
     return kept;
   }
   KeptBandParts& bands() { return bands_; }
+  // The seam chains this rank healed and keeps (HealOptions::keep_healed), by the index rank 0
+  // gave them; taken once, for the writers or when the band must be welded after all.
+  void keep_chain(int index, HealedChain&& chain) { chains_[index] = std::move(chain); }
+  std::map<int, HealedChain> take_chains() { return std::move(chains_); }
   // A chain's shares ("": they could not be cut) for the rank that heals it: sent at once (taken
   // in the order pushed), or kept when it is this one.
   void push_shares(int healer, int chain, std::string bytes) {
@@ -167,6 +172,7 @@ class KeptBulks {
   KeptBandParts bands_;
   std::map<int, SendQueue> shares_out_;    // by healing rank: the chains' shares not yet taken there
   std::map<int, std::string> own_shares_;  // by chain: the shares of those this rank heals
+  std::map<int, HealedChain> chains_;      // by index: the chains healed here and kept
 };
 
 namespace {
@@ -320,6 +326,23 @@ std::optional<std::string> take_chain_shares(ChainTask& task, KeptBulks& kept, R
   return why;
 }
 
+// A worker's side of kSendChains: the seam chains it healed and kept, back to rank 0 in full (the
+// band must be welded after all): how many, then each.
+void send_kept_chains(KeptBulks& kept, RankStats& stats) {
+  std::map<int, HealedChain> chains = kept.take_chains();
+  AddSeconds timer{stats.send_seconds};
+  const auto send = [&](const std::string& bytes) {
+    stats.bytes_sent += static_cast<double>(
+        bounded([&] { return send_bytes(bytes, 0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); }));
+  };
+  send(std::to_string(chains.size()));
+  for (auto& [index, chain] : chains) {
+    stats.chains_kept -= 1, stats.chain_tets_kept -= static_cast<double>(chain.tets.size());
+    send(serialize_chain_outcome(index, chain));
+    chain = HealedChain();
+  }
+}
+
 // A worker's part of seam healing: welds a chain of the seams from its pieces' shares (rank 0's
 // in the task, the others' from the ranks that keep them) and heals it whole, its regions in
 // TetGen processes here one after another, and sends rank 0 the healed chain or its failure.
@@ -356,9 +379,14 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
     healed = HealedChain();
     healed.failure = Failure(FailureKind::other, -1, planes, e.what());
   }
+  const bool keep = chain.heal.keep_healed && !healed.failure;
   chain = ChainTask();
   heartbeat.done();
-  const std::string reply = serialize_chain_outcome(index, healed);
+  const std::string reply = serialize_chain_outcome(index, keep ? kept_elsewhere(healed, rank, index) : healed);
+  if (keep) {
+    stats.chains_kept += 1, stats.chain_tets_kept += static_cast<double>(healed.tets.size());
+    kept.keep_chain(index, std::move(healed));
+  }
   AddSeconds timer{stats.send_seconds};
   stats.bytes_sent += static_cast<double>(
       bounded([&] { return send_bytes(reply, 0, kTagReply, job_comm(), kMaxChunk, kRootSeconds); }));
@@ -370,6 +398,8 @@ void heal_chain_for_root(std::string&& bytes, std::uint64_t task, const MeshJob&
 // empty message: its healing rank takes that chain for failed.
 void cut_kept_shares(KeptBulks& kept, RankStats& stats) {
   AddSeconds timer{stats.share_cut_seconds};
+  for (const auto& [index, chain] : kept.take_chains())  // (a new round of chains: an earlier attempt's go)
+    stats.chains_kept -= 1, stats.chain_tets_kept -= static_cast<double>(chain.tets.size());
   std::vector<BandPartPlan> plans, here;
   std::vector<int> order, healers;
   const std::string plan = bounded([] { return recv_bytes(0, kTagBulk, job_comm(), kMaxChunk, kRootSeconds); });
@@ -462,6 +492,8 @@ Worker::Worker(const MeshJob& job, int rank, RankStats& stats) : job_(job), rank
 
 Worker::~Worker() = default;
 
+std::map<int, HealedChain> Worker::take_kept_chains() { return kept_->take_chains(); }
+
 std::map<int, TetBlock> Worker::take_kept_bulks() {
   std::map<int, TetBlock> taken;
   for (int piece : kept_->pieces())
@@ -500,6 +532,10 @@ void Worker::mesh_rounds() {
     }
     if (command == kCutShares) {
       cut_kept_shares(kept, stats);
+      continue;
+    }
+    if (command == kSendChains) {
+      send_kept_chains(kept, stats);
       continue;
     }
     for (;;) {

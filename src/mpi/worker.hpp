@@ -12,6 +12,7 @@
 #include "stages/closure.hpp"
 #include "stages/piece.hpp"
 #include "stages/seam_band.hpp"
+#include "stages/seam_chain_band.hpp"
 
 namespace partet::mpi {
 
@@ -39,6 +40,8 @@ class Worker {
   void mesh_rounds();
   // The bulks it still keeps, by piece, numbered as in the output (it keeps none afterwards).
   std::map<int, TetBlock> take_kept_bulks();
+  // The seam chains it healed and kept (HealOptions::keep_healed), by the index rank 0 gave them.
+  std::map<int, HealedChain> take_kept_chains();
 
  private:
   const MeshJob& job_;

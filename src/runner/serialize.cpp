@@ -681,6 +681,38 @@ std::vector<SpreadBulk> deserialize_placement(std::string_view bytes) {
   });
 }
 
+std::string serialize_band_runs(const std::vector<BandRun>& runs, bool elsewhere_only) {
+  std::size_t bytes = 64;
+  for (const BandRun& run : runs) bytes += 64 + run.solid.size() * 4 + run.point_ids.size() * 8;
+  return encode(bytes, [&](auto& ar) {
+    std::uint64_t count = 0;
+    for (const BandRun& run : runs) count += !elsewhere_only || run.rank != 0;
+    ar << count;
+    for (const BandRun& run : runs) {
+      if (elsewhere_only && run.rank == 0) continue;
+      const std::int32_t head[2] = {run.chain, run.rank};
+      ar << boost::serialization::make_array(head, 2) << run.first_row << run.tets << run.first_here;
+      save_block(ar, run.solid);
+      save_block(ar, run.point_ids);
+    }
+  });
+}
+
+std::vector<BandRun> deserialize_band_runs(std::string_view bytes) {
+  return decode<std::vector<BandRun>>(bytes, [](auto& ar, std::vector<BandRun>& runs) {
+    std::uint64_t count = 0;
+    ar >> count;
+    runs.resize(count);
+    for (BandRun& run : runs) {
+      std::int32_t head[2] = {};
+      ar >> boost::serialization::make_array(head, 2) >> run.first_row >> run.tets >> run.first_here;
+      run.chain = head[0], run.rank = head[1];
+      load_block(ar, run.solid);
+      load_block(ar, run.point_ids);
+    }
+  });
+}
+
 namespace {
 constexpr char kCapShapeTag = 'C', kCapFailureTag = 'E';
 constexpr std::size_t kCapHead = 1 + sizeof(double);
@@ -757,7 +789,7 @@ PieceOutcome deserialize_outcome(std::string_view bytes) {
 
 namespace partet {
 namespace {
-constexpr char kChainHealedTag = 'L', kChainFailureTag = 'M';
+constexpr char kChainHealedTag = 'L', kChainFailureTag = 'M', kChainKeptTag = 'W';
 
 template <class Archive>
 void save_stats(Archive& ar, const SeamStats& stats) {
@@ -833,14 +865,15 @@ std::string serialize_chain_task(const ChainTask& task) {
   return encode(
       bytes,
       [&](auto& ar) {
-        const std::int32_t head[7] = {task.index,
+        const std::int32_t head[8] = {task.index,
                                       task.heal.remove_cap_points,
                                       task.heal.layers,
                                       task.tetgen.boundary_points,
                                       task.heal.chain_links,
                                       task.heal.chain_band_tets,
-                                      task.shares_of};
-        ar << boost::serialization::make_array(head, 7);
+                                      task.shares_of,
+                                      task.heal.keep_healed};
+        ar << boost::serialization::make_array(head, 8);
         ar << task.tetgen.quality << task.tetgen.tolerance << task.tetgen.optimization << task.failure;
         save_block(ar, task.share_ranks);
         save_chain_split(ar, split);
@@ -853,8 +886,8 @@ ChainTask deserialize_chain_task(std::string_view bytes) {
   if (task_kind(bytes) != TaskKind::chain) throw InternalError("a task was read as a chain of the seams");
   bytes.remove_prefix(1);
   return decode<ChainTask>(bytes, [](auto& ar, ChainTask& task) {
-    std::int32_t head[7] = {};
-    ar >> boost::serialization::make_array(head, 7);
+    std::int32_t head[8] = {};
+    ar >> boost::serialization::make_array(head, 8);
     task.index = head[0];
     task.heal.remove_cap_points = head[1] != 0;
     task.heal.layers = head[2];
@@ -862,6 +895,7 @@ ChainTask deserialize_chain_task(std::string_view bytes) {
     task.heal.chain_links = head[4] != 0;
     task.heal.chain_band_tets = head[5] != 0;
     task.shares_of = head[6];
+    task.heal.keep_healed = head[7] != 0;
     ar >> task.tetgen.quality >> task.tetgen.tolerance >> task.tetgen.optimization >> task.failure;
     load_block(ar, task.share_ranks);
     load_chain_split(ar, task.chain.split);
@@ -870,7 +904,7 @@ ChainTask deserialize_chain_task(std::string_view bytes) {
 }
 
 std::string serialize_chain_outcome(std::int32_t index, const HealedChain& healed) {
-  const char tag = healed.failure ? kChainFailureTag : kChainHealedTag;
+  const char tag = healed.failure ? kChainFailureTag : healed.kept_on >= 0 ? kChainKeptTag : kChainHealedTag;
   if (healed.failure) {
     const std::string failure = encode_failure(*healed.failure, {});
     return encode(
@@ -890,17 +924,20 @@ std::string serialize_chain_outcome(std::int32_t index, const HealedChain& heale
         save_block(ar, healed.label);
         save_block(ar, healed.band_tets);
         save_chain_links(ar, healed.links);
+        if (healed.kept_on < 0) return;
+        ar << healed.kept_on << healed.kept_as << healed.kept_tets;
+        save_block(ar, healed.used);
       },
       std::string_view(&tag, 1));
 }
 
 bool is_chain_outcome(std::string_view reply) {
-  return !reply.empty() && (reply[0] == kChainHealedTag || reply[0] == kChainFailureTag);
+  return !reply.empty() && (reply[0] == kChainHealedTag || reply[0] == kChainFailureTag || reply[0] == kChainKeptTag);
 }
 
 HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& index) {
   if (!is_chain_outcome(bytes)) throw InternalError("a reply was read as a chain of the seams");
-  const bool failed = bytes[0] == kChainFailureTag;
+  const bool failed = bytes[0] == kChainFailureTag, kept = bytes[0] == kChainKeptTag;
   bytes.remove_prefix(1);
   HealedChain chain = decode<HealedChain>(bytes, [&](auto& ar, HealedChain& healed) {
     ar >> index;
@@ -920,6 +957,9 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
     load_block(ar, healed.label);
     load_block(ar, healed.band_tets);
     load_chain_links(ar, healed.links);
+    if (!kept) return;
+    ar >> healed.kept_on >> healed.kept_as >> healed.kept_tets;
+    load_block(ar, healed.used);
   });
   const BlockLinks& links = chain.links;
   const auto points = static_cast<std::int64_t>(chain.global_ids.size() + chain.new_points.size());
@@ -928,7 +968,8 @@ HealedChain deserialize_chain_outcome(std::string_view bytes, std::int32_t& inde
   });
   if (links.keys.size() != links.component.size() || links.keys.size() != links.face.size() ||
       chain.neighbours.size() != chain.tets.size() ||
-      (!chain.label.empty() && chain.label.size() != chain.tets.size()) || !points_known)
+      (!chain.label.empty() && chain.label.size() != chain.tets.size()) || !points_known ||
+      (kept && (chain.kept_on < 0 || chain.used.size() != static_cast<std::size_t>(points))))
     throw InternalError("malformed healed chain " + std::to_string(index) + " of the seams");
   return chain;
 }

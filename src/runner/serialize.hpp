@@ -106,5 +106,9 @@ std::vector<std::pair<int, BlockLinks>> deserialize_bulk_links(std::string_view 
 // rank 0 tells the owners before they write.
 std::string serialize_placement(const std::vector<SpreadBulk>& bulks);
 std::vector<SpreadBulk> deserialize_placement(std::string_view bytes);
+// The healed band's runs (SpreadMesh::band_runs; elsewhere_only: those kept by other ranks than
+// 0), for the ranks that keep healed chains.
+std::string serialize_band_runs(const std::vector<BandRun>& runs, bool elsewhere_only);
+std::vector<BandRun> deserialize_band_runs(std::string_view bytes);
 
 }  // namespace partet

@@ -28,7 +28,8 @@ void check_int32_sizes(std::size_t tets, std::size_t points) {
                        "them with int32); a run on several ranks that needs no assembled mesh writes it from its parts");
 }
 
-AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused)
+AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused,
+                                     const std::vector<std::int32_t>& used_elsewhere)
     : split_points_(points.split_points),
       steiner_before_(before_each(points.steiner_counts)),
       band_steiner_(std::move(points.band_steiner)) {
@@ -44,7 +45,8 @@ AssemblyNumbering::AssemblyNumbering(AssemblyPoints points, const TetMesh& heale
   welded_ = healing_first_welded() + (band_points - healing_first_band_);
   // Only the ids that go are kept (a few per cut vertex): no array over every point.
   if (drop_unused) {
-    const std::vector<char> used = used_vertices(healed_band.points.size(), healed_band.tets);
+    std::vector<char> used = used_vertices(healed_band.points.size(), healed_band.tets);
+    for (const std::int32_t v : used_elsewhere) used.at(static_cast<std::size_t>(v)) = 1;
     const std::vector<bool>& before = points.band_used_before;
     auto stays = [&](std::int64_t band_id) { return used[band_id] || !before[band_id]; };
     for (std::int32_t v = 0; v < split_points_; ++v)

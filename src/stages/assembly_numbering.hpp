@@ -86,7 +86,10 @@ class AssemblyNumbering {
  public:
   // For a healed band (tets in band ids; points: the band's, then healing's). drop_unused false:
   // every point stays (healing goes on over the assembled mesh, which then drops them).
-  AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused);
+  // used_elsewhere: the band's points that tets of it kept on other ranks use (healed chains kept
+  // where they healed), in any order.
+  AssemblyNumbering(AssemblyPoints points, const TetMesh& healed_band, bool drop_unused,
+                    const std::vector<std::int32_t>& used_elsewhere = {});
 
   std::int64_t point_count() const { return kept_; }
   // The welded id of piece p's Steiner point i, and of a band point.

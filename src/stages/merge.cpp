@@ -524,9 +524,10 @@ void Welder::number_bulks(const std::vector<BulkNumbering>& shares) {
     if (!stored_[p].stored) number_bulk(bulks_[p], shares[p], first_steiner_);
 }
 
-AssemblyNumbering Welder::numbering(const TetMesh& healed_band, bool drop_unused) {
+AssemblyNumbering Welder::numbering(const TetMesh& healed_band, bool drop_unused,
+                                    const std::vector<std::int32_t>& used_elsewhere) {
   if (!all_split()) throw InternalError("the welder assembles only after finish_band");
-  return AssemblyNumbering(assembly_points(), healed_band, drop_unused);
+  return AssemblyNumbering(assembly_points(), healed_band, drop_unused, used_elsewhere);
 }
 
 TetMesh Welder::assemble(TetMesh&& healed_band, bool drop_unused) {
@@ -646,38 +647,51 @@ void spread_points(const AssemblyNumbering& numbering, std::int32_t split_points
 
 // The band as blocks: one per healed chain, or the whole band as one.
 struct BandBlocks {
-  std::vector<BlockLinks> links;        // per block
-  std::vector<std::int32_t> first_tet;  // per block, in the band; and one past the last
-  std::vector<std::int32_t> label;      // per band tet: its component in its block
+  std::vector<BlockLinks> links;         // per block
+  std::vector<std::int32_t> first_tet;   // per block, its first row in the band; and one past the last
+  std::vector<std::int32_t> first_here;  // per block, its first tet here (in label); and one past the last
+  std::vector<char> here;                // per block: whether its tets are here (else on the rank that healed it)
+  std::vector<std::int32_t> label;       // per band tet here: its component in its block
 };
 
 // The band's links when it came as healed chains: each chain's, keys moved to the mesh's ids
-// (through the band's own, which keep the order: each chain's keys stay sorted).
-BandBlocks chain_blocks(const AssemblyNumbering& numbering, std::int32_t split_points,
-                        const std::vector<std::int32_t>& compact, const SpreadMesh& mesh,
-                        std::vector<BandChainLinks>&& chains) {
-  const auto split_kept = static_cast<std::int64_t>(mesh.split_points.size());
+// (through the band's own, which keep the order: each chain's keys stay sorted). When a chain is
+// kept by the rank that healed it, every chain's rows go into mesh.band_runs, and those kept
+// elsewhere get the mesh's ids of their points.
+BandBlocks chain_blocks(const AssemblyNumbering& numbering, SpreadMesh& mesh, std::vector<BandChainLinks>&& chains) {
   auto mesh_id = [&](std::int64_t v) {
-    const std::int64_t id = v < split_points ? numbering.of_band(static_cast<std::int32_t>(v))
-                            : compact[static_cast<std::size_t>(v - split_points)] < 0
-                                ? -1
-                                : mesh.band_point_ids[compact[static_cast<std::size_t>(v - split_points)] - split_kept];
+    const std::int64_t id = numbering.of_band(static_cast<std::int32_t>(v));
     if (id < 0) throw InternalError("an open face of a healed chain has a point the assembly dropped");
     return id;
   };
+  const bool runs = std::any_of(chains.begin(), chains.end(), [](const BandChainLinks& c) { return c.kept_on >= 0; });
   BandBlocks blocks;
-  for (BandChainLinks& chain : chains) {
-    if (chain.first_tet != static_cast<std::int32_t>(blocks.label.size()))
+  std::int32_t row = 0;
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    BandChainLinks& chain = chains[c];
+    const bool here = chain.kept_on < 0;
+    if (chain.first_tet != row || (here && static_cast<std::int32_t>(chain.label.size()) != chain.tets))
       throw InternalError("the healed chains' links do not match the band");
     for (auto& key : chain.links.keys)
       for (auto& v : key) v = mesh_id(v);
     blocks.links.push_back(std::move(chain.links));
-    blocks.first_tet.push_back(chain.first_tet);
+    blocks.first_tet.push_back(row);
+    blocks.first_here.push_back(static_cast<std::int32_t>(blocks.label.size()));
+    blocks.here.push_back(here);
+    if (runs) {
+      BandRun& run = mesh.band_runs.emplace_back();
+      run.chain = here ? static_cast<int>(c) : chain.kept_as, run.rank = here ? 0 : chain.kept_on;
+      run.first_row = mesh.first_band_tet + row, run.tets = chain.tets;
+      run.first_here = static_cast<std::int64_t>(blocks.label.size());
+      for (const std::int32_t v : chain.band_ids) run.point_ids.push_back(v < 0 ? -1 : numbering.of_band(v));
+    }
     blocks.label.insert(blocks.label.end(), chain.label.begin(), chain.label.end());
+    row += chain.tets;
   }
   if (blocks.label.size() != mesh.band_tets.size())
     throw InternalError("the healed chains' links do not match the band");
-  blocks.first_tet.push_back(static_cast<std::int32_t>(blocks.label.size()));
+  blocks.first_tet.push_back(row);
+  blocks.first_here.push_back(static_cast<std::int32_t>(blocks.label.size()));
   return blocks;
 }
 
@@ -720,11 +734,13 @@ BandBlocks spread_band(const AssemblyNumbering& numbering, std::int32_t split_po
   // 3. Its links.
   BandBlocks blocks;
   if (!chains.empty()) {
-    blocks = chain_blocks(numbering, split_points, compact, mesh, std::move(chains));
+    blocks = chain_blocks(numbering, mesh, std::move(chains));
   } else {
     blocks.links.push_back(
         block_links(mesh.band_tets, mesh.band_ids(), healed_band.neighbours, true, 0, {}, blocks.label));
     blocks.first_tet = {0, static_cast<std::int32_t>(mesh.band_tets.size())};
+    blocks.first_here = blocks.first_tet;
+    blocks.here = {1};
   }
   mesh.band_neighbours = std::move(healed_band.neighbours);
   healed_band = TetMesh();
@@ -793,11 +809,21 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across, std::vector<
   const std::size_t k = bulks_.size();
   if (!all_split()) throw InternalError("the welder spreads the mesh only after finish_band");
   StepClock clock;
-  const AssemblyNumbering numbering = this->numbering(healed_band);
+  std::vector<std::int32_t> used_elsewhere;  // (by the healed chains kept where they healed)
+  std::int64_t tets_elsewhere = 0;
+  for (const BandChainLinks& chain : chains) {
+    if (chain.kept_on < 0) continue;
+    if (faces_across) throw InternalError("the tets across a healed chain kept elsewhere were asked for");
+    tets_elsewhere += chain.tets;
+    for (const std::int32_t v : chain.band_ids)
+      if (v >= 0) used_elsewhere.push_back(v);
+  }
+  const AssemblyNumbering numbering = this->numbering(healed_band, true, used_elsewhere);
+  used_elsewhere = {};
   clock.lap("numbering");
   SpreadMesh mesh;
   mesh.points = numbering.point_count();
-  mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count());
+  mesh.tets = static_cast<std::int64_t>(healed_band.tets.size() + bulk_tet_count()) + tets_elsewhere;
   // 1. The bulks, numbered where they are, in piece order, and the links of those kept here. The
   //    ranks keeping the others make theirs meanwhile, while steps 2 and 3 run here.
   std::vector<BlockLinks> links = spread_bulks(numbering, mesh, clock);
@@ -819,9 +845,14 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across, std::vector<
   const std::vector<std::vector<std::int32_t>> solids = solids_of_blocks(links, first_row);
   for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].solid = solids[p];
   mesh.band_solid.reserve(band.label.size());
-  for (std::size_t b = 0; b < band_blocks; ++b)
-    for (std::int32_t t = band.first_tet[b]; t < band.first_tet[b + 1]; ++t)
+  for (std::size_t b = 0; b < band_blocks; ++b) {
+    if (!band.here[b]) {
+      mesh.band_runs[b].solid = solids[k + b];
+      continue;
+    }
+    for (std::int32_t t = band.first_here[b]; t < band.first_here[b + 1]; ++t)
       mesh.band_solid.push_back(solids[k + b][band.label[t]]);
+  }
   clock.lap("solids");
   // 6. The tets across the blocks' shared faces (the neighbours a TetGen .neigh file names).
   if (faces_across) {
@@ -829,7 +860,7 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across, std::vector<
     for (std::size_t p = 0; p < k; ++p) mesh.bulks[p].across = std::move(across[p]);
     for (std::size_t b = 0; b < band_blocks; ++b)  // (each block's faces ascending, the blocks in order)
       for (FaceAcross face : across[k + b]) {
-        face.face += 4 * static_cast<std::uint64_t>(band.first_tet[b]);
+        face.face += 4 * static_cast<std::uint64_t>(band.first_here[b]);
         mesh.band_across.push_back(face);
       }
     mesh.has_across = true;
@@ -842,6 +873,13 @@ SpreadMesh Welder::spread(TetMesh&& healed_band, bool faces_across, std::vector<
   band_steiner_.assign(k, {});
   band_tets_.assign(k, {});
   return mesh;
+}
+
+std::vector<std::pair<int, HealedChain>> Welder::take_kept_chains() {
+  std::vector<std::pair<int, HealedChain>> chains;
+  for (BulkStore* store : bulk_stores())
+    for (auto& chain : store->take_chains()) chains.push_back(std::move(chain));
+  return chains;
 }
 
 TetMesh weld(const SplitSurface& split, const std::vector<PieceSurface>& pieces, std::vector<PieceTetMesh>&& results) {

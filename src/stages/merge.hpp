@@ -9,6 +9,7 @@
 #include "stages/assembly_numbering.hpp"
 #include "stages/piece.hpp"
 #include "stages/seam_band.hpp"
+#include "stages/seam_chain_band.hpp"
 #include "stages/seam_chains.hpp"
 #include "stages/spread_mesh.hpp"
 
@@ -55,6 +56,9 @@ class BulkStore {
   virtual void cut_shares(const std::vector<BandPartPlan>& /*plans*/, const std::vector<int>& /*order*/,
                           const std::vector<int>& /*healers*/) {}
   virtual std::vector<ChainShare> shares(int chain);
+  // The healed chains kept where they healed (HealOptions::keep_healed), back in full, each with
+  // the index it was healed as; once.
+  virtual std::vector<std::pair<int, HealedChain>> take_chains() { return {}; }
 };
 
 // Welds the pieces' meshes as they arrive, in any order, so most of the merge overlaps the
@@ -134,7 +138,8 @@ class Welder {
   // The same in two steps: the numbering, made from the healed band alone (once: the bands'
   // Steiner maps move into it; each bulk's share, for_bulk, numbers it wherever it is kept), then
   // the assembly with it.
-  AssemblyNumbering numbering(const TetMesh& healed_band, bool drop_unused = true);
+  AssemblyNumbering numbering(const TetMesh& healed_band, bool drop_unused = true,
+                              const std::vector<std::int32_t>& used_elsewhere = {});
   TetMesh assemble(TetMesh&& healed_band, const AssemblyNumbering& numbering);
   // Instead of the assembly, when only formats written from the parts are: the mesh left where
   // its parts are (spread_mesh.hpp). The bulks kept by an owner's store (add_split) are numbered
@@ -142,7 +147,12 @@ class Welder {
   // the result, numbered. With faces_across, the tets across the blocks' shared faces too (for
   // TetGen's .neigh). `chains`: the band's links, healed chain by chain (add_healed_chains), when
   // the band is made of them; else found here. The welder is then empty.
+  // A chain kept by the rank that healed it (BandChainLinks::kept_on) has its rows in the band
+  // there (SpreadMesh::band_runs); then no faces_across.
   SpreadMesh spread(TetMesh&& healed_band, bool faces_across = true, std::vector<BandChainLinks>&& chains = {});
+  // The healed chains kept where they healed, back in full (by their place in the healing order),
+  // when the band must be welded after all.
+  std::vector<std::pair<int, HealedChain>> take_kept_chains();
   // Whether an owner's store keeps a bulk (the pieces were split where they were meshed).
   bool keeps_bulks_elsewhere() const;
   // The tets the bulks hold (after finish_band, or split_bands); the tets the band parts hold

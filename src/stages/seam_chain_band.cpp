@@ -402,6 +402,11 @@ namespace {
 // Throws InternalError unless the healed chain came with its neighbours, its pieces (when the
 // band has them), its ids and, when asked, its links.
 void check_healed_chain(const HealedChain& chain, bool pieces, bool links) {
+  if (chain.kept_on >= 0) {
+    if (!links || chain.used.size() != chain.global_ids.size() + chain.new_points.size())
+      throw InternalError("a seam chain kept elsewhere came without its links or the points it uses");
+    return;
+  }
   const std::size_t tets = chain.tets.size();
   if (chain.neighbours.size() != tets || (pieces && chain.piece.size() != tets))
     throw InternalError("a healed chain of the seams came without its neighbours or pieces");
@@ -415,15 +420,30 @@ std::vector<BandChainLinks> append_healed_chains(TetMesh& band, std::vector<Heal
   const bool pieces = band.piece.size() == band.tets.size();
   band.neighbours.resize(band.tets.size(), Tet{-1, -1, -1, -1});
   std::vector<BandChainLinks> chain_links(links ? healed.size() : 0);
+  std::int32_t row = 0;  // in the band, the chains kept elsewhere counted
   for (std::size_t c = 0; c < healed.size(); ++c) {
     HealedChain& chain = healed[c];
     check_healed_chain(chain, pieces, links);
     const std::vector<std::int32_t>& global_ids = chain.global_ids;
     const auto old_points = static_cast<std::int64_t>(global_ids.size());
     const auto first_new = static_cast<std::int64_t>(band.points.size());
-    const auto in_band = [&](std::int64_t v) { return v < old_points ? global_ids[v] : first_new + (v - old_points); };
+    const auto in_band = [&](std::int64_t v) {
+      return static_cast<std::int32_t>(v < old_points ? global_ids[v] : first_new + (v - old_points));
+    };
     const auto first_tet = static_cast<std::int32_t>(band.tets.size());
     band.points.insert(band.points.end(), chain.new_points.begin(), chain.new_points.end());
+    if (chain.kept_on >= 0) {  // (its points and links only)
+      for (auto& key : chain.links.keys)
+        for (auto& v : key) v = in_band(v);
+      BandChainLinks& kept = chain_links[c];
+      kept.first_tet = row, kept.tets = chain.kept_tets, kept.links = std::move(chain.links);
+      kept.kept_on = chain.kept_on, kept.kept_as = chain.kept_as;
+      for (std::size_t v = 0; v < chain.used.size(); ++v)
+        kept.band_ids.push_back(chain.used[v] ? in_band(static_cast<std::int64_t>(v)) : -1);
+      row += chain.kept_tets;
+      chain = HealedChain();
+      continue;
+    }
     for (std::size_t t = 0; t < chain.tets.size(); ++t) {
       Tet tet, across;
       for (int j = 0; j < 4; ++j) {
@@ -435,17 +455,35 @@ std::vector<BandChainLinks> append_healed_chains(TetMesh& band, std::vector<Heal
       band.neighbours.push_back(across);
     }
     if (pieces) band.piece.insert(band.piece.end(), chain.piece.begin(), chain.piece.end());
+    const auto tets = static_cast<std::int32_t>(chain.tets.size());
     if (links) {
       for (auto& key : chain.links.keys)  // (the band's ids keep the chain's order: the keys stay sorted)
         for (auto& v : key) v = in_band(v);
-      chain_links[c] = BandChainLinks{first_tet, std::move(chain.links), std::move(chain.label)};
+      BandChainLinks& here = chain_links[c];
+      here.first_tet = row, here.tets = tets, here.links = std::move(chain.links), here.label = std::move(chain.label);
     }
+    row += tets;
     chain = HealedChain();
   }
   return chain_links;
 }
 
 }  // namespace
+
+HealedChain kept_elsewhere(const HealedChain& chain, int rank, std::int32_t index) {
+  HealedChain sent;
+  sent.global_ids = chain.global_ids;
+  sent.new_points = chain.new_points;
+  sent.links = chain.links;
+  sent.stats = chain.stats;
+  sent.seconds = chain.seconds;
+  sent.kept_on = rank, sent.kept_as = index;
+  sent.kept_tets = static_cast<std::int32_t>(chain.tets.size());
+  sent.used.assign(chain.global_ids.size() + chain.new_points.size(), 0);
+  for (const Tet& t : chain.tets)
+    for (const std::int32_t v : t) sent.used.at(static_cast<std::size_t>(v)) = 1;
+  return sent;
+}
 
 void put_back_chains(TetMesh& band, const std::vector<std::vector<std::int32_t>>& chain_tets,
                      std::vector<HealedChain>&& healed) {

@@ -134,7 +134,18 @@ struct HealedChain {
   SeamStats stats;
   std::optional<Failure> failure;  // of the MeshingError its healing threw (then nothing else)
   double seconds = 0;
+  // Kept by the rank that healed it (HealOptions::keep_healed): that rank, and here only its
+  // points (global_ids, new_points), links and stats, its tet count and the points its tets use;
+  // tets, neighbours, piece and label stay there.
+  int kept_on = -1;
+  std::int32_t kept_as = -1;  // the index that rank keeps it by
+  std::int32_t kept_tets = 0;
+  std::vector<char> used;  // per point of its own: whether a tet uses it
 };
+
+// What rank 0 is sent of a chain healed and kept elsewhere (HealedChain::kept_on): the chain
+// without its tets.
+HealedChain kept_elsewhere(const HealedChain& chain, int rank, std::int32_t index);
 
 // Heals a chain cut out of the band; its mesh goes into the result. A MeshingError becomes the
 // result's failure.

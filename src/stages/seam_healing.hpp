@@ -42,6 +42,10 @@ struct HealOptions {
   // Each healed chain also says which of the band's tets it replaces (HealedChain::band_tets), for
   // a band whose tets are not all in chains: it is welded, and the chains put back into it.
   bool chain_band_tets = false;
+  // A chain healed on another rank stays there (issue 22: rank 0 plans, it does not hold the
+  // mesh): that rank keeps its tets for the writers and sends rank 0 only what numbering and
+  // linking the mesh need (HealedChain::kept_on). Only with chain_links, for a band made of chains.
+  bool keep_healed = false;
 };
 
 // Meshes a batch of closed surfaces (the regions around the seams, given as pieces with

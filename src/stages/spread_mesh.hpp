@@ -1,7 +1,8 @@
 // The output mesh left where its parts are (internal header): when only formats written from the
 // parts are asked for on several ranks, rank 0 does not assemble the mesh. Each bulk stays on the rank that meshed
 // it, numbered as in the assembled mesh, and its owner writes its rows; rank 0 keeps the healed
-// band, the split surface's points and the points healing added. The connected solids ("region",
+// band (when only the XDMF set is written, only the seam chains it healed: the others stay on the
+// ranks that healed them, band_runs), the split surface's points and the points healing added. The connected solids ("region",
 // numbered by their first tet) are found without the whole mesh: each block (a bulk, the band)
 // labels its own components and names its open faces that another block may share; rank 0 joins
 // the components that share a face.
@@ -49,9 +50,15 @@ BlockLinks block_links(const std::vector<Tet>& tets, const PointIds& ids, const 
 // band of a spread mesh is linked chain by chain, from what the healing ranks found, instead of
 // rank 0 finding the whole band's components and open faces again (Welder::spread).
 struct BandChainLinks {
-  std::int32_t first_tet = 0;
+  std::int32_t first_tet = 0;  // its first row in the band
+  std::int32_t tets = 0;
   BlockLinks links;
-  std::vector<std::int32_t> label;
+  std::vector<std::int32_t> label;  // here: per tet
+  // A chain kept by the rank that healed it (HealedChain::kept_on): that rank, and the band's id
+  // of each of its points (-1: no tet of it uses the point).
+  int kept_on = -1;
+  std::int32_t kept_as = -1;  // the index that rank keeps it by
+  std::vector<std::int32_t> band_ids;
 };
 
 // The connected solids of a mesh made of blocks in row order (blocks[b] starts at row first_row[b]):
@@ -84,6 +91,17 @@ struct SpreadBulk {
   std::vector<FaceAcross> across;            // its faces towards the band and other bulks
 };
 
+// A healed chain's rows in the band, when some chain is kept by the rank that healed it
+// (HealOptions::keep_healed).
+struct BandRun {
+  int chain = 0;
+  int rank = 0;  // that keeps its tets
+  std::int64_t first_row = 0, tets = 0;
+  std::int64_t first_here = 0;          // on rank 0: its first tet in band_tets
+  std::vector<std::int32_t> solid;      // kept elsewhere: per component of its tets (block_links' order)
+  std::vector<std::int64_t> point_ids;  // kept elsewhere: the mesh's id of each of its points (-1: unused)
+};
+
 // What rank 0 keeps of a mesh it does not assemble, and where every row is.
 struct SpreadMesh {
   std::int64_t points = 0, tets = 0;     // the whole mesh's
@@ -101,6 +119,12 @@ struct SpreadMesh {
   // The coordinates of the pieces' Steiner points the band's tets use (their rows are the
   // bulks', kept elsewhere; their ids: the first band_point_ids). For a .pvtu set's seam file.
   std::vector<Point3> band_steiner_points;
+  // When some healed chain stayed on the rank that healed it: every chain's rows, in order (those
+  // here in band_tets, one after another); else none, and band_tets are all the band's rows.
+  std::vector<BandRun> band_runs;
+  bool band_elsewhere() const { return !band_runs.empty(); }
+  // The healed band's rows, here and elsewhere.
+  std::int64_t band_rows() const { return tets - first_band_tet; }
 
   // The mesh's id of each of band_tets' ids (valid while band_point_ids is not changed).
   PointIds band_ids() const {

@@ -10,6 +10,9 @@
 # other ranks must have healed chains from shares that never passed through rank 0, their own or
 # sent straight by another worker (chain_shares_direct, on 2 and 4 ranks), and no chain may have
 # failed (a share gone astray would make its chain fail, and the seams heal over the whole mesh).
+# With XDMF=1, the XDMF set alone (--format xdmf) is written on 1, 2 and 4 ranks too and its .h5
+# files must be byte-identical; the seam chains healed on other ranks than 0 then stay there
+# (chains_kept), and at least one must have on 2 or 4 ranks.
 # Usage: determinism.sh PARTET MPIEXEC INPUT|generated:SHAPE[:FACES] K [partet mesh options...]
 set -euo pipefail
 partet=$1 mpiexec=$2 input=$3 k=$4
@@ -49,4 +52,20 @@ if (( ${CHAINS_AHEAD:-0} )) && ! grep -q "gathered ahead for rank 1" "$work/n2.l
   echo "FAIL: no seam chain gathered ahead for rank 1 on 2 ranks"; exit 1
 fi
 if (( grown < ${MIN_BANDS_GROWN:-0} )); then echo "FAIL: $grown bands grown where their bulks were kept, expected at least $MIN_BANDS_GROWN"; exit 1; fi
+if (( ${XDMF:-0} )); then
+  "$partet" mesh "$input" -o "$work/x1" --pieces "$k" --quiet --format xdmf "$@"
+  for n in 2 4; do
+    "$mpiexec" -n $n --oversubscribe "$partet" mesh "$input" -o "$work/x$n" --pieces "$k" --verbose --format xdmf \
+      --report "$work/x$n.json" "$@" > "$work/x$n.log" 2>&1 || { cat "$work/x$n.log"; exit 1; }
+    for file in x.h5 x_boundary.h5; do
+      cmp "$work/x1${file#x}" "$work/x$n${file#x}" || { echo "FAIL: the XDMF set's ${file#x} on $n ranks differs"; exit 1; }
+    done
+  done
+  "$partet" check "$input" "$work/x4.xdmf" | tail -n 1 | grep -q "check passed"
+  kept=$(/usr/bin/python3 -c "
+import json, sys
+print(int(sum(x['chains_kept'] for f in sys.argv[1:] for x in json.load(open(f))['rank'][1:])))" "$work/x2.json" "$work/x4.json")
+  if (( kept == 0 )); then echo "FAIL: no seam chain stayed on the rank that healed it (chains_kept)"; exit 1; fi
+  echo "identical XDMF sets on 1, 2 and 4 ranks ($kept seam chains kept where they healed)"
+fi
 echo "identical output on 1, 2 and 4 ranks (k=$k $*; $chains chains of cuts, $grown bands grown by their owners)"
