@@ -92,6 +92,8 @@ void kept_shares_failure(int rank) {
 
 double kept_bulk_seconds(double fallback) { return seconds_or("PARTET_TEST_WORKER_S", fallback); }
 
+double collective_step_seconds(double fallback) { return seconds_or("PARTET_TEST_COLLECTIVE_S", fallback); }
+
 void verdict_stop(int rank) {
   if (rank == 1 && injected("worker:stop-before-verdict")) ::raise(SIGSTOP);
 }

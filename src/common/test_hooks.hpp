@@ -33,8 +33,12 @@ void chain_stop(int rank);
 // PARTET_INJECT_FAILURE="worker:stop-on-COMMAND": rank 1 stops itself (SIGSTOP) when rank 0 asks
 // it for something of the bulks it keeps, so rank 0 waits for an answer that never comes. COMMAND:
 // "grow" (a band to grow with its bulk), "take" (a bulk to send back), "links" (its bulks' links),
-// "shares" (the seam chains' shares of its band parts).
+// "shares" (the seam chains' shares of its band parts), "write" (it joins the XDMF set's parallel
+// HDF5 write, so the other ranks wait inside it).
 void kept_bulk_stop(int rank, const char* command);
+// PARTET_TEST_COLLECTIVE_S=S: how long a rank waits in one step of a parallel HDF5 write for the
+// other ranks before it ends the job (collective_watch.hpp; else fallback).
+double collective_step_seconds(double fallback);
 // PARTET_INJECT_FAILURE="worker:shares-error": rank 1 cannot cut the seam chains' shares of the
 // band parts it keeps (an InternalError), so every chain it has a share of fails.
 void kept_shares_failure(int rank);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <functional>
 #include <type_traits>
 #include <vector>
 
@@ -85,10 +86,23 @@ bool file_system_full(const std::string& path, double bytes = 0) {
   return free_mb >= 0 && free_mb < 1 + bytes / 1048576;
 }
 
+// Each collective step that ended on this rank (a write call every rank makes, an agreement), for
+// the caller's watch over the write (mpi/collective_watch.hpp); none when empty.
+class Steps {
+ public:
+  explicit Steps(const std::function<void()>& ended) : ended_(ended) {}
+  void ended() const {
+    if (ended_) ended_();
+  }
+
+ private:
+  const std::function<void()>& ended_;
+};
+
 class Hdf5File {
  public:
-  Hdf5File(MPI_Comm comm, const std::string& path, const std::string& shown)
-      : comm_(comm), path_(path), shown_(shown) {
+  Hdf5File(MPI_Comm comm, const std::string& path, const std::string& shown, const Steps& steps)
+      : comm_(comm), path_(path), shown_(shown), steps_(steps) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
     Hid access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
     H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL);
@@ -96,6 +110,7 @@ class Hdf5File {
     H5Pset_file_locking(access.get(), false, true);
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get());
     if (!all_ranks(comm, file_ >= 0)) fail("create it");
+    steps_.ended();
   }
   ~Hdf5File() {
     if (file_ >= 0) H5Fclose(file_);
@@ -115,6 +130,7 @@ class Hdf5File {
     Hid dataset(H5Dcreate2(file_, rows.dataset, rows.file_type, file_space.get(), link.get(), creation.get(), H5P_DEFAULT),
                 H5Dclose);
     if (!all_ranks(comm_, dataset.ok())) fail_open(std::string("create ") + rows.dataset, 0);
+    steps_.ended();
     Hid transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
     H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE);
     // Each run in calls of at most rows_per_call rows; every rank makes as many calls as the rank
@@ -134,6 +150,7 @@ class Hdf5File {
     for (std::uint64_t call = 0; call < calls; ++call) {
       const Call c = call < mine.size() ? mine[call] : Call{nullptr, 0, 0};
       ok = write_rows(dataset.get(), file_space.get(), transfer.get(), rows, c.run, c.begin, c.n) && ok;
+      steps_.ended();
     }
     if (!all_ranks(comm_, ok)) fail_open(std::string("write ") + rows.dataset, double(rows.total) * double(rows.row_bytes));
   }
@@ -142,6 +159,7 @@ class Hdf5File {
     const herr_t closed = H5Fclose(file_);
     file_ = -1;
     if (!all_ranks(comm_, closed >= 0)) fail("close it");
+    steps_.ended();
   }
 
  private:
@@ -190,6 +208,7 @@ class Hdf5File {
 
   MPI_Comm comm_;
   std::string path_, shown_;
+  const Steps& steps_;
   hid_t file_ = -1;
 };
 
@@ -246,18 +265,22 @@ void refuse_on_trouble(MPI_Comm comm, WriteTrouble trouble, const std::string& s
 
 }  // namespace
 
-MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5Paths& paths, WriteTrouble trouble) {
+MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5Paths& paths, WriteTrouble trouble,
+                           const std::function<void()>& step_ended) {
+  const Steps steps(step_ended);
   if (trouble == WriteTrouble::none && !(file_exists(paths.mesh) && file_exists(paths.boundary)))
     trouble = WriteTrouble::file_not_seen;
   refuse_on_trouble(comm, trouble, paths.mesh_shown);
+  steps.ended();
   const Placement at = place(comm, block);
-  Hdf5File mesh(comm, paths.mesh, paths.mesh_shown);
+  steps.ended();
+  Hdf5File mesh(comm, paths.mesh, paths.mesh_shown, steps);
   mesh.write(rows_of(hdf5_dataset::geometry, H5T_NATIVE_DOUBLE, 3, block.points, at.first[0], at.total[0]));
   mesh.write(rows_of(hdf5_dataset::topology, H5T_NATIVE_INT64, 4, block.tets, at.first[1], at.total[1]));
   mesh.write(rows_of(hdf5_dataset::region, H5T_NATIVE_INT32, 1, block.tet_region, at.first[1], at.total[1]));
   mesh.write(rows_of(hdf5_dataset::piece, H5T_NATIVE_INT32, 1, block.tet_piece, at.first[1], at.total[1]));
   mesh.close();
-  Hdf5File boundary(comm, paths.boundary, paths.boundary_shown);
+  Hdf5File boundary(comm, paths.boundary, paths.boundary_shown, steps);
   boundary.write(rows_of(hdf5_dataset::faces, H5T_NATIVE_INT64, 3, block.faces, at.first[2], at.total[2]));
   boundary.write(rows_of(hdf5_dataset::markers, H5T_NATIVE_INT32, 1, block.face_marker, at.first[2], at.total[2]));
   boundary.close();
@@ -265,12 +288,14 @@ MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5
 }
 
 MeshTotals write_mesh_runs_hdf5(MPI_Comm comm, const MeshRowRuns& runs, const MeshTotals& totals,
-                                const Hdf5Paths& paths, WriteTrouble trouble) {
+                                const Hdf5Paths& paths, WriteTrouble trouble, const std::function<void()>& step_ended) {
+  const Steps steps(step_ended);
   if (trouble == WriteTrouble::none && !(file_exists(paths.mesh) && file_exists(paths.boundary)))
     trouble = WriteTrouble::file_not_seen;
   refuse_on_trouble(comm, trouble, paths.mesh_shown);
+  steps.ended();
   using TetRuns = std::vector<MeshRowRuns::Tets>;
-  Hdf5File mesh(comm, paths.mesh, paths.mesh_shown);
+  Hdf5File mesh(comm, paths.mesh, paths.mesh_shown, steps);
   mesh.write(rows_of_runs<Point3>(hdf5_dataset::geometry, H5T_NATIVE_DOUBLE, 3, runs.points,
                                   [](const MeshRowRuns::Points& r) { return r.points; }, totals.points));
   mesh.write(rows_of_runs<Tet>(hdf5_dataset::topology, H5T_NATIVE_INT64, 4, runs.tets,
@@ -280,7 +305,7 @@ MeshTotals write_mesh_runs_hdf5(MPI_Comm comm, const MeshRowRuns& runs, const Me
   mesh.write(rows_of_runs<std::int32_t, TetRuns>(hdf5_dataset::piece, H5T_NATIVE_INT32, 1, runs.tets,
                                                  [](const MeshRowRuns::Tets& r) { return r.piece; }, totals.tets));
   mesh.close();
-  Hdf5File boundary(comm, paths.boundary, paths.boundary_shown);
+  Hdf5File boundary(comm, paths.boundary, paths.boundary_shown, steps);
   boundary.write(rows_of(hdf5_dataset::faces, H5T_NATIVE_INT64, 3, runs.faces, runs.first_face, totals.faces));
   boundary.write(rows_of(hdf5_dataset::markers, H5T_NATIVE_INT32, 1, runs.face_marker, runs.first_face, totals.faces));
   boundary.close();

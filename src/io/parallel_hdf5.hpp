@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,9 +22,10 @@ enum class WriteTrouble : int { none = 0, no_block = 1, file_not_seen = 2 };
 // the (empty) files exist already, made by rank 0: a rank that does not see them is on a
 // filesystem rank 0 does not share, and must not write a file of its own. Returns the totals on
 // every rank. Throws OutputError (naming the final file, and the rank in trouble) on every rank
-// when any rank fails.
+// when any rank fails. `step_ended` is called after each collective step (a write call of at most
+// 256 MB per rank, an agreement), for a watch over the write (mpi/collective_watch.hpp).
 MeshTotals write_mesh_hdf5(MPI_Comm comm, const MeshBlockView& block, const Hdf5Paths& paths,
-                           WriteTrouble trouble = WriteTrouble::none);
+                           WriteTrouble trouble = WriteTrouble::none, const std::function<void()>& step_ended = {});
 
 // A rank's rows of the mesh, at the rows they have in the whole mesh (any number of runs, in any
 // order): what the owners of a mesh's parts write where the parts are, no rank holding the whole.
@@ -48,7 +50,8 @@ struct MeshRowRuns {
 // Collective over comm, as write_mesh_hdf5, from every rank's runs; `totals` are the whole mesh's
 // (every rank gives the same). Throws OutputError as write_mesh_hdf5 does.
 MeshTotals write_mesh_runs_hdf5(MPI_Comm comm, const MeshRowRuns& runs, const MeshTotals& totals,
-                                const Hdf5Paths& paths, WriteTrouble trouble = WriteTrouble::none);
+                                const Hdf5Paths& paths, WriteTrouble trouble = WriteTrouble::none,
+                                const std::function<void()>& step_ended = {});
 
 // Collective over comm: each rank reads its run of the rows (the rank-th of comm's size near-equal
 // runs, as mesh_block deals them) of the points, tets, boundary faces and markers of an XDMF

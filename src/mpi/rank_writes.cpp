@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include "io/tetgen_files.hpp"
 #include "io/xdmf.hpp"
 #include "job/job.hpp"
+#include "mpi/collective_watch.hpp"
 #include "mpi/ranks.hpp"
 #include "mpi/set_check.hpp"
 #include "mpi/spread_piece_files.hpp"
@@ -37,6 +39,15 @@ constexpr const char* kAgainOrder = "again";  // the last write failed; the file
 constexpr std::size_t kTextChunk = std::size_t{8} << 20;
 // Rows per part of a block (32 MB of .node rows, 16 MB of .ele rows).
 constexpr std::size_t kRowPart = std::size_t{1} << 20;
+
+// Every rank's part of an XDMF set's HDF5 files, under a watch: a rank stopped inside the
+// parallel write would hold the others there (collective_watch.hpp). `write` writes them, calling
+// its argument after each step every rank takes part in.
+template <class Write>
+MeshTotals watched_write(const Hdf5Paths& paths, Write write) {
+  CollectiveWatch watch("writing '" + paths.mesh_shown + "' and '" + paths.boundary_shown + "'");
+  return write(std::function<void()>([&watch] { watch.step(); }));
+}
 
 // How many parts the block of rows [first, last) travels in: kRowPart rows each, the last
 // shorter; an empty block is one empty part. Sender and receiver both count by this.
@@ -115,7 +126,9 @@ MeshTotals write_hdf5_on_every_rank(const MeshOutput& output, const Hdf5Paths& r
   }
   MeshBlockView own;
   if (ok) own = mesh_block_view(output, region, 0, size, made);
-  return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block);
+  return watched_write(paths, [&](const std::function<void()>& step) {
+    return write_mesh_hdf5(job_comm(), own, paths, ok ? WriteTrouble::none : WriteTrouble::no_block, step);
+  });
 }
 
 // The rows of bulks (their points at the input's scale) as runs, with their cell data (made into
@@ -220,7 +233,9 @@ MeshTotals write_spread_on_every_rank(SpreadMesh& mesh, int exponent, const Mesh
     runs = MeshRowRuns();
     trouble = WriteTrouble::no_block;
   }
-  return write_mesh_runs_hdf5(job_comm(), runs, totals, paths, trouble);
+  return watched_write(paths, [&](const std::function<void()>& step) {
+    return write_mesh_runs_hdf5(job_comm(), runs, totals, paths, trouble, step);
+  });
 }
 
 // Rank 0's TetgenLines. It goes on taking every rank's chunks after a failure of its own (a full
@@ -470,9 +485,12 @@ void join_spread_write(std::istringstream& lines, JobStatus& status, BulksForWri
     trouble = WriteTrouble::no_block;
   }
   if (test_hooks::block_lost(my_rank())) trouble = WriteTrouble::no_block;
+  test_hooks::kept_bulk_stop(my_rank(), "write");
   try {
-    write_mesh_runs_hdf5(job_comm(), runs, MeshTotals{std::stoull(points), std::stoull(tets), std::stoull(faces)},
-                         paths, trouble);
+    const MeshTotals totals{std::stoull(points), std::stoull(tets), std::stoull(faces)};
+    watched_write(paths, [&](const std::function<void()>& step) {
+      return write_mesh_runs_hdf5(job_comm(), runs, totals, paths, trouble, step);
+    });
   } catch (const std::exception& e) {
     status.error = e.what();  // rank 0 has the same error and reports it
   }
@@ -486,9 +504,12 @@ void join_hdf5_write(std::istringstream& lines, JobStatus& status) {
   const ReceivedBlock received = ReceivedBlock::receive();
   std::optional<MeshBlockView> block = received.view();
   if (test_hooks::block_lost(my_rank())) block.reset();
+  test_hooks::kept_bulk_stop(my_rank(), "write");
   try {
-    write_mesh_hdf5(job_comm(), block.value_or(MeshBlockView()), paths,
-                    block ? WriteTrouble::none : WriteTrouble::no_block);
+    watched_write(paths, [&](const std::function<void()>& step) {
+      return write_mesh_hdf5(job_comm(), block.value_or(MeshBlockView()), paths,
+                             block ? WriteTrouble::none : WriteTrouble::no_block, step);
+    });
   } catch (const std::exception& e) {
     status.error = e.what();  // rank 0 has the same error and reports it
   }

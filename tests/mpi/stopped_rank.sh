@@ -37,7 +37,12 @@
 #   peer-shares: the same on 3 ranks with many chains, some healed by rank 2, which waits for
 #            rank 1's shares straight from rank 1: rank 2 (or rank 0, for a chain of its own, or
 #            for one it cannot hand rank 1) must name rank 1 and the chain after 3 s.
-# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain|grow|take|links|shares|peer-shares]
+#   write:   --format xdmf over an earlier set at the same prefix; rank 1 stops itself as it joins
+#            the parallel HDF5 write (worker:stop-on-write), which no wait of rank 0's can bound:
+#            rank 0's watch over the write must end the job once a step has not ended for
+#            PARTET_TEST_COLLECTIVE_S (3 s here; normally an hour), and the earlier set must stay
+#            whole, with no temporary left beside it.
+# Usage: stopped_rank.sh PARTET MPIEXEC [meshing|idle|verdict|share|share-oom|cap|silent|chain|grow|take|links|shares|peer-shares|write]
 set -uo pipefail
 partet=$1 mpiexec=$2 mode=${3:-meshing}
 work=$(mktemp -d)
@@ -45,7 +50,7 @@ trap 'kill -CONT $(pgrep -f "$work/torus.off") 2>/dev/null; rm -rf "$work"' EXIT
 "$partet" generate torus --faces 60000 -o "$work/torus.off" > /dev/null || exit 1
 # The fault each mode injects; the input check's modes shorten its waits (rank 1 waits 3 s for
 # the other checking ranks; rank 0 3 s for rank 1's verdict on 2 ranks, 6 s on 4).
-inject=() ranks=(-n 2) fault="" check_waits=0 limits=(--piece-timeout 2) check=() pieces=24
+inject=() ranks=(-n 2) fault="" check_waits=0 limits=(--piece-timeout 2) check=() pieces=24 formats=()
 case $mode in
   idle) fault=worker:stop-when-idle ;;
   cap) fault=worker:stop-on-cap ;;
@@ -59,14 +64,21 @@ case $mode in
   links) fault=worker:stop-on-links limits=() ;;
   shares) fault=worker:stop-on-shares limits=() pieces=2 ;;
   peer-shares) fault=worker:stop-on-shares limits=() ranks=(-n 3 --oversubscribe) ;;
+  write) fault=worker:stop-on-write limits=() formats=(--format xdmf) pieces=8 ;;
 esac
+if [ "$mode" = write ]; then  # the earlier set the failed run must leave as it was
+  "$mpiexec" -n 2 "$partet" mesh "$work/torus.off" -o "$work/out" --pieces 4 --quiet "${formats[@]}" ||
+    { echo "FAIL: the earlier set was not written"; exit 1; }
+  before=$(cd "$work" && ls -A | grep -v '^torus.off$' | xargs sha256sum)
+fi
 [ -z "$fault" ] || { export PARTET_INJECT_FAILURE=$fault; inject+=(-x PARTET_INJECT_FAILURE); }
 [ "$check_waits" = 0 ] || { export PARTET_TEST_VERDICT_WAIT_S=3; inject+=(-x PARTET_TEST_VERDICT_WAIT_S); }
 [[ $mode != silent && $mode != chain ]] || { export PARTET_TEST_SILENCE_S=3; inject+=(-x PARTET_TEST_SILENCE_S); }
 [[ $mode != grow && $mode != take && $mode != links && $mode != *shares ]] || { export PARTET_TEST_WORKER_S=3; inject+=(-x PARTET_TEST_WORKER_S); }
+[ "$mode" != write ] || { export PARTET_TEST_COLLECTIVE_S=3; inject+=(-x PARTET_TEST_COLLECTIVE_S); }
 start=$(date +%s)
 timeout 120 "$mpiexec" "${ranks[@]}" "${inject[@]}" "$partet" mesh "$work/torus.off" -o "$work/out" --pieces "$pieces" \
-  "${limits[@]}" "${check[@]}" > "$work/log" 2>&1 &
+  "${limits[@]}" "${check[@]}" "${formats[@]}" > "$work/log" 2>&1 &
 launcher=$!
 if [ "$mode" = meshing ]; then
   # Stop rank 1 while it works.
@@ -105,6 +117,7 @@ case $mode in
   links) expected="rank 1 did not send the links of the bulks it keeps within 3 s" ;;
   shares) expected="rank 1 did not send its shares of seam chain [0-9]+ of the band parts it kept within 3 s" ;;
   peer-shares) expected="rank 1 did (not send its shares of seam chain [0-9]+ of the band parts it kept|not take seam chain [0-9]+) within 3 s" ;;
+  write) expected="rank 0 has waited 3 s for the other ranks in one step of writing '[^']*out.h5'" ;;
   idle) expected="rank 1 has not answered" ;;
   *) expected="rank 1 (has not answered|did not take)" ;;
 esac
@@ -113,6 +126,11 @@ grep -qE "$expected" "$work/log" || fail "no message '$expected'"
 [ "$mode" != share-oom ] || [ "$elapsed" -le 20 ] || fail "took ${elapsed} s (limit 20 s for an error rank 2 reports)"
 # 3 s of silence where a user's run waits 60-120 s; the run up to the fault takes 1-16 s (up to
 # 16 s beside other tests: scripts/test.sh runs the tests that wait beside the rest).
-[[ $mode != silent && $mode != chain && $mode != grow && $mode != take && $mode != links && $mode != *shares ]] || [ "$elapsed" -le 30 ] || fail "took ${elapsed} s (limit 30 s: 3 s of silence)"
-ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
+[[ $mode != silent && $mode != chain && $mode != grow && $mode != take && $mode != links && $mode != *shares && $mode != write ]] || [ "$elapsed" -le 30 ] || fail "took ${elapsed} s (limit 30 s: 3 s of silence)"
+if [ "$mode" = write ]; then
+  after=$(cd "$work" && ls -A | grep -vx 'torus.off\|log' | xargs sha256sum)
+  [ "$after" = "$before" ] || fail "the earlier set did not stay as it was: $(diff <(echo "$before") <(echo "$after"))"
+else
+  ls "$work"/out.* > /dev/null 2>&1 && fail "output files left: $(ls "$work"/out.*)"
+fi
 echo "ok ($mode): exit $code after ${elapsed} s: $(grep -m1 -E "$expected" "$work/log")"
