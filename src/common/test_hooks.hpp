@@ -2,7 +2,7 @@
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/spread_output.sh, tests/mpi/stopped_rank.sh (its verdict, cap and silent modes
 // too), tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh,
-// tests/mpi/check_tetgen_ranks.sh (also check_failure), tests/mpi/cap_failure.sh,
+// tests/mpi/check_tetgen_ranks.sh (also check_failure and check_stop), tests/mpi/cap_failure.sh,
 // tests/mpi/shares_failure.sh.
 #pragma once
 #include <cstddef>
@@ -36,8 +36,9 @@ void chain_stop(int rank);
 // "shares" (the seam chains' shares of its band parts), "write" (it joins the XDMF set's parallel
 // HDF5 write, so the other ranks wait inside it).
 void kept_bulk_stop(int rank, const char* command);
-// PARTET_TEST_COLLECTIVE_S=S: how long a rank waits in one step of a parallel HDF5 write for the
-// other ranks before it ends the job (collective_watch.hpp; else fallback).
+// PARTET_TEST_COLLECTIVE_S=S: how long a rank waits in one step of a parallel HDF5 write or of a
+// check on several ranks for the other ranks before it ends the job (collective_watch.hpp; else
+// fallback).
 double collective_step_seconds(double fallback);
 // PARTET_INJECT_FAILURE="worker:shares-error": rank 1 cannot cut the seam chains' shares of the
 // band parts it keeps (an InternalError), so every chain it has a share of fails.
@@ -66,6 +67,9 @@ void share_stop(int rank);
 // PARTET_INJECT_FAILURE="check:out-of-memory": in a check on several ranks, rank 1 runs out of
 // memory (std::bad_alloc) once the files are read, while the other ranks go on into the checks.
 void check_failure(int rank);
+// PARTET_INJECT_FAILURE="check:stop": in a check on several ranks, rank 1 stops itself (SIGSTOP)
+// once the files are read, so the other ranks wait for it in the check's next exchange.
+void check_stop(int rank);
 // check:inverted-tet: rank 1 of a check on several ranks counts one inverted tet more (a check
 // that fails, for `mesh --check` on several ranks: tests/mpi/spread_check.sh).
 bool check_finds_inverted_tet(int rank);

@@ -12,7 +12,7 @@ namespace partet::distributed {
 std::uint64_t passes_for(MPI_Comm comm, std::uint64_t records, std::size_t record_bytes) {
   static const auto budget = static_cast<std::uint64_t>(std::max(1.0, test_hooks::check_pass_bytes(kPassBytes)));
   std::uint64_t passes = std::max<std::uint64_t>(1, (records * record_bytes + budget - 1) / budget);
-  MPI_Allreduce(MPI_IN_PLACE, &passes, 1, MPI_UINT64_T, MPI_MAX, comm);
+  reduce_in_place(&passes, 1, MPI_UINT64_T, MPI_MAX, comm);
   return std::min<std::uint64_t>(passes, 1 << 15);
 }
 
@@ -28,13 +28,13 @@ int run_owner(std::int64_t id, std::uint64_t total, int size) {
 std::string first_nonempty(MPI_Comm comm, const std::string& text) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  int mine = text.empty() ? INT_MAX : rank, first = INT_MAX;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+  int first = text.empty() ? INT_MAX : rank;
+  reduce_in_place(&first, 1, MPI_INT, MPI_MIN, comm);
   if (first == INT_MAX) return "";
   int length = rank == first ? static_cast<int>(text.size()) : 0;
-  MPI_Bcast(&length, 1, MPI_INT, first, comm);
+  broadcast_from(&length, 1, MPI_INT, first, comm);
   std::string out = rank == first ? text : std::string(static_cast<std::size_t>(length), ' ');
-  MPI_Bcast(out.data(), length, MPI_CHAR, first, comm);
+  broadcast_from(out.data(), length, MPI_CHAR, first, comm);
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/xdmf.hpp"
+#include "mpi/collective_watch.hpp"
 
 namespace partet::distributed {
 
@@ -30,6 +31,19 @@ MPI_Datatype record_type() {
   return type;
 }
 
+// The check's collective calls. Each ends a step of the watch the check runs under
+// (collective_watch.hpp): without it a rank that stops mid-check would hold the others in the
+// next call for ever.
+inline void reduce_in_place(void* values, int count, MPI_Datatype type, MPI_Op op, MPI_Comm comm) {
+  MPI_Allreduce(MPI_IN_PLACE, values, count, type, op, comm);
+  mpi::collective_step_ended();
+}
+
+inline void broadcast_from(void* values, int count, MPI_Datatype type, int root, MPI_Comm comm) {
+  MPI_Bcast(values, count, type, root, comm);
+  mpi::collective_step_ended();
+}
+
 // Sends outgoing[r] to rank r (each bucket freed as it is packed); returns what every rank sent
 // here, in rank order, and how many came from each (from_counts, if given).
 template <class T>
@@ -40,6 +54,7 @@ std::vector<T> all_to_all(MPI_Comm comm, std::vector<std::vector<T>>&& outgoing,
   std::size_t sending = 0;
   for (int r = 0; r < size; ++r) send_counts[r] = static_cast<int>(outgoing[r].size()), sending += outgoing[r].size();
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm);
+  mpi::collective_step_ended();
   std::vector<T> flat;
   flat.reserve(sending);
   for (int r = 0; r < size; ++r) {
@@ -52,6 +67,7 @@ std::vector<T> all_to_all(MPI_Comm comm, std::vector<std::vector<T>>&& outgoing,
   std::vector<T> incoming(total);
   MPI_Alltoallv(flat.data(), send_counts.data(), send_at.data(), record_type<T>(), incoming.data(),
                 receive_counts.data(), receive_at.data(), record_type<T>(), comm);
+  mpi::collective_step_ended();
   if (from_counts) *from_counts = receive_counts;
   return incoming;
 }

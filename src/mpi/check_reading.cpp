@@ -20,7 +20,7 @@ void add_figures(MPI_Comm comm, int rank, InputFigures& input) {
   long double figures[2] = {0, 0};  // enclosed volume, Euler characteristic
   if (rank == 0)
     figures[0] = enclosed_volume_precise(input.surface()), figures[1] = surface_euler_characteristic(input.surface());
-  MPI_Bcast(figures, 2, MPI_LONG_DOUBLE, 0, comm);
+  broadcast_from(figures, 2, MPI_LONG_DOUBLE, 0, comm);
   input.volume = figures[0], input.euler = figures[1];
 }
 
@@ -48,9 +48,9 @@ std::vector<std::string> broadcast_lines(MPI_Comm comm, const std::vector<std::s
   std::string text;
   for (const std::string& line : lines) text += line + '\n';
   std::uint64_t length = text.size();
-  MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm);
+  broadcast_from(&length, 1, MPI_UINT64_T, 0, comm);
   text.resize(length);
-  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+  broadcast_from(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
   std::vector<std::string> out;
   for (std::size_t at = 0, end; (end = text.find('\n', at)) != std::string::npos; at = end + 1)
     out.push_back(text.substr(at, end - at));
@@ -164,7 +164,7 @@ std::vector<Values> place_rows(const Part& part, std::vector<Id>&& ids, std::vec
 void place_set_points(Part& part, MeshPart& mine, const std::string& path) {
   std::int64_t highest = -1;
   for (Id id : mine.node_ids) highest = std::max(highest, id);
-  MPI_Allreduce(MPI_IN_PLACE, &highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
+  reduce_in_place(&highest, 1, MPI_INT64_T, MPI_MAX, part.comm);
   part.totals.points = static_cast<std::uint64_t>(highest + 1);
   part.block.points = place_rows(part, std::move(mine.node_ids), std::move(mine.nodes), part.totals.points,
                                  Repeats::same_values, "the set of '" + path + "'");
@@ -273,7 +273,7 @@ void keep_faces(Part& part, const TetgenFileShare& face, std::int64_t vertex_bas
   });
   ids.push_back({face.path, first_nonempty(part.comm, id)});
   std::uint64_t faces = part.block.faces.size();
-  MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
+  reduce_in_place(&faces, 1, MPI_UINT64_T, MPI_SUM, part.comm);
   if (faces != static_cast<std::uint64_t>(face.layout.count))
     throw InputError(face.path + " declares " + std::to_string(face.layout.count) + " faces but has " +
                      std::to_string(faces) + " rows");  // on every rank
@@ -289,7 +289,7 @@ void read_mesh_part(Part& part, const std::string& path) {
   part.block.faces = std::move(mine.triangles);
   part.block.face_marker = std::move(mine.markers);
   std::uint64_t counts[2] = {part.block.tets.size(), part.block.faces.size()};
-  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_UINT64_T, MPI_SUM, part.comm);
+  reduce_in_place(counts, 2, MPI_UINT64_T, MPI_SUM, part.comm);
   part.totals.tets = counts[0], part.totals.faces = counts[1];
 }
 

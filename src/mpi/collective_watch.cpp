@@ -8,17 +8,27 @@
 
 namespace partet::mpi {
 
+namespace {
+CollectiveWatch* newest = nullptr;  // only the rank's own thread, which makes the MPI calls, uses it
+}  // namespace
+
 double collective_step_limit() {
   static const double limit = test_hooks::collective_step_seconds(kRootSeconds);
   return limit;
 }
 
+void collective_step_ended() {
+  if (newest) newest->step();
+}
+
 CollectiveWatch::CollectiveWatch(std::string what, double limit_seconds)
-    : what_(std::move(what)), limit_(limit_seconds), deadline_(awake_seconds() + limit_seconds) {
+    : outer_(newest), what_(std::move(what)), limit_(limit_seconds), deadline_(awake_seconds() + limit_seconds) {
   thread_ = std::thread([this] { watch(); });
+  newest = this;
 }
 
 CollectiveWatch::~CollectiveWatch() {
+  newest = outer_;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     over_ = true;
@@ -28,8 +38,11 @@ CollectiveWatch::~CollectiveWatch() {
 }
 
 void CollectiveWatch::step() {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  deadline_ = awake_seconds() + limit_;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    deadline_ = awake_seconds() + limit_;
+  }
+  if (outer_) outer_->step();  // a step inside a watched step is one of the outer watch's too
 }
 
 void CollectiveWatch::watch() {

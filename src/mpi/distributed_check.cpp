@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <tuple>
 
 #include "common/test_hooks.hpp"
@@ -400,7 +401,7 @@ std::int64_t check_neighbours(const Part& part, const std::vector<std::array<Id,
       i = j;
     }
   }
-  MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPI_INT64_T, MPI_SUM, part.comm);
+  reduce_in_place(&wrong, 1, MPI_INT64_T, MPI_SUM, part.comm);
   return wrong;
 }
 
@@ -419,7 +420,7 @@ float kth_smallest(MPI_Comm comm, const std::vector<float>& values, std::uint64_
       std::memcpy(&bits, &v, sizeof bits);
       if ((bits & mask) == prefix) ++counts[(bits >> shift) & 255];
     }
-    MPI_Allreduce(MPI_IN_PLACE, counts.data(), 256, MPI_UINT64_T, MPI_SUM, comm);
+    reduce_in_place(counts.data(), 256, MPI_UINT64_T, MPI_SUM, comm);
     std::uint32_t byte = 0;
     while (byte < 255 && k >= counts[byte]) k -= counts[byte++];
     prefix |= byte << shift, mask |= 0xFFu << shift;
@@ -433,11 +434,11 @@ MeshQuality quality_on_ranks(MPI_Comm comm, const QualityTally& tally) {
   std::array<std::int64_t, 4 + kDihedralBins.size()> counts{tally.tets, tally.below_5deg, tally.above_175deg,
                                                               tally.radius_edge_above_2};
   std::copy(tally.dihedral_histogram.begin(), tally.dihedral_histogram.end(), counts.begin() + 4);
-  MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T, MPI_SUM, comm);
+  reduce_in_place(counts.data(), static_cast<int>(counts.size()), MPI_INT64_T, MPI_SUM, comm);
   long double sums[2] = {tally.amips_sum, tally.radius_edge_sum};
-  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_LONG_DOUBLE, MPI_SUM, comm);
+  reduce_in_place(sums, 2, MPI_LONG_DOUBLE, MPI_SUM, comm);
   double highest[4] = {tally.amips_max, tally.radius_edge_max, tally.largest_cos, -tally.smallest_cos};
-  MPI_Allreduce(MPI_IN_PLACE, highest, 4, MPI_DOUBLE, MPI_MAX, comm);
+  reduce_in_place(highest, 4, MPI_DOUBLE, MPI_MAX, comm);
   QualityTally all;
   all.tets = counts[0], all.below_5deg = counts[1], all.above_175deg = counts[2], all.radius_edge_above_2 = counts[3];
   std::copy(counts.begin() + 4, counts.end(), all.dihedral_histogram.begin());
@@ -457,6 +458,7 @@ MeshQuality quality_on_ranks(MPI_Comm comm, const QualityTally& tally) {
 DistributedCheckReport check_part(Part& part, const InputFigures& input, const std::string& boundary,
                                   const std::vector<CutPlane>* planes = nullptr) {
   test_hooks::check_failure(part.rank);
+  test_hooks::check_stop(part.rank);
   Counts counts{};
   Tallies quality{planes, {}, {}, {}};
   long double volume6 = check_tets(part, counts, quality);
@@ -472,8 +474,8 @@ DistributedCheckReport check_part(Part& part, const InputFigures& input, const s
   count_edges(part, counts);
   check_duplicate_points(part, counts);
   check_boundary_is_input(part, part.rank == 0 ? &input.surface() : nullptr, counts);
-  MPI_Allreduce(MPI_IN_PLACE, counts.data(), kCounts, MPI_INT64_T, MPI_SUM, part.comm);
-  MPI_Allreduce(MPI_IN_PLACE, &volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, part.comm);
+  reduce_in_place(counts.data(), kCounts, MPI_INT64_T, MPI_SUM, part.comm);
+  reduce_in_place(&volume6, 1, MPI_LONG_DOUBLE, MPI_SUM, part.comm);
 
   DistributedCheckReport report;
   report.quality = quality_on_ranks(part.comm, quality.all);
@@ -501,6 +503,21 @@ DistributedCheckReport check_part(Part& part, const InputFigures& input, const s
   return report;
 }
 
+// Every check on several ranks runs under a watch of its collective steps: a rank that stops,
+// hangs or loses its node mid-check ends the job after the step limit, where it would hold the
+// others in an exchange for ever (a batch job until its time limit).
+class WatchedCheck {
+ public:
+  WatchedCheck(MPI_Comm comm, const std::string& path) {
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    if (size > 1) watch_.emplace("checking '" + path + "'");
+  }
+
+ private:
+  std::optional<mpi::CollectiveWatch> watch_;
+};
+
 Part part_of(MPI_Comm comm) {
   Part part;
   part.comm = comm;
@@ -514,6 +531,7 @@ Part part_of(MPI_Comm comm) {
 DistributedCheckReport check_xdmf_files(Part& part, const InputFigures& input, const std::string& prefix,
                                         const std::string& suffix, const std::vector<CutPlane>* planes) {
   part.block = read_mesh_hdf5(part.comm, prefix + ".h5" + suffix, prefix + "_boundary.h5" + suffix, part.totals);
+  mpi::collective_step_ended();
   return check_part(part, input, "the boundary file", planes);
 }
 
@@ -534,6 +552,7 @@ DistributedCheckReport check_tetgen_files(Part& part, const InputFigures& input,
 }  // namespace
 
 DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  const WatchedCheck watched(comm, prefix);
   Part part = part_of(comm);
   // The input, on rank 0 (its volume and Euler characteristic go to every rank).
   const InputFigures input = read_input(comm, part.rank, input_path);
@@ -541,24 +560,28 @@ DistributedCheckReport check_xdmf_set(MPI_Comm comm, const std::string& input_pa
 }
 
 DistributedCheckReport check_tetgen_set(MPI_Comm comm, const std::string& input_path, const std::string& prefix) {
+  const WatchedCheck watched(comm, prefix);
   Part part = part_of(comm);
   const InputFigures input = read_input(comm, part.rank, input_path);
   return check_tetgen_files(part, input, prefix, "", nullptr);
 }
 
 DistributedCheckReport check_unpublished_xdmf_set(MPI_Comm comm, const UnpublishedSet& set) {
+  const WatchedCheck watched(comm, set.prefix);
   Part part = part_of(comm);
   const InputFigures input = held_input(comm, part.rank, set.input);
   return check_xdmf_files(part, input, set.prefix, set.suffix, &set.planes);
 }
 
 DistributedCheckReport check_unpublished_tetgen_set(MPI_Comm comm, const UnpublishedSet& set) {
+  const WatchedCheck watched(comm, set.prefix);
   Part part = part_of(comm);
   const InputFigures input = held_input(comm, part.rank, set.input);
   return check_tetgen_files(part, input, set.prefix, set.suffix, &set.planes);
 }
 
 DistributedCheckReport check_mesh_file_set(MPI_Comm comm, const std::string& input_path, const std::string& path) {
+  const WatchedCheck watched(comm, path);
   Part part = part_of(comm);
   // 1. The input, on rank 0.
   const InputFigures input = read_input(comm, part.rank, input_path);

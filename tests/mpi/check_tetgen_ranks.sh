@@ -4,7 +4,7 @@
 # volume, V-E+F-T), and on 2 ranks it must catch each kind of damage done to the text: an inverted
 # tet, a boundary face turned over, a wrong neighbour, a missing and a repeated row, files from
 # two runs, a set without partet's ID, a missing file; --report needs one process; a rank out of
-# memory in a check step ends the job.
+# memory in a check step ends the job, and so does a rank stopped in one.
 # Usage: check_tetgen_ranks.sh PARTET MPIEXEC
 set -euo pipefail
 partet=$1 mpiexec=$2 tests=$(cd "$(dirname "$0")/.." && pwd)
@@ -67,3 +67,15 @@ if PARTET_INJECT_FAILURE=check:out-of-memory timeout -k 10 60 "$mpiexec" -n 3 "$
 fi
 grep -q "out of memory on rank 1" out || { echo "FAIL: no 'out of memory on rank 1' (still waiting?):"; cat out; exit 1; }
 echo "ok: a rank out of memory ends the job: $(grep -m 1 'out of memory' out)"
+# A rank that stops in a check step (SIGSTOP once its files are read: it neither fails nor dies,
+# so the launcher sees nothing) ends the job once the others have waited PARTET_TEST_COLLECTIVE_S
+# in one step of the check's exchanges, saying so, instead of leaving them waiting for ever.
+start=$SECONDS
+if PARTET_INJECT_FAILURE=check:stop PARTET_TEST_COLLECTIVE_S=3 timeout -k 10 60 "$mpiexec" -n 2 "$partet" check in.off m > out 2>&1; then
+  echo "FAIL: a stopped rank passed the check"; exit 1
+fi
+elapsed=$((SECONDS - start))
+grep -q "has waited 3 s for the other ranks in one step of checking '[^']*m'" out ||
+  { echo "FAIL: no 'has waited 3 s ... checking' (still waiting?):"; cat out; exit 1; }
+[ "$elapsed" -le 30 ] || { echo "FAIL: a stopped rank's check took $elapsed s (limit 30: 3 s of waiting)"; exit 1; }
+echo "ok: a stopped rank ends the check in $elapsed s: $(grep -m 1 'has waited' out | cut -c1-120)"

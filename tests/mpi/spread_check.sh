@@ -5,8 +5,8 @@
 # part of the files just written (TetGen's, or the XDMF set's) before they are published. The report's check equals the assembled path's (the same
 # run with PARTET_TEST_ASSEMBLE): the counts, volumes and the quality of the whole mesh, of the
 # seam zone and of the rest (sums to rounding, the rest exactly), and the files are the same
-# bytes. A check that fails, or a rank out of memory while checking, publishes nothing and
-# leaves the previous set in place. A check only rank 0's memory can do, while it is short, is
+# bytes. A check that fails, or a rank out of memory or stopped while checking, publishes nothing
+# and leaves the previous set in place. A check only rank 0's memory can do, while it is short, is
 # refused before the meshing. 2 ranks, and 4 oversubscribed.
 # Usage: spread_check.sh PARTET MPIEXEC
 set -uo pipefail
@@ -92,6 +92,18 @@ if [ $code = 0 ] || [ $code = 124 ]; then bad "a rank out of memory while checki
 elif ! grep -q "out of memory on rank 1 while checking" o.log; then bad "a rank out of memory while checking: $(tail -n 5 o.log)"
 elif ls oom.* > /dev/null 2>&1; then bad "a rank out of memory while checking: left $(ls oom.*)"
 else ok "a rank out of memory while checking: exit $code, '$(grep -o 'out of memory on rank 1[^;]*' o.log | head -n 1)', nothing published or left"; fi
+# 4b. A rank stopped while it checks (SIGSTOP once its files are read back): the others' watch
+# ends the job once they have waited PARTET_TEST_COLLECTIVE_S in one step, nothing is published,
+# and the previous set stays as it was.
+start=$SECONDS
+PARTET_INJECT_FAILURE=check:stop PARTET_TEST_COLLECTIVE_S=3 PARTET_TEST_AVAILABLE_MB=1 timeout -k 10 120 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o kept > s.log 2>&1
+code=$? elapsed=$((SECONDS - start))
+sleep 1  # the reaper removes the temporaries of the process the abort ended
+if [ $code = 0 ] || [ $code = 124 ]; then bad "a rank stopped while checking: exit $code: $(tail -n 3 s.log)"
+elif ! grep -q "has waited 3 s for the other ranks in one step of checking" s.log; then bad "a rank stopped while checking: $(tail -n 5 s.log)"
+elif [ "$(cat kept.node kept.ele kept.face kept.neigh | md5sum)" != "$md5" ]; then bad "a rank stopped while checking: the previous set changed"
+elif ls -A | grep -q "tmp-"; then bad "a rank stopped while checking: temporaries left: $(ls -A | grep tmp-)"
+else ok "a rank stopped while checking: exit $code after $elapsed s, '$(grep -o 'rank 0 has waited 3 s[^:]*' s.log | head -n 1)', the previous set intact"; fi
 # 5. A check only rank 0's memory can do (no TetGen files or XDMF set to read back; --quality,
 # which assembles the mesh to polish it) while that memory is already short: refused before any
 # piece is meshed, as a usage error that says what to do, and nothing is written.
