@@ -12,9 +12,11 @@
 #include "cli/launch.hpp"
 #include "cli/published_sets.hpp"
 #include "common/log.hpp"
+#include "common/test_hooks.hpp"
 #include "io/mesh_read.hpp"
 #include "io/read_surface.hpp"
 #include "io/tetgen_files.hpp"
+#include "mpi/collective_watch.hpp"
 #include "mpi/distributed_check.hpp"
 #include "partet/errors.hpp"
 #include "stages/quality.hpp"
@@ -126,6 +128,15 @@ partet::TetgenFileSet read_set_to_check(const std::string& prefix) {
   return partet::read_mesh_set(prefix);
 }
 
+// Every rank waits for rank 0 to settle the set (finish a publish a killed run left) before any
+// reads it; under a watch, as the check's own steps, so that a rank stopped before the check
+// does not hold the others here for ever.
+void wait_for_settled(const std::string& path) {
+  partet::test_hooks::check_start_stop(launched_rank());
+  const partet::mpi::CollectiveWatch watch("checking '" + path + "'");
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
 // The check on every rank of the job, each its part: an XDMF set (alone: on one rank), or under a
 // launcher TetGen files or a set named by one of its files (MSH, VTK, MEDIT). Rank 0 prints.
 partet::DistributedCheckReport check_on_ranks(const std::string& input_path, const std::string& path) {
@@ -134,12 +145,12 @@ partet::DistributedCheckReport check_on_ranks(const std::string& input_path, con
   std::string run;
   if (names_format(path, partet::MeshFormat::xdmf, &run)) {
     if (rank == 0) settle(run);
-    MPI_Barrier(MPI_COMM_WORLD);
+    wait_for_settled(run);
     return partet::check_xdmf_set(MPI_COMM_WORLD, input_path, run);
   }
   const bool named = partet::reads_mesh_file(path);
   if (rank == 0) named ? settle_named(path) : settle(path);
-  MPI_Barrier(MPI_COMM_WORLD);
+  wait_for_settled(path);
   return named ? partet::check_mesh_file_set(MPI_COMM_WORLD, input_path, path)
                : partet::check_tetgen_set(MPI_COMM_WORLD, input_path, path);
 }

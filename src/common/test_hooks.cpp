@@ -124,6 +124,10 @@ void check_stop(int rank) {
   if (rank == 1 && injected("check:stop")) ::raise(SIGSTOP);
 }
 
+void check_start_stop(int rank) {
+  if (rank == 1 && injected("check:stop-at-start")) ::raise(SIGSTOP);
+}
+
 bool check_finds_inverted_tet(int rank) { return rank == 1 && injected("check:inverted-tet"); }
 
 double check_pass_bytes(double fallback) { return seconds_or("PARTET_TEST_CHECK_PASS_BYTES", fallback); }

@@ -70,6 +70,10 @@ void check_failure(int rank);
 // PARTET_INJECT_FAILURE="check:stop": in a check on several ranks, rank 1 stops itself (SIGSTOP)
 // once the files are read, so the other ranks wait for it in the check's next exchange.
 void check_stop(int rank);
+// PARTET_INJECT_FAILURE="check:stop-at-start": rank 1 stops itself (SIGSTOP) as a check on
+// several ranks starts (`partet check` under mpirun, `mesh --check` reading its parts back),
+// before the ranks first meet.
+void check_start_stop(int rank);
 // check:inverted-tet: rank 1 of a check on several ranks counts one inverted tet more (a check
 // that fails, for `mesh --check` on several ranks: tests/mpi/spread_check.sh).
 bool check_finds_inverted_tet(int rank);

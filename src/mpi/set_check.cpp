@@ -10,6 +10,7 @@
 
 #include "common/log.hpp"
 #include "common/test_hooks.hpp"
+#include "mpi/collective_watch.hpp"
 #include "mpi/distributed_check.hpp"
 #include "mpi/ranks.hpp"
 #include "mpi/write_messages.hpp"
@@ -25,7 +26,12 @@ std::optional<DistributedCheckReport> check_set(MeshFormat format, const Unpubli
   const int fd = test_hooks::output_unseen(my_rank()) ? -1 : ::open(first.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd >= 0) ::close(fd);
   MPI_Comm comm = MPI_COMM_NULL;
-  MPI_Comm_split(job_comm(), fd >= 0 || my_rank() == 0 ? 0 : MPI_UNDEFINED, my_rank(), &comm);
+  test_hooks::check_start_stop(my_rank());
+  {
+    // Every rank of the job must join (the check's own steps are watched in the check).
+    const CollectiveWatch watch("checking the mesh's files (--check)");
+    MPI_Comm_split(job_comm(), fd >= 0 || my_rank() == 0 ? 0 : MPI_UNDEFINED, my_rank(), &comm);
+  }
   if (comm == MPI_COMM_NULL) {
     log::warning("rank " + std::to_string(my_rank()) + " cannot open " + first +
                  " (a directory rank 0's node does not share with it?): the other ranks check the files");

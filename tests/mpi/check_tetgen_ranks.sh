@@ -70,12 +70,15 @@ echo "ok: a rank out of memory ends the job: $(grep -m 1 'out of memory' out)"
 # A rank that stops in a check step (SIGSTOP once its files are read: it neither fails nor dies,
 # so the launcher sees nothing) ends the job once the others have waited PARTET_TEST_COLLECTIVE_S
 # in one step of the check's exchanges, saying so, instead of leaving them waiting for ever.
-start=$SECONDS
-if PARTET_INJECT_FAILURE=check:stop PARTET_TEST_COLLECTIVE_S=3 timeout -k 10 60 "$mpiexec" -n 2 "$partet" check in.off m > out 2>&1; then
-  echo "FAIL: a stopped rank passed the check"; exit 1
-fi
-elapsed=$((SECONDS - start))
-grep -q "has waited 3 s for the other ranks in one step of checking '[^']*m'" out ||
-  { echo "FAIL: no 'has waited 3 s ... checking' (still waiting?):"; cat out; exit 1; }
-[ "$elapsed" -le 30 ] || { echo "FAIL: a stopped rank's check took $elapsed s (limit 30: 3 s of waiting)"; exit 1; }
-echo "ok: a stopped rank ends the check in $elapsed s: $(grep -m 1 'has waited' out | cut -c1-120)"
+# The same for a rank stopped as the check starts, before the ranks first meet.
+for stop in check:stop check:stop-at-start; do
+  start=$SECONDS
+  if PARTET_INJECT_FAILURE=$stop PARTET_TEST_COLLECTIVE_S=3 timeout -k 10 60 "$mpiexec" -n 2 "$partet" check in.off m > out 2>&1; then
+    echo "FAIL: $stop: a stopped rank passed the check"; exit 1
+  fi
+  elapsed=$((SECONDS - start))
+  grep -q "has waited 3 s for the other ranks in one step of checking '[^']*m'" out ||
+    { echo "FAIL: $stop: no 'has waited 3 s ... checking' (still waiting?):"; cat out; exit 1; }
+  [ "$elapsed" -le 30 ] || { echo "FAIL: $stop: a stopped rank's check took $elapsed s (limit 30: 3 s of waiting)"; exit 1; }
+  echo "ok: $stop: a stopped rank ends the check in $elapsed s: $(grep -m 1 'has waited' out | cut -c1-120)"
+done

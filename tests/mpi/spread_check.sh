@@ -95,15 +95,18 @@ else ok "a rank out of memory while checking: exit $code, '$(grep -o 'out of mem
 # 4b. A rank stopped while it checks (SIGSTOP once its files are read back): the others' watch
 # ends the job once they have waited PARTET_TEST_COLLECTIVE_S in one step, nothing is published,
 # and the previous set stays as it was.
-start=$SECONDS
-PARTET_INJECT_FAILURE=check:stop PARTET_TEST_COLLECTIVE_S=3 PARTET_TEST_AVAILABLE_MB=1 timeout -k 10 120 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o kept > s.log 2>&1
-code=$? elapsed=$((SECONDS - start))
-sleep 1  # the reaper removes the temporaries of the process the abort ended
-if [ $code = 0 ] || [ $code = 124 ]; then bad "a rank stopped while checking: exit $code: $(tail -n 3 s.log)"
-elif ! grep -q "has waited 3 s for the other ranks in one step of checking" s.log; then bad "a rank stopped while checking: $(tail -n 5 s.log)"
-elif [ "$(cat kept.node kept.ele kept.face kept.neigh | md5sum)" != "$md5" ]; then bad "a rank stopped while checking: the previous set changed"
-elif ls -A | grep -q "tmp-"; then bad "a rank stopped while checking: temporaries left: $(ls -A | grep tmp-)"
-else ok "a rank stopped while checking: exit $code after $elapsed s, '$(grep -o 'rank 0 has waited 3 s[^:]*' s.log | head -n 1)', the previous set intact"; fi
+# (check:stop-at-start: stopped before the ranks first meet in the check.)
+for stop in check:stop check:stop-at-start; do
+  start=$SECONDS
+  PARTET_INJECT_FAILURE=$stop PARTET_TEST_COLLECTIVE_S=3 PARTET_TEST_AVAILABLE_MB=1 timeout -k 10 120 "$mpiexec" -n 2 "$partet" mesh g3.off -k 4 --check -o kept > s.log 2>&1
+  code=$? elapsed=$((SECONDS - start))
+  sleep 1  # the reaper removes the temporaries of the process the abort ended
+  if [ $code = 0 ] || [ $code = 124 ]; then bad "$stop: a rank stopped while checking: exit $code: $(tail -n 3 s.log)"
+  elif ! grep -q "has waited 3 s for the other ranks in one step of checking" s.log; then bad "$stop: a rank stopped while checking: $(tail -n 5 s.log)"
+  elif [ "$(cat kept.node kept.ele kept.face kept.neigh | md5sum)" != "$md5" ]; then bad "$stop: a rank stopped while checking: the previous set changed"
+  elif ls -A | grep -q "tmp-"; then bad "$stop: a rank stopped while checking: temporaries left: $(ls -A | grep tmp-)"
+  else ok "$stop: a rank stopped while checking: exit $code after $elapsed s, '$(grep -o 'rank 0 has waited 3 s[^:]*' s.log | head -n 1)', the previous set intact"; fi
+done
 # 5. A check only rank 0's memory can do (no TetGen files or XDMF set to read back; --quality,
 # which assembles the mesh to polish it) while that memory is already short: refused before any
 # piece is meshed, as a usage error that says what to do, and nothing is written.
