@@ -2,8 +2,8 @@
 // does nothing when it is unset (internal header). The tests that use them: tests/mpi/failure.sh,
 // tests/cli/hard_parts.sh, tests/mpi/spread_output.sh, tests/mpi/stopped_rank.sh (its verdict, cap and silent modes
 // too), tests/cli/outputs.sh, tests/cli/publish.sh, tests/mpi/xdmf_trouble.sh, tests/mpi/starved_piece.sh,
-// tests/mpi/check_tetgen_ranks.sh (also check_failure and check_stop), tests/mpi/cap_failure.sh,
-// tests/mpi/shares_failure.sh.
+// tests/mpi/check_tetgen_ranks.sh (also check_failure, check_stop and check_start_stop), tests/mpi/cap_failure.sh,
+// tests/mpi/shares_failure.sh, tests/mpi/spread_check.sh (the check hooks too).
 #pragma once
 #include <cstddef>
 
